@@ -1,0 +1,4 @@
+//! The flexmbs command-line program.
+fn main() {
+    println!("flexmbs");
+}

@@ -1,0 +1,27 @@
+//! Finite-element front end of flexmbs.
+//!
+//! Everything a flexible body needs before it enters a multibody model
+//! (seed 000 ch. 2.1-2.3, seed 001 ch. 3): meshes, linear elastic elements,
+//! sparse assembly with fixed node sets and rigid interfaces, the generalized
+//! symmetric eigenproblem `K phi = omega^2 M phi`, and modal and
+//! Craig-Bampton reduction.
+#![warn(missing_docs)]
+
+pub mod assembly;
+pub mod constraint;
+pub mod eigen;
+pub mod element;
+pub mod error;
+pub mod material;
+pub mod mesh;
+pub mod modes;
+pub mod reduction;
+pub mod units;
+
+pub use error::FeError;
+pub use material::Material;
+pub use mesh::{ElementKind, Mesh, NodeIdx};
+pub use units::UnitSystem;
+
+/// Sparse matrix type used for assembled FE matrices (compressed sparse column, full storage).
+pub type SparseMatrix = faer::sparse::SparseColMat<usize, f64>;

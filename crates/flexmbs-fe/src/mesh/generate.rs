@@ -1,0 +1,1 @@
+//! Structured mesh generators (filled in by the mesh work package).

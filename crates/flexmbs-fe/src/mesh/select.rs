@@ -1,0 +1,1 @@
+//! Node selection by plane and box (filled in by the mesh work package).

@@ -1,0 +1,3 @@
+//! File formats of flexmbs: the seed 4-file body format, CalculiX decks and exports,
+//! reduced-body files and VTK output.
+#![warn(missing_docs)]
