@@ -16,6 +16,7 @@ pub mod material;
 pub mod mesh;
 pub mod modes;
 pub mod reduction;
+pub mod system;
 pub mod units;
 
 pub use error::FeError;

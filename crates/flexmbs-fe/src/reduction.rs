@@ -110,3 +110,234 @@ impl ReducedBody {
         self.modes_t.ncols()
     }
 }
+
+use crate::assembly::{entries, sparse_from_triplets};
+use crate::eigen::{dense_generalized, lowest_modes, EigenEvent, EigenOptions, SparseCholesky};
+use crate::modes::{count_rigid, frequencies_hz, label_modes, project_dense};
+use crate::system::FeSystem;
+use crate::{FeError, Mesh, SparseMatrix};
+use faer::sparse::Triplet;
+
+/// Result of a modal analysis of a constrained system.
+#[derive(Debug, Clone)]
+pub struct ModalResult {
+    /// Eigenvalues omega^2, ascending.
+    pub omega2: Vec<f64>,
+    /// M-normalised eigenvectors over the independent DOFs.
+    pub vectors: Mat<f64>,
+    /// Mode labels (rigid-body modes recognised).
+    pub labels: Vec<ModeLabel>,
+    /// Number of rigid-body modes found.
+    pub n_rigid: usize,
+}
+
+/// Lowest `n_modes` eigenpairs of `K phi = omega^2 M phi` of a constrained system, labelled.
+/// For a structure without fixed nodes, six more modes are computed so that `n_modes` elastic modes remain
+/// after the rigid-body modes.
+pub fn modal_analysis(
+    sys: &FeSystem,
+    n_modes: usize,
+    opts: &EigenOptions,
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<ModalResult, FeError> {
+    let free = sys.map.fixed_nodes.is_empty();
+    let wanted = (n_modes + if free { 6 } else { 0 }).min(sys.len());
+    let o = EigenOptions { n_modes: wanted, ..opts.clone() };
+    let sol = lowest_modes(&sys.k, &sys.m, &o, progress)?;
+    let labels = label_modes(sys, sol.vectors.as_ref(), &sol.omega2);
+    let n_rigid = count_rigid(&labels);
+    Ok(ModalResult { omega2: sol.omega2, vectors: sol.vectors, labels, n_rigid })
+}
+
+/// Builds a reduced body from the elastic modes of a modal analysis (rigid-body modes excluded,
+/// at most `n_modes` kept). Node masses are the diagonal of the constrained mass matrix when lumped.
+pub fn reduce_modal(
+    mesh: &Mesh,
+    sys: &FeSystem,
+    modal: &ModalResult,
+    n_modes: usize,
+    name: &str,
+    provenance: Provenance,
+) -> Result<ReducedBody, FeError> {
+    let keep: Vec<usize> =
+        (0..modal.labels.len()).filter(|&k| !modal.labels[k].dominant.starts_with("rigid")).take(n_modes).collect();
+    if keep.is_empty() {
+        return Err(FeError::Invalid("no elastic modes to keep".into()));
+    }
+    let mut v = Mat::<f64>::zeros(sys.len(), keep.len());
+    for (c, &k) in keep.iter().enumerate() {
+        v.col_mut(c).copy_from(modal.vectors.col(k));
+    }
+    let mut labels: Vec<ModeLabel> = keep.iter().map(|&k| modal.labels[k].clone()).collect();
+    for (i, l) in labels.iter_mut().enumerate() {
+        l.index = i + 1;
+    }
+    let omega2: Vec<f64> = keep.iter().map(|&k| modal.omega2[k]).collect();
+    let kind = if modal.n_rigid > 0 { ReductionKind::FreeFree } else { ReductionKind::Modal };
+    body_from_basis(mesh, sys, v.as_ref(), frequencies_hz(&omega2), labels, kind, name, provenance)
+}
+
+/// Craig-Bampton reduction (seed 001 ch. 3): static constraint modes of the independent DOFs of
+/// `interface` nodes (`Psi = -K_II^-1 K_IB`) followed by `n_internal` fixed-interface normal modes of
+/// `(K_II, M_II)`. `n_internal = 0` is Guyan condensation.
+pub fn craig_bampton(
+    mesh: &Mesh,
+    sys: &FeSystem,
+    interface: &[crate::NodeIdx],
+    n_internal: usize,
+    opts: &EigenOptions,
+    name: &str,
+    provenance: Provenance,
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<ReducedBody, FeError> {
+    let n = sys.len();
+    let mut is_b = vec![false; n];
+    let mut b_dofs = Vec::new();
+    for &node in interface {
+        let d = sys.map.independent_of_node(node);
+        if d.is_empty() {
+            return Err(FeError::Invalid(format!("interface node {node} has no free DOFs (fixed or slaved)")));
+        }
+        for p in d {
+            if !is_b[p] {
+                is_b[p] = true;
+                b_dofs.push(p);
+            }
+        }
+    }
+    let i_dofs: Vec<usize> = (0..n).filter(|&p| !is_b[p]).collect();
+    let nb = b_dofs.len();
+    let ni = i_dofs.len();
+    let mut pos = vec![(false, 0usize); n];
+    for (a, &p) in b_dofs.iter().enumerate() {
+        pos[p] = (true, a);
+    }
+    for (a, &p) in i_dofs.iter().enumerate() {
+        pos[p] = (false, a);
+    }
+    let (k_ii, k_ib) = split_blocks(&sys.k, &pos, ni, nb)?;
+    let (m_ii, _) = split_blocks(&sys.m, &pos, ni, nb)?;
+    // static constraint modes Psi = -K_II^-1 K_IB
+    progress(EigenEvent::Factorizing { n: ni, nnz: k_ii.compute_nnz() });
+    let chol = SparseCholesky::factor(&k_ii).map_err(|_| FeError::NotPositiveDefinite {
+        what: "K_II (stiffness with the interface fixed)".into(),
+        hint: ": the interface does not fix the body's rigid-body motion".into(),
+    })?;
+    let mut psi = k_ib.to_dense();
+    chol.solve_in_place(psi.as_mut());
+    let k_internal = n_internal.min(ni);
+    let (phi_i, w2_i) = if k_internal > 0 {
+        let sol = lowest_modes(&k_ii, &m_ii, &EigenOptions { n_modes: k_internal, ..opts.clone() }, progress)?;
+        (sol.vectors, sol.omega2)
+    } else {
+        (Mat::<f64>::zeros(ni, 0), Vec::new())
+    };
+    let nm = nb + k_internal;
+    let mut v = Mat::<f64>::zeros(n, nm);
+    for (a, &p) in b_dofs.iter().enumerate() {
+        v[(p, a)] = 1.0;
+    }
+    for (r, &p) in i_dofs.iter().enumerate() {
+        for c in 0..nb {
+            v[(p, c)] = -psi[(r, c)];
+        }
+        for c in 0..k_internal {
+            v[(p, nb + c)] = phi_i[(r, c)];
+        }
+    }
+    let names = ["ux", "uy", "uz", "rx", "ry", "rz"];
+    let mut labels: Vec<ModeLabel> = b_dofs
+        .iter()
+        .enumerate()
+        .map(|(a, &p)| {
+            let d = sys.map.independent[p];
+            ModeLabel {
+                index: a + 1,
+                frequency_hz: f64::NAN,
+                dominant: format!("static node {} {}", node_label(mesh, d.node), names[d.dir]),
+                effective_mass_fraction: [0.0; 3],
+            }
+        })
+        .collect();
+    let fixed_labels = label_modes(sys, v.as_ref().subcols(nb, k_internal), &w2_i);
+    for (c, mut l) in fixed_labels.into_iter().enumerate() {
+        l.index = nb + c + 1;
+        labels.push(l);
+    }
+    // frequencies of the reduced model itself (free interface)
+    let k_cb = project_dense(&sys.k, v.as_ref());
+    let m_cb = project_dense(&sys.m, v.as_ref());
+    let (w2_cb, _) = dense_generalized(k_cb.as_ref(), m_cb.as_ref())?;
+    let kind = ReductionKind::CraigBampton { internal_modes: k_internal };
+    let mut body = body_from_basis(mesh, sys, v.as_ref(), frequencies_hz(&w2_cb), labels, kind, name, provenance)?;
+    body.interface_nodes = interface.to_vec();
+    Ok(body)
+}
+
+fn node_label(mesh: &Mesh, node: usize) -> String {
+    mesh.node_ids.get(node).map(|id| id.to_string()).unwrap_or_else(|| format!("interface#{}", node - mesh.num_nodes()))
+}
+
+/// Splits a sparse matrix into the internal block `A_II` and the coupling block `A_IB` (dense later).
+fn split_blocks(
+    a: &SparseMatrix,
+    pos: &[(bool, usize)],
+    ni: usize,
+    nb: usize,
+) -> Result<(SparseMatrix, SparseMatrix), FeError> {
+    let mut ii = Vec::new();
+    let mut ib = Vec::new();
+    for (r, c, v) in entries(a) {
+        match (pos[r], pos[c]) {
+            ((false, i), (false, j)) => ii.push(Triplet::new(i, j, v)),
+            ((false, i), (true, j)) => ib.push(Triplet::new(i, j, v)),
+            _ => {}
+        }
+    }
+    let a_ii = sparse_from_triplets(ni, &ii)?;
+    let a_ib = SparseMatrix::try_new_from_triplets(ni, nb, &ib)
+        .map_err(|e| FeError::Invalid(format!("sparse block assembly failed: {e:?}")))?;
+    Ok((a_ii, a_ib))
+}
+
+/// Assembles a [`ReducedBody`] from a basis `v` over the independent DOFs.
+#[allow(clippy::too_many_arguments)]
+fn body_from_basis(
+    mesh: &Mesh,
+    sys: &FeSystem,
+    v: faer::MatRef<'_, f64>,
+    frequencies_hz: Vec<f64>,
+    labels: Vec<ModeLabel>,
+    kind: ReductionKind,
+    name: &str,
+    provenance: Provenance,
+) -> Result<ReducedBody, FeError> {
+    let k_red = project_dense(&sys.k, v);
+    let m_red = project_dense(&sys.m, v);
+    let (modes_t, modes_r) = sys.map.expand(v);
+    let has_rot = sys.map.dofs.count.iter().any(|&c| c == 6);
+    let n_nodes = sys.map.nodes.len();
+    let mut node_ids = mesh.node_ids.clone();
+    let max_id = node_ids.iter().copied().max().unwrap_or(0);
+    node_ids.extend((0..n_nodes - mesh.num_nodes()).map(|i| max_id + 1 + i as u64));
+    let node_masses = sys.node_masses.clone();
+    let cells = mesh.elements.iter().map(|e| Cell { kind: e.kind, nodes: e.nodes.clone() }).collect();
+    Ok(ReducedBody {
+        name: name.to_string(),
+        units: mesh.units,
+        nodes: sys.map.nodes.clone(),
+        node_ids,
+        node_masses,
+        modes_t,
+        modes_r: has_rot.then_some(modes_r),
+        k_red,
+        m_red,
+        frequencies_hz,
+        labels,
+        interface_nodes: sys.map.interface_nodes.clone(),
+        fixed_nodes: sys.map.fixed_nodes.clone(),
+        kind,
+        cells,
+        provenance,
+    })
+}

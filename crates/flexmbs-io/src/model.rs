@@ -1,0 +1,645 @@
+//! The TOML model file of an FE body: where the mesh comes from, its boundary conditions and the
+//! reduction. Reference: `docs/model-file.md`.
+//!
+//! ```toml
+//! [body]
+//! name = "cantilever"
+//! units = "SI"
+//!
+//! [body.mesh]
+//! type = "box"
+//! size = [1.0, 0.02, 0.02]
+//! divisions = [40, 2, 2]
+//! element = "hex20r"
+//! material = { e = 210e9, nu = 0.3, rho = 7850.0 }
+//!
+//! [body.boundary]
+//! fixed = ["xmin"]
+//!
+//! [body.reduction]
+//! method = "modal"
+//! modes = 10
+//! ```
+
+use flexmbs_fe::mesh::{BeamSection, BeamTheory};
+use flexmbs_fe::{ElementKind, Material, UnitSystem};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Errors of reading a model file: the file, the key path and what was wrong.
+#[derive(Debug, Error)]
+pub enum ModelError {
+    /// The file could not be read.
+    #[error("{file}: cannot read: {source}")]
+    Read {
+        /// File.
+        file: PathBuf,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// TOML syntax or schema error at a key path.
+    #[error("{file}:{line}: at `{path}`: {message}")]
+    Schema {
+        /// File.
+        file: PathBuf,
+        /// 1-based line (0 if unknown).
+        line: usize,
+        /// Key path, e.g. `body.mesh.divisions`.
+        path: String,
+        /// What was wrong.
+        message: String,
+    },
+    /// A value is out of its valid range.
+    #[error("{file}: at `{path}`: {message}")]
+    Value {
+        /// File.
+        file: PathBuf,
+        /// Key path.
+        path: String,
+        /// What was wrong.
+        message: String,
+    },
+}
+
+/// A model file holding one FE body.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeModelFile {
+    /// The body.
+    pub body: FeBodySpec,
+}
+
+/// An FE body: mesh source, boundary conditions and reduction.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeBodySpec {
+    /// Body name.
+    pub name: String,
+    /// Unit system of the mesh data (default `SI`; `SI(mm)` = mm, N, t, s).
+    #[serde(default)]
+    pub units: UnitSystem,
+    /// Where the mesh comes from.
+    pub mesh: MeshSpec,
+    /// Fixed node sets and rigid interfaces.
+    #[serde(default)]
+    pub boundary: BoundarySpec,
+    /// Reduction.
+    #[serde(default)]
+    pub reduction: ReductionSpec,
+}
+
+/// Material constants in the body's unit system.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// Young's modulus.
+    pub e: f64,
+    /// Poisson's ratio.
+    pub nu: f64,
+    /// Density.
+    pub rho: f64,
+}
+
+impl From<MaterialSpec> for Material {
+    fn from(m: MaterialSpec) -> Self {
+        Material { e: m.e, nu: m.nu, rho: m.rho }
+    }
+}
+
+/// Element names accepted in model files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ElementName {
+    /// 8-node hexahedron, full integration.
+    Hex8,
+    /// 8-node hexahedron with incompatible modes (default linear element).
+    Hex8i,
+    /// 20-node hexahedron, full integration.
+    Hex20,
+    /// 20-node hexahedron, reduced integration (as CalculiX C3D20R).
+    Hex20r,
+}
+
+impl From<ElementName> for ElementKind {
+    fn from(e: ElementName) -> Self {
+        match e {
+            ElementName::Hex8 => ElementKind::Hex8,
+            ElementName::Hex8i => ElementKind::Hex8I,
+            ElementName::Hex20 => ElementKind::Hex20,
+            ElementName::Hex20r => ElementKind::Hex20R,
+        }
+    }
+}
+
+/// An axis-aligned box `[min, max]`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSpec {
+    /// Lower corner.
+    pub min: [f64; 3],
+    /// Upper corner.
+    pub max: [f64; 3],
+}
+
+/// A cross-section profile in the (y, z) plane, extruded along x.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "shape", rename_all = "lowercase", deny_unknown_fields)]
+pub enum ProfileSpec {
+    /// Rectangle `width` (y) x `height` (z).
+    Rectangle {
+        /// Width in y.
+        width: f64,
+        /// Height in z.
+        height: f64,
+    },
+    /// T section: flange on top (z max), web centred below.
+    T {
+        /// Flange width (y).
+        flange_width: f64,
+        /// Flange thickness (z).
+        flange_thickness: f64,
+        /// Web width (y).
+        web_width: f64,
+        /// Web height (z, without the flange).
+        web_height: f64,
+    },
+    /// L section: vertical leg at y = 0, horizontal leg at z = 0.
+    L {
+        /// Leg length along y.
+        width: f64,
+        /// Leg length along z.
+        height: f64,
+        /// Wall thickness.
+        thickness: f64,
+    },
+    /// I section: two flanges and a centred web.
+    I {
+        /// Flange width (y).
+        flange_width: f64,
+        /// Flange thickness (z).
+        flange_thickness: f64,
+        /// Web thickness (y).
+        web_thickness: f64,
+        /// Total height (z).
+        height: f64,
+    },
+    /// Rectilinear polygon with vertices `[y, z]`.
+    Polygon {
+        /// Vertices in order.
+        vertices: Vec<[f64; 2]>,
+    },
+}
+
+/// Beam cross-section.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(tag = "shape", rename_all = "lowercase", deny_unknown_fields)]
+pub enum SectionSpec {
+    /// Solid rectangle.
+    Rectangle {
+        /// Width (local y).
+        width: f64,
+        /// Height (local z).
+        height: f64,
+    },
+    /// Solid circle.
+    Circle {
+        /// Diameter.
+        diameter: f64,
+    },
+    /// Circular tube.
+    Tube {
+        /// Outer radius.
+        outer_radius: f64,
+        /// Wall thickness.
+        wall: f64,
+    },
+    /// Section constants given directly.
+    General {
+        /// Area.
+        area: f64,
+        /// Second moment about local y.
+        iy: f64,
+        /// Second moment about local z.
+        iz: f64,
+        /// Torsion constant.
+        j: f64,
+        /// Shear factor in y.
+        #[serde(default = "five_sixths")]
+        ky: f64,
+        /// Shear factor in z.
+        #[serde(default = "five_sixths")]
+        kz: f64,
+    },
+}
+
+fn five_sixths() -> f64 {
+    5.0 / 6.0
+}
+
+impl From<SectionSpec> for BeamSection {
+    fn from(s: SectionSpec) -> Self {
+        match s {
+            SectionSpec::Rectangle { width, height } => BeamSection::rectangle(width, height),
+            SectionSpec::Circle { diameter } => BeamSection::circle(diameter),
+            SectionSpec::Tube { outer_radius, wall } => BeamSection::tube(outer_radius, wall),
+            SectionSpec::General { area, iy, iz, j, ky, kz } => BeamSection { area, iy, iz, j, ky, kz },
+        }
+    }
+}
+
+/// Beam theory names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum TheoryName {
+    /// Euler-Bernoulli.
+    #[default]
+    EulerBernoulli,
+    /// Timoshenko.
+    Timoshenko,
+}
+
+impl From<TheoryName> for BeamTheory {
+    fn from(t: TheoryName) -> Self {
+        match t {
+            TheoryName::EulerBernoulli => BeamTheory::EulerBernoulli,
+            TheoryName::Timoshenko => BeamTheory::Timoshenko,
+        }
+    }
+}
+
+/// How CalculiX matrices are obtained for a deck.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum CcxMatrices {
+    /// Assemble the deck's mesh with flexmbs's own elements.
+    #[default]
+    Flexmbs,
+    /// Run `ccx` with `*FREQUENCY, SOLVER=MATRIXSTORAGE` and import its K and M.
+    Ccx,
+}
+
+/// Source of the mesh.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum MeshSpec {
+    /// Structured box `[0, size]` with `divisions` elements per axis.
+    Box {
+        /// Edge lengths.
+        size: [f64; 3],
+        /// Elements per axis.
+        divisions: [usize; 3],
+        /// Element type (default hex20r).
+        #[serde(default = "default_element")]
+        element: ElementName,
+        /// Material.
+        material: MaterialSpec,
+    },
+    /// Union of axis-aligned boxes (stepped blocks, the complex beam).
+    Boxes {
+        /// The boxes.
+        boxes: Vec<BoxSpec>,
+        /// Largest element edge per axis.
+        element_size: [f64; 3],
+        /// Element type.
+        #[serde(default = "default_element")]
+        element: ElementName,
+        /// Material.
+        material: MaterialSpec,
+    },
+    /// A profile extruded along x.
+    Profile {
+        /// Cross-section.
+        profile: ProfileSpec,
+        /// Length along x.
+        length: f64,
+        /// Largest element edge per axis.
+        element_size: [f64; 3],
+        /// Element type.
+        #[serde(default = "default_element")]
+        element: ElementName,
+        /// Material.
+        material: MaterialSpec,
+    },
+    /// Straight beam of 2-node beam elements.
+    Beam {
+        /// Start point.
+        start: [f64; 3],
+        /// End point.
+        end: [f64; 3],
+        /// Number of elements.
+        elements: usize,
+        /// Section.
+        section: SectionSpec,
+        /// Theory.
+        #[serde(default)]
+        theory: TheoryName,
+        /// Vector in the local x-y plane (default: global y, or global z for beams along y).
+        orientation: Option<[f64; 3]>,
+        /// Material.
+        material: MaterialSpec,
+    },
+    /// A CalculiX (Abaqus-format) deck.
+    Calculix {
+        /// Path of the `.inp` deck (relative to the model file).
+        deck: PathBuf,
+        /// Where K and M come from.
+        #[serde(default)]
+        matrices: CcxMatrices,
+    },
+    /// A seed 000 4-file folder (already reduced).
+    Seed {
+        /// Folder with u0.dat, modeShapeMatrix.dat, mij.dat, stiffnessMatrix.dat.
+        dir: PathBuf,
+    },
+}
+
+fn default_element() -> ElementName {
+    ElementName::Hex20r
+}
+
+/// A node selection.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum NodeSelector {
+    /// A named node set (generator sets like `xmin`, CalculiX `*NSET` names).
+    Set(String),
+    /// Nodes on the plane `axis = value`.
+    Plane {
+        /// Plane description.
+        plane: PlaneSpec,
+    },
+    /// Nodes inside a box.
+    Within {
+        /// The box.
+        within: BoxSpec,
+    },
+    /// The node nearest to a point.
+    Nearest {
+        /// The point.
+        nearest: [f64; 3],
+    },
+}
+
+/// A coordinate plane.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneSpec {
+    /// `x`, `y` or `z`.
+    pub axis: String,
+    /// Coordinate value.
+    pub value: f64,
+    /// Tolerance (default 1e-9 x model size).
+    pub tol: Option<f64>,
+}
+
+/// A rigid interface (RBE2-like).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidSpec {
+    /// Name of the interface (usable in `reduction.interface`).
+    pub name: String,
+    /// Slave nodes.
+    pub nodes: NodeSelector,
+    /// Interface node location (default: centroid of the nodes).
+    pub point: Option<[f64; 3]>,
+}
+
+/// Boundary conditions.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySpec {
+    /// Node selections whose DOFs are all fixed.
+    #[serde(default)]
+    pub fixed: Vec<NodeSelector>,
+    /// Rigid interfaces.
+    #[serde(default)]
+    pub rigid: Vec<RigidSpec>,
+}
+
+/// Reduction methods.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReductionMethod {
+    /// Normal modes (constrained, or free-free without fixed nodes).
+    #[default]
+    Modal,
+    /// Craig-Bampton with `modes` fixed-interface modes.
+    CraigBampton,
+    /// Guyan (Craig-Bampton without internal modes).
+    Guyan,
+}
+
+/// Mass formulation names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum MassName {
+    /// Lumped node masses (HRZ), as the seed's FFR body needs.
+    #[default]
+    Lumped,
+    /// Consistent mass.
+    Consistent,
+}
+
+/// Eigen solver choice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverName {
+    /// Dense below 1500 DOFs, block Lanczos above.
+    #[default]
+    Auto,
+    /// Dense Cholesky + symmetric eigensolver.
+    Dense,
+    /// Block shift-invert Lanczos.
+    Lanczos,
+}
+
+/// Reduction settings.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReductionSpec {
+    /// Method (default `modal`).
+    #[serde(default)]
+    pub method: ReductionMethod,
+    /// Number of modes (elastic modes for `modal`, fixed-interface modes for `craig-bampton`; default 10).
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    /// Interface: names of rigid interfaces or node selections (Craig-Bampton and Guyan).
+    #[serde(default)]
+    pub interface: Vec<NodeSelector>,
+    /// Mass formulation (default lumped).
+    #[serde(default)]
+    pub mass: MassName,
+    /// Eigen solver (default auto).
+    #[serde(default)]
+    pub solver: SolverName,
+    /// Spectral shift (default automatic).
+    pub shift: Option<f64>,
+}
+
+fn default_modes() -> usize {
+    10
+}
+
+impl Default for ReductionSpec {
+    fn default() -> Self {
+        Self {
+            method: ReductionMethod::Modal,
+            modes: default_modes(),
+            interface: Vec::new(),
+            mass: MassName::Lumped,
+            solver: SolverName::Auto,
+            shift: None,
+        }
+    }
+}
+
+/// Parses a model file's text; `file` names it in errors. Unknown keys, wrong types and missing keys
+/// are reported with their key path and line.
+pub fn parse_fe_model(text: &str, file: &Path) -> Result<FeModelFile, ModelError> {
+    let de = toml::Deserializer::parse(text).map_err(|e| ModelError::Schema {
+        file: file.to_path_buf(),
+        line: e.span().map(|s| line_of(text, s.start)).unwrap_or(0),
+        path: String::new(),
+        message: e.message().to_string(),
+    })?;
+    let model: FeModelFile = serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        ModelError::Schema {
+            file: file.to_path_buf(),
+            line: inner.span().map(|s| line_of(text, s.start)).unwrap_or(0),
+            path,
+            message: inner.message().to_string(),
+        }
+    })?;
+    check_values(&model, file)?;
+    Ok(model)
+}
+
+/// Reads and parses a model file.
+pub fn read_fe_model(path: &Path) -> Result<FeModelFile, ModelError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Read { file: path.into(), source })?;
+    parse_fe_model(&text, path)
+}
+
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].bytes().filter(|&b| b == b'\n').count() + 1
+}
+
+fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
+    let err = |path: &str, message: String| ModelError::Value { file: file.into(), path: path.into(), message };
+    let check_material = |mat: &MaterialSpec| {
+        Material::from(*mat).validate().map_err(|e| err("body.mesh.material", e.to_string()))
+    };
+    let positive3 = |key: &str, v: &[f64; 3]| {
+        if v.iter().all(|x| x.is_finite() && *x > 0.0) {
+            Ok(())
+        } else {
+            Err(err(key, format!("all three values must be > 0, got {v:?}")))
+        }
+    };
+    match &m.body.mesh {
+        MeshSpec::Box { size, divisions, material, .. } => {
+            positive3("body.mesh.size", size)?;
+            if divisions.contains(&0) {
+                return Err(err("body.mesh.divisions", format!("all divisions must be >= 1, got {divisions:?}")));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Boxes { boxes, element_size, material, .. } => {
+            positive3("body.mesh.element_size", element_size)?;
+            if boxes.is_empty() {
+                return Err(err("body.mesh.boxes", "at least one box is needed".into()));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Profile { length, element_size, material, .. } => {
+            positive3("body.mesh.element_size", element_size)?;
+            if !(length.is_finite() && *length > 0.0) {
+                return Err(err("body.mesh.length", format!("must be > 0, got {length}")));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Beam { elements, material, .. } => {
+            if *elements == 0 {
+                return Err(err("body.mesh.elements", "must be >= 1".into()));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Calculix { .. } | MeshSpec::Seed { .. } => {}
+    }
+    let r = &m.body.reduction;
+    if r.modes == 0 && r.method == ReductionMethod::Modal {
+        return Err(err("body.reduction.modes", "a modal reduction needs at least one mode".into()));
+    }
+    if r.method != ReductionMethod::Modal && r.interface.is_empty() {
+        return Err(err("body.reduction.interface", "Craig-Bampton and Guyan need at least one interface".into()));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+[body]
+name = "cantilever"
+[body.mesh]
+type = "box"
+size = [1.0, 0.02, 0.02]
+divisions = [40, 2, 2]
+element = "hex20r"
+material = { e = 210e9, nu = 0.3, rho = 7850.0 }
+[body.boundary]
+fixed = ["xmin", { plane = { axis = "x", value = 0.0 } }]
+[[body.boundary.rigid]]
+name = "tip"
+nodes = "xmax"
+[body.reduction]
+method = "craig-bampton"
+modes = 4
+interface = ["tip"]
+"#;
+
+    #[test]
+    fn parses_a_complete_model() {
+        let m = parse_fe_model(GOOD, Path::new("m.toml")).unwrap();
+        assert_eq!(m.body.name, "cantilever");
+        assert_eq!(m.body.reduction.method, ReductionMethod::CraigBampton);
+        assert_eq!(m.body.boundary.fixed.len(), 2);
+        assert!(matches!(m.body.mesh, MeshSpec::Box { divisions: [40, 2, 2], .. }));
+    }
+
+    #[test]
+    fn unknown_key_inside_variant_names_path_and_line() {
+        let bad = GOOD.replace("divisions = [40, 2, 2]", "divisons = [40, 2, 2]");
+        let e = parse_fe_model(&bad, Path::new("m.toml")).unwrap_err().to_string();
+        assert!(e.contains("m.toml:"), "{e}");
+        assert!(e.contains("divisons") || e.contains("divisions"), "{e}");
+    }
+
+    #[test]
+    fn wrong_type_names_key_path() {
+        let bad = GOOD.replace("modes = 4", "modes = \"four\"");
+        let e = parse_fe_model(&bad, Path::new("m.toml")).unwrap_err();
+        let s = e.to_string();
+        assert!(s.contains("body.reduction.modes"), "{s}");
+        assert!(s.contains("m.toml:17") || s.contains("m.toml:"), "{s}");
+    }
+
+    #[test]
+    fn bad_material_is_a_value_error() {
+        let bad = GOOD.replace("nu = 0.3", "nu = 0.7");
+        let s = parse_fe_model(&bad, Path::new("m.toml")).unwrap_err().to_string();
+        assert!(s.contains("body.mesh.material") && s.contains("Poisson"), "{s}");
+    }
+
+    #[test]
+    fn craig_bampton_without_interface_is_rejected() {
+        let bad = GOOD.replace("interface = [\"tip\"]", "");
+        let s = parse_fe_model(&bad, Path::new("m.toml")).unwrap_err().to_string();
+        assert!(s.contains("body.reduction.interface"), "{s}");
+    }
+}
