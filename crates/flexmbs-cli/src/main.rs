@@ -1,4 +1,208 @@
-//! The flexmbs command-line program.
+//! `flexmbs`: the command-line front end. Thin by design: it parses arguments, shows progress and
+//! prints tables; all work is done by the library crates.
+
+mod progress;
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use flexmbs_fe::reduction::ReducedBody;
+use flexmbs_io::model::read_fe_model;
+use flexmbs_io::pipeline::{prepare, run_modal, run_reduction, PreparedBody};
+use std::path::{Path, PathBuf};
+
+/// flexmbs: flexible multibody dynamics with FE-based flexible bodies.
+#[derive(Parser)]
+#[command(name = "flexmbs", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    /// Suppress progress bars.
+    #[arg(long, short, global = true)]
+    quiet: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Modal analysis of an FE body: prints the frequency table.
+    Modal {
+        /// Model file (TOML) describing the FE body.
+        model: PathBuf,
+        /// Number of elastic modes (default: `reduction.modes` of the model).
+        #[arg(long, short = 'n')]
+        modes: Option<usize>,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Reduces an FE body (modal or Craig-Bampton) and writes the reduced-body file.
+    Reduce {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Output reduced-body file (`.h5`).
+        #[arg(long, short)]
+        output: PathBuf,
+    },
+    /// Writes mode shapes as ParaView files (.vtu per mode and an animated .pvd).
+    ExportVtk {
+        /// Model file (TOML) or reduced-body file (`.h5`).
+        input: PathBuf,
+        /// Output folder.
+        #[arg(long, short, default_value = "modes_vtk")]
+        output: PathBuf,
+        /// Largest displayed displacement as a fraction of the body size.
+        #[arg(long, default_value_t = 0.1)]
+        scale: f64,
+    },
+    /// Checks a model file without running it (parses, meshes, applies boundary conditions).
+    Check {
+        /// Model file (TOML).
+        model: PathBuf,
+    },
+    /// Runs validation cases and writes validation/<case>/result.json.
+    Validate {
+        /// Case name (see `--list`).
+        case: Option<String>,
+        /// Run all cases.
+        #[arg(long)]
+        all: bool,
+        /// List the cases.
+        #[arg(long)]
+        list: bool,
+        /// Folder holding validation/<case>/ (default: ./validation).
+        #[arg(long, default_value = "validation")]
+        dir: PathBuf,
+    },
+    /// The main job on an embedded default model: modal analysis and reduction of a steel cantilever,
+    /// with a results table (CSV), a plot, a reduced-body file and a ParaView mode animation.
+    Demo {
+        /// Output folder.
+        #[arg(long, short, default_value = "out/demo")]
+        output: PathBuf,
+    },
+}
+
 fn main() {
-    println!("flexmbs");
+    let cli = Cli::parse();
+    if let Err(e) = run(cli) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    let quiet = cli.quiet;
+    match cli.command {
+        Command::Modal { model, modes, json } => cmd_modal(&model, modes, json, quiet),
+        Command::Reduce { model, output } => {
+            let body = reduce_model(&model, quiet)?;
+            flexmbs_io::body_file::write_body(&output, &body).with_context(|| format!("writing {}", output.display()))?;
+            println!("wrote {} ({} nodes, {} modes)", output.display(), body.num_nodes(), body.num_modes());
+            Ok(())
+        }
+        Command::ExportVtk { input, output, scale } => {
+            let body = if input.extension().is_some_and(|e| e == "toml") {
+                reduce_model(&input, quiet)?
+            } else {
+                flexmbs_io::body_file::read_body(&input).with_context(|| format!("reading {}", input.display()))?
+            };
+            let files = flexmbs_io::vtk::write_mode_shapes(&output, &body, scale)?;
+            println!("wrote {} files to {} (open the .pvd in ParaView)", files.len(), output.display());
+            Ok(())
+        }
+        Command::Check { model } => {
+            let (body, _) = load(&model, quiet)?;
+            println!(
+                "{}: OK: {} nodes, {} elements, {} independent DOFs, {} fixed nodes, {} rigid interfaces",
+                model.display(),
+                body.mesh.num_nodes(),
+                body.mesh.elements.len(),
+                body.system.len(),
+                body.bc.fixed.len(),
+                body.bc.rigid.len()
+            );
+            Ok(())
+        }
+        Command::Validate { case, all, list, dir } => {
+            let cases = flexmbs_validate::cases();
+            if list {
+                for c in &cases {
+                    println!("{:28} {}", c.name, c.description);
+                }
+                return Ok(());
+            }
+            let selected: Vec<_> = match (case, all) {
+                (Some(name), false) => {
+                    let c = cases.into_iter().find(|c| c.name == name);
+                    vec![c.with_context(|| format!("no validation case '{name}' (try --list)"))?]
+                }
+                (None, true) => cases,
+                _ => bail!("give a case name or --all (list them with --list)"),
+            };
+            let mut failed = Vec::new();
+            for c in selected {
+                let out = dir.join(c.name);
+                std::fs::create_dir_all(&out)?;
+                eprintln!("validation case {} ...", c.name);
+                let r = (c.run)(&out, quiet).with_context(|| format!("validation case {}", c.name))?;
+                r.write(&out.join("result.json"))?;
+                println!("{}", r.summary());
+                if !r.pass {
+                    failed.push(c.name);
+                }
+            }
+            if !failed.is_empty() {
+                bail!("validation failed: {}", failed.join(", "));
+            }
+            Ok(())
+        }
+        Command::Demo { output } => demo::run(&output, quiet),
+    }
+}
+
+mod demo;
+
+fn load(model: &Path, quiet: bool) -> Result<(PreparedBody, flexmbs_io::model::FeBodySpec)> {
+    let spec = read_fe_model(model)?.body;
+    let base = model.parent().unwrap_or(Path::new("."));
+    let mut p = progress::Progress::new(quiet);
+    let body = prepare(&spec, base, &mut |s| p.stage(s))?;
+    p.finish();
+    Ok((body, spec))
+}
+
+fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
+    let spec = read_fe_model(model)?.body;
+    let base = model.parent().unwrap_or(Path::new("."));
+    if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
+        let dir = flexmbs_io::pipeline::resolve(base, dir);
+        return Ok(flexmbs_io::seed::read_seed_body(&dir, &spec.name, spec.units)?);
+    }
+    let (body, spec) = load(model, quiet)?;
+    let mut p = progress::Progress::new(quiet);
+    let r = run_reduction(&spec, &body, &mut |s| p.stage(s))?;
+    p.finish();
+    Ok(r)
+}
+
+fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Result<()> {
+    let (body, spec) = load(model, quiet)?;
+    let n = modes.unwrap_or(spec.reduction.modes);
+    let mut p = progress::Progress::new(quiet);
+    let modal = run_modal(&spec, &body, n, &mut |s| p.stage(s))?;
+    p.finish();
+    let rows = flexmbs_io::report::modal_rows(&modal);
+    if json {
+        println!("{}", serde_json::to_string_pretty(&flexmbs_io::report::modal_json(&spec.name, &body, &modal))?);
+    } else {
+        println!(
+            "{}: {} nodes, {} elements, {} independent DOFs, {} rigid-body modes",
+            spec.name,
+            body.mesh.num_nodes(),
+            body.mesh.elements.len(),
+            body.system.len(),
+            modal.n_rigid
+        );
+        print!("{}", flexmbs_io::report::modal_table(&rows));
+    }
+    Ok(())
 }

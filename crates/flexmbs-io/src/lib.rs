@@ -4,3 +4,5 @@
 
 pub mod model;
 pub mod plot;
+pub mod pipeline;
+pub mod report;

@@ -1,0 +1,320 @@
+//! From a model file's FE body to a modal analysis or a reduced body: builds the mesh (built-in
+//! generators, CalculiX deck, seed folder), applies boundary conditions, assembles or imports K and M,
+//! and calls the FE front end. No physics here: this module only wires the pieces together.
+
+use crate::model::{
+    BoundarySpec, CcxMatrices, FeBodySpec, MassName, MeshSpec, NodeSelector, ProfileSpec, ReductionMethod,
+    SolverName,
+};
+use flexmbs_fe::constraint::{BoundaryConditions, RigidInterface};
+use flexmbs_fe::eigen::{EigenEvent, EigenMethod, EigenOptions};
+use flexmbs_fe::element::MassKind;
+use flexmbs_fe::mesh::generate;
+use flexmbs_fe::mesh::profile::Profile;
+use flexmbs_fe::reduction::{craig_bampton, modal_analysis, reduce_modal, ModalResult, Provenance, ReducedBody};
+use flexmbs_fe::system::FeSystem;
+use flexmbs_fe::{ElementKind, FeError, Material, Mesh, NodeIdx};
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Errors of building a body from its specification.
+#[derive(Debug, Error)]
+pub enum PipelineError {
+    /// FE front end error, with the key path it concerns.
+    #[error("{context}: {source}")]
+    Fe {
+        /// What was being done (key path or stage).
+        context: String,
+        /// Cause.
+        source: FeError,
+    },
+    /// File reading error.
+    #[error(transparent)]
+    Io(#[from] crate::error::IoError),
+    /// A selection or name in the model does not match the mesh.
+    #[error("at `{path}`: {message}")]
+    Model {
+        /// Key path.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+fn fe(context: &str) -> impl FnOnce(FeError) -> PipelineError + '_ {
+    move |source| PipelineError::Fe { context: context.to_string(), source }
+}
+
+/// Progress of the pipeline stages, for progress bars.
+#[derive(Debug, Clone)]
+pub enum Stage {
+    /// A named stage started (meshing, importing, running ccx, ...).
+    Started(String),
+    /// Element assembly: elements done of total.
+    Assembly {
+        /// Elements done.
+        done: usize,
+        /// Elements in total.
+        total: usize,
+    },
+    /// Eigen solver events.
+    Eigen(EigenEvent),
+}
+
+/// A body ready for analysis: its mesh, boundary conditions and constrained system.
+#[derive(Debug, Clone)]
+pub struct PreparedBody {
+    /// The mesh (in the body's units).
+    pub mesh: Mesh,
+    /// Boundary conditions.
+    pub bc: BoundaryConditions,
+    /// Constrained system.
+    pub system: FeSystem,
+    /// Interface nodes for Craig-Bampton (indices in the constrained system's node list).
+    pub interface: Vec<NodeIdx>,
+    /// Human-readable source description.
+    pub source: String,
+}
+
+/// Builds the mesh of a built-in or CalculiX source (not for seed folders).
+pub fn build_mesh(spec: &FeBodySpec, base: &Path) -> Result<Mesh, PipelineError> {
+    let u = spec.units;
+    let ctx = "body.mesh";
+    let mesh = match &spec.mesh {
+        MeshSpec::Box { size, divisions, element, material } => {
+            generate::box_mesh(*size, *divisions, ElementKind::from(*element), Material::from(*material), u)
+                .map_err(fe(ctx))?
+        }
+        MeshSpec::Boxes { boxes, element_size, element, material } => {
+            let regions: Vec<generate::BoxRegion> =
+                boxes.iter().map(|b| generate::BoxRegion { min: b.min, max: b.max }).collect();
+            generate::union_of_boxes(&regions, *element_size, ElementKind::from(*element), Material::from(*material), u)
+                .map_err(fe(ctx))?
+        }
+        MeshSpec::Profile { profile, length, element_size, element, material } => {
+            let p = build_profile(profile).map_err(fe("body.mesh.profile"))?;
+            generate::extrude_profile(&p, *length, *element_size, ElementKind::from(*element), Material::from(*material), u)
+                .map_err(fe(ctx))?
+        }
+        MeshSpec::Beam { start, end, elements, section, theory, orientation, material } => {
+            let axis = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+            let o = orientation.unwrap_or(if axis[0].abs() < 1e-12 * (axis[1].abs() + axis[2].abs()) {
+                [0.0, 0.0, 1.0]
+            } else {
+                [0.0, 1.0, 0.0]
+            });
+            generate::beam_line(
+                *start,
+                *end,
+                *elements,
+                (*section).into(),
+                (*theory).into(),
+                o,
+                Material::from(*material),
+                u,
+            )
+            .map_err(fe(ctx))?
+        }
+        MeshSpec::Calculix { deck, .. } => {
+            let path = resolve(base, deck);
+            crate::calculix::inp::read_inp(&path, u)?.mesh
+        }
+        MeshSpec::Seed { .. } => {
+            return Err(PipelineError::Model {
+                path: "body.mesh.type".into(),
+                message: "a seed folder holds an already reduced body; it has no mesh to analyse".into(),
+            })
+        }
+    };
+    Ok(mesh)
+}
+
+fn build_profile(p: &ProfileSpec) -> Result<Profile, FeError> {
+    match p {
+        ProfileSpec::Rectangle { width, height } => Profile::rectangle(*width, *height),
+        ProfileSpec::T { flange_width, flange_thickness, web_width, web_height } => {
+            Profile::t_section(*flange_width, *flange_thickness, *web_width, *web_height)
+        }
+        ProfileSpec::L { width, height, thickness } => Profile::l_section(*width, *height, *thickness),
+        ProfileSpec::I { flange_width, flange_thickness, web_thickness, height } => {
+            Profile::i_section(*flange_width, *flange_thickness, *web_thickness, *height)
+        }
+        ProfileSpec::Polygon { vertices } => Profile::polygon(vertices),
+    }
+}
+
+/// Resolves a path given in a model file relative to the model file's folder.
+pub fn resolve(base: &Path, p: &Path) -> PathBuf {
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
+}
+
+/// Selects nodes of `mesh` (`key` is the key path for errors).
+pub fn select_nodes(mesh: &Mesh, sel: &NodeSelector, key: &str) -> Result<Vec<NodeIdx>, PipelineError> {
+    let bad = |m: String| PipelineError::Model { path: key.to_string(), message: m };
+    let size = mesh_size(mesh);
+    let nodes = match sel {
+        NodeSelector::Set(name) => mesh.node_set(name).map_err(|_| {
+            let known: Vec<&str> = mesh.node_sets.keys().map(|s| s.as_str()).collect();
+            bad(format!("no node set '{name}' (known: {})", known.join(", ")))
+        })?
+        .to_vec(),
+        NodeSelector::Plane { plane } => {
+            let axis = match plane.axis.as_str() {
+                "x" | "X" => 0,
+                "y" | "Y" => 1,
+                "z" | "Z" => 2,
+                a => return Err(bad(format!("plane axis must be x, y or z, got '{a}'"))),
+            };
+            mesh.nodes_on_plane(axis, plane.value, plane.tol.unwrap_or(1e-9 * size))
+        }
+        NodeSelector::Within { within } => mesh.nodes_in_box(within.min, within.max, 1e-9 * size),
+        NodeSelector::Nearest { nearest } => {
+            vec![mesh.nearest_node(*nearest).ok_or_else(|| bad("the mesh has no nodes".into()))?]
+        }
+    };
+    if nodes.is_empty() {
+        return Err(bad("the selection matches no node".into()));
+    }
+    Ok(nodes)
+}
+
+fn mesh_size(mesh: &Mesh) -> f64 {
+    let (lo, hi) = mesh.bounding_box();
+    (0..3).map(|d| hi[d] - lo[d]).fold(0.0, f64::max).max(f64::MIN_POSITIVE)
+}
+
+/// Boundary conditions of the spec applied to `mesh`.
+pub fn boundary_conditions(mesh: &Mesh, b: &BoundarySpec) -> Result<BoundaryConditions, PipelineError> {
+    let mut bc = BoundaryConditions::default();
+    for (i, sel) in b.fixed.iter().enumerate() {
+        bc.fixed.extend(select_nodes(mesh, sel, &format!("body.boundary.fixed[{i}]"))?);
+    }
+    bc.fixed.sort_unstable();
+    bc.fixed.dedup();
+    for (i, r) in b.rigid.iter().enumerate() {
+        let nodes = select_nodes(mesh, &r.nodes, &format!("body.boundary.rigid[{i}].nodes"))?;
+        bc.rigid.push(RigidInterface { name: r.name.clone(), nodes, point: r.point });
+    }
+    Ok(bc)
+}
+
+/// Builds mesh, boundary conditions and the constrained system of a body.
+pub fn prepare(spec: &FeBodySpec, base: &Path, progress: &mut dyn FnMut(Stage)) -> Result<PreparedBody, PipelineError> {
+    progress(Stage::Started("meshing".into()));
+    let mesh = build_mesh(spec, base)?;
+    let bc = boundary_conditions(&mesh, &spec.boundary)?;
+    let mass = match spec.reduction.mass {
+        MassName::Lumped => MassKind::Lumped,
+        MassName::Consistent => MassKind::Consistent,
+    };
+    let system = match &spec.mesh {
+        MeshSpec::Calculix { deck, matrices: CcxMatrices::Ccx } => {
+            progress(Stage::Started("running ccx (matrix export)".into()));
+            let path = resolve(base, deck);
+            let assembled = crate::calculix::import_matrices(&path, &mesh)?;
+            if mass == MassKind::Lumped {
+                progress(Stage::Started("ccx mass matrices are consistent; lumping not applied".into()));
+            }
+            FeSystem::from_assembled(&mesh, &assembled, &bc).map_err(fe("body.boundary"))?
+        }
+        _ => {
+            progress(Stage::Started("assembling".into()));
+            FeSystem::assemble(&mesh, &bc, mass, &mut |done, total| progress(Stage::Assembly { done, total }))
+                .map_err(fe("assembly"))?
+        }
+    };
+    let mut interface = Vec::new();
+    for (i, sel) in spec.reduction.interface.iter().enumerate() {
+        let key = format!("body.reduction.interface[{i}]");
+        if let NodeSelector::Set(name) = sel {
+            if let Some(r) = bc.rigid.iter().position(|r| &r.name == name) {
+                interface.push(system.map.interface_nodes[r]);
+                continue;
+            }
+        }
+        interface.extend(select_nodes(&mesh, sel, &key)?);
+    }
+    let source = describe_source(spec, base);
+    Ok(PreparedBody { mesh, bc, system, interface, source })
+}
+
+fn describe_source(spec: &FeBodySpec, base: &Path) -> String {
+    match &spec.mesh {
+        MeshSpec::Calculix { deck, matrices } => format!("CalculiX deck {} (matrices: {matrices:?})", resolve(base, deck).display()),
+        MeshSpec::Seed { dir } => format!("seed 4-file folder {}", resolve(base, dir).display()),
+        other => format!("built-in mesh {other:?}"),
+    }
+}
+
+/// Eigen solver options from the spec.
+pub fn eigen_options(spec: &FeBodySpec) -> EigenOptions {
+    let r = &spec.reduction;
+    EigenOptions {
+        n_modes: r.modes,
+        shift: r.shift,
+        method: match r.solver {
+            SolverName::Auto => EigenMethod::Auto,
+            SolverName::Dense => EigenMethod::Dense,
+            SolverName::Lanczos => EigenMethod::Lanczos,
+        },
+        ..EigenOptions::default()
+    }
+}
+
+/// Modal analysis of a prepared body: `n_modes` elastic modes (plus rigid-body modes if free).
+pub fn run_modal(
+    spec: &FeBodySpec,
+    body: &PreparedBody,
+    n_modes: usize,
+    progress: &mut dyn FnMut(Stage),
+) -> Result<ModalResult, PipelineError> {
+    progress(Stage::Started("eigen solution".into()));
+    modal_analysis(&body.system, n_modes, &eigen_options(spec), &mut |e| progress(Stage::Eigen(e)))
+        .map_err(fe("modal analysis"))
+}
+
+/// The reduced body the spec asks for.
+pub fn run_reduction(
+    spec: &FeBodySpec,
+    body: &PreparedBody,
+    progress: &mut dyn FnMut(Stage),
+) -> Result<ReducedBody, PipelineError> {
+    let provenance = Provenance {
+        source: body.source.clone(),
+        program: format!("flexmbs {}", env!("CARGO_PKG_VERSION")),
+        notes: format!(
+            "{} nodes, {} elements, {} independent DOFs, mass {:?}, reduction {:?}",
+            body.mesh.num_nodes(),
+            body.mesh.elements.len(),
+            body.system.len(),
+            spec.reduction.mass,
+            spec.reduction.method
+        ),
+    };
+    let r = &spec.reduction;
+    match r.method {
+        ReductionMethod::Modal => {
+            let modal = run_modal(spec, body, r.modes, progress)?;
+            reduce_modal(&body.mesh, &body.system, &modal, r.modes, &spec.name, provenance).map_err(fe("reduction"))
+        }
+        ReductionMethod::CraigBampton | ReductionMethod::Guyan => {
+            let k = if r.method == ReductionMethod::Guyan { 0 } else { r.modes };
+            progress(Stage::Started("Craig-Bampton reduction".into()));
+            craig_bampton(
+                &body.mesh,
+                &body.system,
+                &body.interface,
+                k,
+                &eigen_options(spec),
+                &spec.name,
+                provenance,
+                &mut |e| progress(Stage::Eigen(e)),
+            )
+            .map_err(fe("Craig-Bampton reduction"))
+        }
+    }
+}

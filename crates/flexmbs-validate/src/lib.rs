@@ -1,0 +1,30 @@
+//! Validation cases of flexmbs, run by `flexmbs validate`. Each case computes its quantities with
+//! flexmbs, compares them with a reference from outside flexmbs's formulation (analytic solution,
+//! published value, CalculiX run) and writes `validation/<case>/result.json` (contract in
+//! `../shared/reference/benchmarks.md`).
+#![warn(missing_docs)]
+
+pub mod fe_cantilever_modes;
+pub mod result;
+
+pub use result::ValidationResult;
+use std::path::Path;
+
+/// A validation case.
+pub struct Case {
+    /// Name (folder under `validation/`).
+    pub name: &'static str,
+    /// One-line description.
+    pub description: &'static str,
+    /// Runs the case, writing plots and tables into the given folder.
+    pub run: fn(&Path, bool) -> anyhow::Result<ValidationResult>,
+}
+
+/// All cases.
+pub fn cases() -> Vec<Case> {
+    vec![Case {
+        name: "fe_cantilever_modes",
+        description: "steel cantilever 1 m x 20 mm x 20 mm: bending, torsion, axial frequencies vs beam theory",
+        run: fe_cantilever_modes::run,
+    }]
+}
