@@ -22,29 +22,53 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
 
     let rows = flexmbs_io::report::modal_rows(&modal);
     print!("{}", flexmbs_io::report::modal_table(&rows));
-    std::fs::write(out.join("frequencies.csv"), flexmbs_io::report::modal_csv(&rows))?;
+    std::fs::write(
+        out.join("frequencies.csv"),
+        flexmbs_io::report::modal_csv(&rows),
+    )?;
     let body_path = out.join("cantilever.h5");
     flexmbs_io::body_file::write_body(&body_path, &reduced)?;
     let vtk_dir = out.join("modes");
     let files = flexmbs_io::vtk::write_mode_shapes(&vtk_dir, &reduced, 0.1)?;
 
     // Bending frequencies against Euler-Bernoulli: f_n = (beta_n L)^2 / (2 pi L^2) sqrt(EI / rho A).
-    let c = (210e9 * 0.02f64.powi(4) / 12.0 / (7850.0 * 4e-4)).sqrt() / (2.0 * std::f64::consts::PI);
+    let c =
+        (210e9 * 0.02f64.powi(4) / 12.0 / (7850.0 * 4e-4)).sqrt() / (2.0 * std::f64::consts::PI);
     let betas = [1.875104, 4.694091, 7.854757, 10.995541, 14.137168];
-    let eb: Vec<(f64, f64)> = betas.iter().enumerate().map(|(i, b)| ((i + 1) as f64, b * b * c)).collect();
+    let eb: Vec<(f64, f64)> = betas
+        .iter()
+        .enumerate()
+        .map(|(i, b)| ((i + 1) as f64, b * b * c))
+        .collect();
     let mut fe_bend = Vec::new();
-    for l in modal.labels.iter().filter(|l| matches!(l.dominant.as_str(), "uy" | "uz" | "ry" | "rz")) {
+    for l in modal
+        .labels
+        .iter()
+        .filter(|l| matches!(l.dominant.as_str(), "uy" | "uz" | "ry" | "rz"))
+    {
         fe_bend.push(l.frequency_hz);
     }
-    let pairs: Vec<(f64, f64)> =
-        fe_bend.chunks(2).take(betas.len()).enumerate().map(|(i, p)| ((i + 1) as f64, p[0])).collect();
+    let pairs: Vec<(f64, f64)> = fe_bend
+        .chunks(2)
+        .take(betas.len())
+        .enumerate()
+        .map(|(i, p)| ((i + 1) as f64, p[0]))
+        .collect();
     LinePlot {
         title: "Cantilever bending frequencies: hex20r 40x2x2 vs Euler-Bernoulli".into(),
         x_label: "bending mode pair".into(),
         y_label: "frequency [Hz]".into(),
         series: vec![
-            Series { name: "Euler-Bernoulli".into(), points: eb, style: Style::Line },
-            Series { name: "flexmbs hex20r".into(), points: pairs, style: Style::Points },
+            Series {
+                name: "Euler-Bernoulli".into(),
+                points: eb,
+                style: Style::Line,
+            },
+            Series {
+                name: "flexmbs hex20r".into(),
+                points: pairs,
+                style: Style::Points,
+            },
         ],
         log_x: false,
         log_y: true,

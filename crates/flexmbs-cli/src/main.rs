@@ -95,18 +95,33 @@ fn run(cli: Cli) -> Result<()> {
         Command::Modal { model, modes, json } => cmd_modal(&model, modes, json, quiet),
         Command::Reduce { model, output } => {
             let body = reduce_model(&model, quiet)?;
-            flexmbs_io::body_file::write_body(&output, &body).with_context(|| format!("writing {}", output.display()))?;
-            println!("wrote {} ({} nodes, {} modes)", output.display(), body.num_nodes(), body.num_modes());
+            flexmbs_io::body_file::write_body(&output, &body)
+                .with_context(|| format!("writing {}", output.display()))?;
+            println!(
+                "wrote {} ({} nodes, {} modes)",
+                output.display(),
+                body.num_nodes(),
+                body.num_modes()
+            );
             Ok(())
         }
-        Command::ExportVtk { input, output, scale } => {
+        Command::ExportVtk {
+            input,
+            output,
+            scale,
+        } => {
             let body = if input.extension().is_some_and(|e| e == "toml") {
                 reduce_model(&input, quiet)?
             } else {
-                flexmbs_io::body_file::read_body(&input).with_context(|| format!("reading {}", input.display()))?
+                flexmbs_io::body_file::read_body(&input)
+                    .with_context(|| format!("reading {}", input.display()))?
             };
             let files = flexmbs_io::vtk::write_mode_shapes(&output, &body, scale)?;
-            println!("wrote {} files to {} (open the .pvd in ParaView)", files.len(), output.display());
+            println!(
+                "wrote {} files to {} (open the .pvd in ParaView)",
+                files.len(),
+                output.display()
+            );
             Ok(())
         }
         Command::Check { model } => {
@@ -122,7 +137,12 @@ fn run(cli: Cli) -> Result<()> {
             );
             Ok(())
         }
-        Command::Validate { case, all, list, dir } => {
+        Command::Validate {
+            case,
+            all,
+            list,
+            dir,
+        } => {
             let cases = flexmbs_validate::cases();
             if list {
                 for c in &cases {
@@ -143,7 +163,8 @@ fn run(cli: Cli) -> Result<()> {
                 let out = dir.join(c.name);
                 std::fs::create_dir_all(&out)?;
                 eprintln!("validation case {} ...", c.name);
-                let r = (c.run)(&out, quiet).with_context(|| format!("validation case {}", c.name))?;
+                let r =
+                    (c.run)(&out, quiet).with_context(|| format!("validation case {}", c.name))?;
                 r.write(&out.join("result.json"))?;
                 println!("{}", r.summary());
                 if !r.pass {
@@ -175,7 +196,9 @@ fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
     let base = model.parent().unwrap_or(Path::new("."));
     if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
         let dir = flexmbs_io::pipeline::resolve(base, dir);
-        return Ok(flexmbs_io::seed::read_seed_body(&dir, &spec.name, spec.units)?);
+        return Ok(flexmbs_io::seed::read_seed_body(
+            &dir, &spec.name, spec.units,
+        )?);
     }
     let (body, spec) = load(model, quiet)?;
     let mut p = progress::Progress::new(quiet);
@@ -192,7 +215,12 @@ fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Res
     p.finish();
     let rows = flexmbs_io::report::modal_rows(&modal);
     if json {
-        println!("{}", serde_json::to_string_pretty(&flexmbs_io::report::modal_json(&spec.name, &body, &modal))?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&flexmbs_io::report::modal_json(
+                &spec.name, &body, &modal
+            ))?
+        );
     } else {
         println!(
             "{}: {} nodes, {} elements, {} independent DOFs, {} rigid-body modes",

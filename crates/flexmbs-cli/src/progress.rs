@@ -15,7 +15,11 @@ pub struct Progress {
 impl Progress {
     /// A new renderer (silent when `quiet`).
     pub fn new(quiet: bool) -> Self {
-        Self { bar: None, key: String::new(), quiet }
+        Self {
+            bar: None,
+            key: String::new(),
+            quiet,
+        }
     }
 
     fn spinner(&mut self, msg: String) {
@@ -25,7 +29,10 @@ impl Progress {
         self.finish();
         self.key.clear();
         let b = ProgressBar::new_spinner();
-        b.set_style(ProgressStyle::with_template("{spinner} {elapsed:>4} {msg}").unwrap_or(ProgressStyle::default_spinner()));
+        b.set_style(
+            ProgressStyle::with_template("{spinner} {elapsed:>4} {msg}")
+                .unwrap_or(ProgressStyle::default_spinner()),
+        );
         b.enable_steady_tick(Duration::from_millis(120));
         b.set_message(msg);
         self.bar = Some(b);
@@ -35,7 +42,8 @@ impl Progress {
         if self.quiet {
             return None;
         }
-        let needs_new = self.bar.as_ref().is_none_or(|b| b.length() != Some(len)) || self.key != msg;
+        let needs_new =
+            self.bar.as_ref().is_none_or(|b| b.length() != Some(len)) || self.key != msg;
         if needs_new {
             self.finish();
             self.key = msg.to_string();
@@ -61,17 +69,25 @@ impl Progress {
                 }
             }
             Stage::Eigen(e) => match e {
-                EigenEvent::Factorizing { n, nnz } => self.spinner(format!("factorizing {n} equations ({nnz} nonzeros)")),
-                EigenEvent::Factorized { nnz_l } => self.spinner(format!("factorized (nnz(L) = {nnz_l}), iterating")),
-                EigenEvent::Iteration { basis, converged, wanted } => {
+                EigenEvent::Factorizing { n, nnz } => {
+                    self.spinner(format!("factorizing {n} equations ({nnz} nonzeros)"))
+                }
+                EigenEvent::Factorized { nnz_l } => {
+                    self.spinner(format!("factorized (nnz(L) = {nnz_l}), iterating"))
+                }
+                EigenEvent::Iteration {
+                    basis,
+                    converged,
+                    wanted,
+                } => {
                     if let Some(b) = self.bar(wanted as u64, "eigenpairs") {
                         b.set_position(converged.min(wanted) as u64);
                         b.set_message(format!("eigenpairs (basis {basis})"));
                     }
                 }
-                EigenEvent::SturmCheck { expected, found } => {
-                    self.spinner(format!("Sturm check: {found} eigenvalues below the bound, {expected} expected"))
-                }
+                EigenEvent::SturmCheck { expected, found } => self.spinner(format!(
+                    "Sturm check: {found} eigenvalues below the bound, {expected} expected"
+                )),
             },
         }
     }

@@ -74,9 +74,17 @@ pub fn assemble(
         counts[n] = 6;
     }
     let dofs = DofMap::from_counts(counts);
-    let est: usize = mesh.elements.iter().map(|e| (e.nodes.len() * e.kind.dofs_per_node()).pow(2)).sum();
+    let est: usize = mesh
+        .elements
+        .iter()
+        .map(|e| (e.nodes.len() * e.kind.dofs_per_node()).pow(2))
+        .sum();
     let mut kt = Vec::with_capacity(est);
-    let mut mt = Vec::with_capacity(if mass == MassKind::Lumped { dofs.len } else { est });
+    let mut mt = Vec::with_capacity(if mass == MassKind::Lumped {
+        dofs.len
+    } else {
+        est
+    });
     let mut eqs = Vec::with_capacity(120);
     let ne = mesh.elements.len();
     for (ei, el) in mesh.elements.iter().enumerate() {
@@ -108,7 +116,10 @@ pub fn assemble(
 }
 
 /// Builds an n x n sparse matrix from triplets, summing duplicates.
-pub fn sparse_from_triplets(n: usize, t: &[Triplet<usize, usize, f64>]) -> Result<SparseMatrix, FeError> {
+pub fn sparse_from_triplets(
+    n: usize,
+    t: &[Triplet<usize, usize, f64>],
+) -> Result<SparseMatrix, FeError> {
     SparseMatrix::try_new_from_triplets(n, n, t)
         .map_err(|e| FeError::Invalid(format!("sparse matrix assembly failed: {e:?}")))
 }

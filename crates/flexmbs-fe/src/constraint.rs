@@ -70,12 +70,18 @@ impl ConstraintMap {
         let mut interface_nodes = Vec::new();
         for (r, ri) in bc.rigid.iter().enumerate() {
             if ri.nodes.is_empty() {
-                return Err(FeError::Invalid(format!("rigid interface '{}' has no nodes", ri.name)));
+                return Err(FeError::Invalid(format!(
+                    "rigid interface '{}' has no nodes",
+                    ri.name
+                )));
             }
             let p = ri.point.unwrap_or_else(|| centroid(&mesh.nodes, &ri.nodes));
             for &s in &ri.nodes {
                 if s >= n_mesh {
-                    return Err(FeError::Invalid(format!("rigid interface '{}': node index {s} out of range", ri.name)));
+                    return Err(FeError::Invalid(format!(
+                        "rigid interface '{}': node index {s} out of range",
+                        ri.name
+                    )));
                 }
                 if let Some(other) = master_of[s] {
                     return Err(FeError::Invalid(format!(
@@ -92,7 +98,9 @@ impl ConstraintMap {
         let mut fixed = vec![false; nodes.len()];
         for &f in &bc.fixed {
             if f >= n_mesh {
-                return Err(FeError::Invalid(format!("fixed node index {f} out of range")));
+                return Err(FeError::Invalid(format!(
+                    "fixed node index {f} out of range"
+                )));
             }
             fixed[f] = true;
         }
@@ -110,7 +118,11 @@ impl ConstraintMap {
         let mut index_of = vec![usize::MAX; dofs.len];
         for node in 0..nodes.len() {
             let is_slave = node < n_mesh && master_of[node].is_some();
-            let is_fixed = if node < n_mesh { fixed[node] } else { iface_fixed[node - n_mesh] };
+            let is_fixed = if node < n_mesh {
+                fixed[node]
+            } else {
+                iface_fixed[node - n_mesh]
+            };
             if is_slave || is_fixed {
                 continue;
             }
@@ -127,7 +139,9 @@ impl ConstraintMap {
                     rows[eq].push((index_of[eq], 1.0));
                     continue;
                 }
-                let Some(r) = (node < n_mesh).then(|| master_of[node]).flatten() else { continue };
+                let Some(r) = (node < n_mesh).then(|| master_of[node]).flatten() else {
+                    continue;
+                };
                 let m = interface_nodes[r];
                 if iface_fixed[r] {
                     continue;
@@ -151,7 +165,15 @@ impl ConstraintMap {
             }
         }
         let fixed_nodes = (0..n_mesh).filter(|&n| fixed[n]).collect();
-        Ok(Self { nodes, dofs, rows, independent, interface_nodes, fixed_nodes, mesh_dofs })
+        Ok(Self {
+            nodes,
+            dofs,
+            rows,
+            independent,
+            interface_nodes,
+            fixed_nodes,
+            mesh_dofs,
+        })
     }
 
     /// Number of independent DOFs.

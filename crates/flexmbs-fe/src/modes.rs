@@ -26,14 +26,26 @@ pub fn label_modes(sys: &FeSystem, x: MatRef<'_, f64>, omega2: &[f64]) -> Vec<Mo
     (0..x.ncols())
         .map(|k| {
             let frac: Vec<f64> = (0..6)
-                .map(|d| if rmr[(d, d)] > 0.0 { gamma[(d, k)].powi(2) / rmr[(d, d)] } else { 0.0 })
+                .map(|d| {
+                    if rmr[(d, d)] > 0.0 {
+                        gamma[(d, k)].powi(2) / rmr[(d, d)]
+                    } else {
+                        0.0
+                    }
+                })
                 .collect();
-            let dom = (0..6).max_by(|&a, &b| frac[a].total_cmp(&frac[b])).unwrap_or(0);
+            let dom = (0..6)
+                .max_by(|&a, &b| frac[a].total_cmp(&frac[b]))
+                .unwrap_or(0);
             let f = omega2[k].max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
             ModeLabel {
                 index: k + 1,
                 frequency_hz: if rigid[k] { 0.0 } else { f },
-                dominant: if rigid[k] { format!("rigid {}", names[dom]) } else { names[dom].to_string() },
+                dominant: if rigid[k] {
+                    format!("rigid {}", names[dom])
+                } else {
+                    names[dom].to_string()
+                },
                 effective_mass_fraction: [frac[0], frac[1], frac[2]],
             }
         })
@@ -41,7 +53,12 @@ pub fn label_modes(sys: &FeSystem, x: MatRef<'_, f64>, omega2: &[f64]) -> Vec<Mo
 }
 
 /// For each mode, whether it lies in the span of the rigid-body vectors (M-orthogonal projection).
-fn rigid_mode_flags(rmr: MatRef<'_, f64>, gamma: MatRef<'_, f64>, x: MatRef<'_, f64>, mx: MatRef<'_, f64>) -> Vec<bool> {
+fn rigid_mode_flags(
+    rmr: MatRef<'_, f64>,
+    gamma: MatRef<'_, f64>,
+    x: MatRef<'_, f64>,
+    mx: MatRef<'_, f64>,
+) -> Vec<bool> {
     // Components of the projection: a = (R^T M R)^-1 R^T M x; |x - R a|_M^2 = x^T M x - gamma^T a.
     let Ok(llt) = rmr.llt(faer::Side::Lower) else {
         return vec![false; x.ncols()];
@@ -58,12 +75,18 @@ fn rigid_mode_flags(rmr: MatRef<'_, f64>, gamma: MatRef<'_, f64>, x: MatRef<'_, 
 
 /// Number of rigid-body modes among the labels.
 pub fn count_rigid(labels: &[ModeLabel]) -> usize {
-    labels.iter().filter(|l| l.dominant.starts_with("rigid")).count()
+    labels
+        .iter()
+        .filter(|l| l.dominant.starts_with("rigid"))
+        .count()
 }
 
 /// Frequencies in Hz of eigenvalues omega^2 (negative round-off clipped to 0).
 pub fn frequencies_hz(omega2: &[f64]) -> Vec<f64> {
-    omega2.iter().map(|&w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)).collect()
+    omega2
+        .iter()
+        .map(|&w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect()
 }
 
 /// Dense `Phi^T A Phi` for a sparse `A`.

@@ -142,11 +142,19 @@ pub fn modal_analysis(
 ) -> Result<ModalResult, FeError> {
     let free = sys.map.fixed_nodes.is_empty();
     let wanted = (n_modes + if free { 6 } else { 0 }).min(sys.len());
-    let o = EigenOptions { n_modes: wanted, ..opts.clone() };
+    let o = EigenOptions {
+        n_modes: wanted,
+        ..opts.clone()
+    };
     let sol = lowest_modes(&sys.k, &sys.m, &o, progress)?;
     let labels = label_modes(sys, sol.vectors.as_ref(), &sol.omega2);
     let n_rigid = count_rigid(&labels);
-    Ok(ModalResult { omega2: sol.omega2, vectors: sol.vectors, labels, n_rigid })
+    Ok(ModalResult {
+        omega2: sol.omega2,
+        vectors: sol.vectors,
+        labels,
+        n_rigid,
+    })
 }
 
 /// Builds a reduced body from the elastic modes of a modal analysis (rigid-body modes excluded,
@@ -159,8 +167,10 @@ pub fn reduce_modal(
     name: &str,
     provenance: Provenance,
 ) -> Result<ReducedBody, FeError> {
-    let keep: Vec<usize> =
-        (0..modal.labels.len()).filter(|&k| !modal.labels[k].dominant.starts_with("rigid")).take(n_modes).collect();
+    let keep: Vec<usize> = (0..modal.labels.len())
+        .filter(|&k| !modal.labels[k].dominant.starts_with("rigid"))
+        .take(n_modes)
+        .collect();
     if keep.is_empty() {
         return Err(FeError::Invalid("no elastic modes to keep".into()));
     }
@@ -173,8 +183,21 @@ pub fn reduce_modal(
         l.index = i + 1;
     }
     let omega2: Vec<f64> = keep.iter().map(|&k| modal.omega2[k]).collect();
-    let kind = if modal.n_rigid > 0 { ReductionKind::FreeFree } else { ReductionKind::Modal };
-    body_from_basis(mesh, sys, v.as_ref(), frequencies_hz(&omega2), labels, kind, name, provenance)
+    let kind = if modal.n_rigid > 0 {
+        ReductionKind::FreeFree
+    } else {
+        ReductionKind::Modal
+    };
+    body_from_basis(
+        mesh,
+        sys,
+        v.as_ref(),
+        frequencies_hz(&omega2),
+        labels,
+        kind,
+        name,
+        provenance,
+    )
 }
 
 /// Craig-Bampton reduction (seed 001 ch. 3): static constraint modes of the independent DOFs of
@@ -196,7 +219,9 @@ pub fn craig_bampton(
     for &node in interface {
         let d = sys.map.independent_of_node(node);
         if d.is_empty() {
-            return Err(FeError::Invalid(format!("interface node {node} has no free DOFs (fixed or slaved)")));
+            return Err(FeError::Invalid(format!(
+                "interface node {node} has no free DOFs (fixed or slaved)"
+            )));
         }
         for p in d {
             if !is_b[p] {
@@ -218,7 +243,10 @@ pub fn craig_bampton(
     let (k_ii, k_ib) = split_blocks(&sys.k, &pos, ni, nb)?;
     let (m_ii, _) = split_blocks(&sys.m, &pos, ni, nb)?;
     // static constraint modes Psi = -K_II^-1 K_IB
-    progress(EigenEvent::Factorizing { n: ni, nnz: k_ii.compute_nnz() });
+    progress(EigenEvent::Factorizing {
+        n: ni,
+        nnz: k_ii.compute_nnz(),
+    });
     let chol = SparseCholesky::factor(&k_ii).map_err(|_| FeError::NotPositiveDefinite {
         what: "K_II (stiffness with the interface fixed)".into(),
         hint: ": the interface does not fix the body's rigid-body motion".into(),
@@ -227,7 +255,15 @@ pub fn craig_bampton(
     chol.solve_in_place(psi.as_mut());
     let k_internal = n_internal.min(ni);
     let (phi_i, w2_i) = if k_internal > 0 {
-        let sol = lowest_modes(&k_ii, &m_ii, &EigenOptions { n_modes: k_internal, ..opts.clone() }, progress)?;
+        let sol = lowest_modes(
+            &k_ii,
+            &m_ii,
+            &EigenOptions {
+                n_modes: k_internal,
+                ..opts.clone()
+            },
+            progress,
+        )?;
         (sol.vectors, sol.omega2)
     } else {
         (Mat::<f64>::zeros(ni, 0), Vec::new())
@@ -268,14 +304,28 @@ pub fn craig_bampton(
     let k_cb = project_dense(&sys.k, v.as_ref());
     let m_cb = project_dense(&sys.m, v.as_ref());
     let (w2_cb, _) = dense_generalized(k_cb.as_ref(), m_cb.as_ref())?;
-    let kind = ReductionKind::CraigBampton { internal_modes: k_internal };
-    let mut body = body_from_basis(mesh, sys, v.as_ref(), frequencies_hz(&w2_cb), labels, kind, name, provenance)?;
+    let kind = ReductionKind::CraigBampton {
+        internal_modes: k_internal,
+    };
+    let mut body = body_from_basis(
+        mesh,
+        sys,
+        v.as_ref(),
+        frequencies_hz(&w2_cb),
+        labels,
+        kind,
+        name,
+        provenance,
+    )?;
     body.interface_nodes = interface.to_vec();
     Ok(body)
 }
 
 fn node_label(mesh: &Mesh, node: usize) -> String {
-    mesh.node_ids.get(node).map(|id| id.to_string()).unwrap_or_else(|| format!("interface#{}", node - mesh.num_nodes()))
+    mesh.node_ids
+        .get(node)
+        .map(|id| id.to_string())
+        .unwrap_or_else(|| format!("interface#{}", node - mesh.num_nodes()))
 }
 
 /// Splits a sparse matrix into the internal block `A_II` and the coupling block `A_IB` (dense later).
@@ -321,7 +371,14 @@ fn body_from_basis(
     let max_id = node_ids.iter().copied().max().unwrap_or(0);
     node_ids.extend((0..n_nodes - mesh.num_nodes()).map(|i| max_id + 1 + i as u64));
     let node_masses = sys.node_masses.clone();
-    let cells = mesh.elements.iter().map(|e| Cell { kind: e.kind, nodes: e.nodes.clone() }).collect();
+    let cells = mesh
+        .elements
+        .iter()
+        .map(|e| Cell {
+            kind: e.kind,
+            nodes: e.nodes.clone(),
+        })
+        .collect();
     Ok(ReducedBody {
         name: name.to_string(),
         units: mesh.units,

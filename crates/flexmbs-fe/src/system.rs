@@ -35,16 +35,27 @@ impl FeSystem {
 
     /// Applies `bc` to matrices assembled elsewhere (e.g. imported from CalculiX) whose DOFs are
     /// numbered as [`DofMap::from_counts`]`(mesh.node_dofs())`.
-    pub fn from_assembled(mesh: &Mesh, a: &Assembled, bc: &BoundaryConditions) -> Result<Self, FeError> {
+    pub fn from_assembled(
+        mesh: &Mesh,
+        a: &Assembled,
+        bc: &BoundaryConditions,
+    ) -> Result<Self, FeError> {
         let map = ConstraintMap::new(mesh, bc)?;
         let expected = DofMap::from_counts(mesh.node_dofs());
         if a.dofs != expected {
-            return Err(FeError::Invalid("assembled matrices are not numbered like the mesh's DOFs".into()));
+            return Err(FeError::Invalid(
+                "assembled matrices are not numbered like the mesh's DOFs".into(),
+            ));
         }
         let k = map.project(&a.k)?;
         let m = map.project(&a.m)?;
         let node_masses = lumped_node_masses(a, map.nodes.len());
-        Ok(Self { map, k, m, node_masses })
+        Ok(Self {
+            map,
+            k,
+            m,
+            node_masses,
+        })
     }
 
     /// Number of independent DOFs.
@@ -86,9 +97,17 @@ impl FeSystem {
         let mr = sparse_times(&self.m, r.as_ref());
         let mass = (0..self.len()).map(|i| r[(i, 0)] * mr[(i, 0)]).sum::<f64>();
         // first moments: r_rot_a^T M r_trans_b gives (e_a x x) . m e_b -> static moments
-        let s = |a: usize, b: usize| (0..self.len()).map(|i| r[(i, 3 + a)] * mr[(i, b)]).sum::<f64>();
+        let s = |a: usize, b: usize| {
+            (0..self.len())
+                .map(|i| r[(i, 3 + a)] * mr[(i, b)])
+                .sum::<f64>()
+        };
         // (e_x x x)_y = -z, (e_y x x)_z = -x, (e_z x x)_x = -y  ->  S_z = -s(0,1), S_x = -s(1,2), S_y = -s(2,0)
-        let c = if mass > 0.0 { [-s(1, 2) / mass, -s(2, 0) / mass, -s(0, 1) / mass] } else { [0.0; 3] };
+        let c = if mass > 0.0 {
+            [-s(1, 2) / mass, -s(2, 0) / mass, -s(0, 1) / mass]
+        } else {
+            [0.0; 3]
+        };
         (mass, c)
     }
 }
@@ -128,7 +147,11 @@ fn unit(a: usize) -> [f64; 3] {
 }
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 /// Sparse-dense product `A X`.

@@ -2,7 +2,8 @@
 //! reduced-body files and VTK output.
 #![warn(missing_docs)]
 
+pub mod inp_writer;
 pub mod model;
-pub mod plot;
 pub mod pipeline;
+pub mod plot;
 pub mod report;

@@ -103,7 +103,11 @@ pub struct MaterialSpec {
 
 impl From<MaterialSpec> for Material {
     fn from(m: MaterialSpec) -> Self {
-        Material { e: m.e, nu: m.nu, rho: m.rho }
+        Material {
+            e: m.e,
+            nu: m.nu,
+            rho: m.rho,
+        }
     }
 }
 
@@ -243,7 +247,21 @@ impl From<SectionSpec> for BeamSection {
             SectionSpec::Rectangle { width, height } => BeamSection::rectangle(width, height),
             SectionSpec::Circle { diameter } => BeamSection::circle(diameter),
             SectionSpec::Tube { outer_radius, wall } => BeamSection::tube(outer_radius, wall),
-            SectionSpec::General { area, iy, iz, j, ky, kz } => BeamSection { area, iy, iz, j, ky, kz },
+            SectionSpec::General {
+                area,
+                iy,
+                iz,
+                j,
+                ky,
+                kz,
+            } => BeamSection {
+                area,
+                iy,
+                iz,
+                j,
+                ky,
+                kz,
+            },
         }
     }
 }
@@ -519,18 +537,31 @@ pub fn parse_fe_model(text: &str, file: &Path) -> Result<FeModelFile, ModelError
 
 /// Reads and parses a model file.
 pub fn read_fe_model(path: &Path) -> Result<FeModelFile, ModelError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Read { file: path.into(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Read {
+        file: path.into(),
+        source,
+    })?;
     parse_fe_model(&text, path)
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].bytes().filter(|&b| b == b'\n').count() + 1
+    text[..offset.min(text.len())]
+        .bytes()
+        .filter(|&b| b == b'\n')
+        .count()
+        + 1
 }
 
 fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
-    let err = |path: &str, message: String| ModelError::Value { file: file.into(), path: path.into(), message };
+    let err = |path: &str, message: String| ModelError::Value {
+        file: file.into(),
+        path: path.into(),
+        message,
+    };
     let check_material = |mat: &MaterialSpec| {
-        Material::from(*mat).validate().map_err(|e| err("body.mesh.material", e.to_string()))
+        Material::from(*mat)
+            .validate()
+            .map_err(|e| err("body.mesh.material", e.to_string()))
     };
     let positive3 = |key: &str, v: &[f64; 3]| {
         if v.iter().all(|x| x.is_finite() && *x > 0.0) {
@@ -540,28 +571,51 @@ fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
         }
     };
     match &m.body.mesh {
-        MeshSpec::Box { size, divisions, material, .. } => {
+        MeshSpec::Box {
+            size,
+            divisions,
+            material,
+            ..
+        } => {
             positive3("body.mesh.size", size)?;
             if divisions.contains(&0) {
-                return Err(err("body.mesh.divisions", format!("all divisions must be >= 1, got {divisions:?}")));
+                return Err(err(
+                    "body.mesh.divisions",
+                    format!("all divisions must be >= 1, got {divisions:?}"),
+                ));
             }
             check_material(material)?;
         }
-        MeshSpec::Boxes { boxes, element_size, material, .. } => {
+        MeshSpec::Boxes {
+            boxes,
+            element_size,
+            material,
+            ..
+        } => {
             positive3("body.mesh.element_size", element_size)?;
             if boxes.is_empty() {
                 return Err(err("body.mesh.boxes", "at least one box is needed".into()));
             }
             check_material(material)?;
         }
-        MeshSpec::Profile { length, element_size, material, .. } => {
+        MeshSpec::Profile {
+            length,
+            element_size,
+            material,
+            ..
+        } => {
             positive3("body.mesh.element_size", element_size)?;
             if !(length.is_finite() && *length > 0.0) {
-                return Err(err("body.mesh.length", format!("must be > 0, got {length}")));
+                return Err(err(
+                    "body.mesh.length",
+                    format!("must be > 0, got {length}"),
+                ));
             }
             check_material(material)?;
         }
-        MeshSpec::Beam { elements, material, .. } => {
+        MeshSpec::Beam {
+            elements, material, ..
+        } => {
             if *elements == 0 {
                 return Err(err("body.mesh.elements", "must be >= 1".into()));
             }
@@ -571,10 +625,16 @@ fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
     }
     let r = &m.body.reduction;
     if r.modes == 0 && r.method == ReductionMethod::Modal {
-        return Err(err("body.reduction.modes", "a modal reduction needs at least one mode".into()));
+        return Err(err(
+            "body.reduction.modes",
+            "a modal reduction needs at least one mode".into(),
+        ));
     }
     if r.method != ReductionMethod::Modal && r.interface.is_empty() {
-        return Err(err("body.reduction.interface", "Craig-Bampton and Guyan need at least one interface".into()));
+        return Err(err(
+            "body.reduction.interface",
+            "Craig-Bampton and Guyan need at least one interface".into(),
+        ));
     }
     Ok(())
 }
@@ -609,13 +669,21 @@ interface = ["tip"]
         assert_eq!(m.body.name, "cantilever");
         assert_eq!(m.body.reduction.method, ReductionMethod::CraigBampton);
         assert_eq!(m.body.boundary.fixed.len(), 2);
-        assert!(matches!(m.body.mesh, MeshSpec::Box { divisions: [40, 2, 2], .. }));
+        assert!(matches!(
+            m.body.mesh,
+            MeshSpec::Box {
+                divisions: [40, 2, 2],
+                ..
+            }
+        ));
     }
 
     #[test]
     fn unknown_key_inside_variant_names_path_and_line() {
         let bad = GOOD.replace("divisions = [40, 2, 2]", "divisons = [40, 2, 2]");
-        let e = parse_fe_model(&bad, Path::new("m.toml")).unwrap_err().to_string();
+        let e = parse_fe_model(&bad, Path::new("m.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("m.toml:"), "{e}");
         assert!(e.contains("divisons") || e.contains("divisions"), "{e}");
     }
@@ -632,14 +700,21 @@ interface = ["tip"]
     #[test]
     fn bad_material_is_a_value_error() {
         let bad = GOOD.replace("nu = 0.3", "nu = 0.7");
-        let s = parse_fe_model(&bad, Path::new("m.toml")).unwrap_err().to_string();
-        assert!(s.contains("body.mesh.material") && s.contains("Poisson"), "{s}");
+        let s = parse_fe_model(&bad, Path::new("m.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            s.contains("body.mesh.material") && s.contains("Poisson"),
+            "{s}"
+        );
     }
 
     #[test]
     fn craig_bampton_without_interface_is_rejected() {
         let bad = GOOD.replace("interface = [\"tip\"]", "");
-        let s = parse_fe_model(&bad, Path::new("m.toml")).unwrap_err().to_string();
+        let s = parse_fe_model(&bad, Path::new("m.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(s.contains("body.reduction.interface"), "{s}");
     }
 }

@@ -3,15 +3,17 @@
 //! and calls the FE front end. No physics here: this module only wires the pieces together.
 
 use crate::model::{
-    BoundarySpec, CcxMatrices, FeBodySpec, MassName, MeshSpec, NodeSelector, ProfileSpec, ReductionMethod,
-    SolverName,
+    BoundarySpec, CcxMatrices, FeBodySpec, MassName, MeshSpec, NodeSelector, ProfileSpec,
+    ReductionMethod, SolverName,
 };
 use flexmbs_fe::constraint::{BoundaryConditions, RigidInterface};
 use flexmbs_fe::eigen::{EigenEvent, EigenMethod, EigenOptions};
 use flexmbs_fe::element::MassKind;
 use flexmbs_fe::mesh::generate;
 use flexmbs_fe::mesh::profile::Profile;
-use flexmbs_fe::reduction::{craig_bampton, modal_analysis, reduce_modal, ModalResult, Provenance, ReducedBody};
+use flexmbs_fe::reduction::{
+    craig_bampton, modal_analysis, reduce_modal, ModalResult, Provenance, ReducedBody,
+};
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::{ElementKind, FeError, Material, Mesh, NodeIdx};
 use std::path::{Path, PathBuf};
@@ -42,7 +44,10 @@ pub enum PipelineError {
 }
 
 fn fe(context: &str) -> impl FnOnce(FeError) -> PipelineError + '_ {
-    move |source| PipelineError::Fe { context: context.to_string(), source }
+    move |source| PipelineError::Fe {
+        context: context.to_string(),
+        source,
+    }
 }
 
 /// Progress of the pipeline stages, for progress bars.
@@ -81,28 +86,75 @@ pub fn build_mesh(spec: &FeBodySpec, base: &Path) -> Result<Mesh, PipelineError>
     let u = spec.units;
     let ctx = "body.mesh";
     let mesh = match &spec.mesh {
-        MeshSpec::Box { size, divisions, element, material } => {
-            generate::box_mesh(*size, *divisions, ElementKind::from(*element), Material::from(*material), u)
-                .map_err(fe(ctx))?
+        MeshSpec::Box {
+            size,
+            divisions,
+            element,
+            material,
+        } => generate::box_mesh(
+            *size,
+            *divisions,
+            ElementKind::from(*element),
+            Material::from(*material),
+            u,
+        )
+        .map_err(fe(ctx))?,
+        MeshSpec::Boxes {
+            boxes,
+            element_size,
+            element,
+            material,
+        } => {
+            let regions: Vec<generate::BoxRegion> = boxes
+                .iter()
+                .map(|b| generate::BoxRegion {
+                    min: b.min,
+                    max: b.max,
+                })
+                .collect();
+            generate::union_of_boxes(
+                &regions,
+                *element_size,
+                ElementKind::from(*element),
+                Material::from(*material),
+                u,
+            )
+            .map_err(fe(ctx))?
         }
-        MeshSpec::Boxes { boxes, element_size, element, material } => {
-            let regions: Vec<generate::BoxRegion> =
-                boxes.iter().map(|b| generate::BoxRegion { min: b.min, max: b.max }).collect();
-            generate::union_of_boxes(&regions, *element_size, ElementKind::from(*element), Material::from(*material), u)
-                .map_err(fe(ctx))?
-        }
-        MeshSpec::Profile { profile, length, element_size, element, material } => {
+        MeshSpec::Profile {
+            profile,
+            length,
+            element_size,
+            element,
+            material,
+        } => {
             let p = build_profile(profile).map_err(fe("body.mesh.profile"))?;
-            generate::extrude_profile(&p, *length, *element_size, ElementKind::from(*element), Material::from(*material), u)
-                .map_err(fe(ctx))?
+            generate::extrude_profile(
+                &p,
+                *length,
+                *element_size,
+                ElementKind::from(*element),
+                Material::from(*material),
+                u,
+            )
+            .map_err(fe(ctx))?
         }
-        MeshSpec::Beam { start, end, elements, section, theory, orientation, material } => {
+        MeshSpec::Beam {
+            start,
+            end,
+            elements,
+            section,
+            theory,
+            orientation,
+            material,
+        } => {
             let axis = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
-            let o = orientation.unwrap_or(if axis[0].abs() < 1e-12 * (axis[1].abs() + axis[2].abs()) {
-                [0.0, 0.0, 1.0]
-            } else {
-                [0.0, 1.0, 0.0]
-            });
+            let o =
+                orientation.unwrap_or(if axis[0].abs() < 1e-12 * (axis[1].abs() + axis[2].abs()) {
+                    [0.0, 0.0, 1.0]
+                } else {
+                    [0.0, 1.0, 0.0]
+                });
             generate::beam_line(
                 *start,
                 *end,
@@ -122,7 +174,8 @@ pub fn build_mesh(spec: &FeBodySpec, base: &Path) -> Result<Mesh, PipelineError>
         MeshSpec::Seed { .. } => {
             return Err(PipelineError::Model {
                 path: "body.mesh.type".into(),
-                message: "a seed folder holds an already reduced body; it has no mesh to analyse".into(),
+                message: "a seed folder holds an already reduced body; it has no mesh to analyse"
+                    .into(),
             })
         }
     };
@@ -132,13 +185,23 @@ pub fn build_mesh(spec: &FeBodySpec, base: &Path) -> Result<Mesh, PipelineError>
 fn build_profile(p: &ProfileSpec) -> Result<Profile, FeError> {
     match p {
         ProfileSpec::Rectangle { width, height } => Profile::rectangle(*width, *height),
-        ProfileSpec::T { flange_width, flange_thickness, web_width, web_height } => {
-            Profile::t_section(*flange_width, *flange_thickness, *web_width, *web_height)
-        }
-        ProfileSpec::L { width, height, thickness } => Profile::l_section(*width, *height, *thickness),
-        ProfileSpec::I { flange_width, flange_thickness, web_thickness, height } => {
-            Profile::i_section(*flange_width, *flange_thickness, *web_thickness, *height)
-        }
+        ProfileSpec::T {
+            flange_width,
+            flange_thickness,
+            web_width,
+            web_height,
+        } => Profile::t_section(*flange_width, *flange_thickness, *web_width, *web_height),
+        ProfileSpec::L {
+            width,
+            height,
+            thickness,
+        } => Profile::l_section(*width, *height, *thickness),
+        ProfileSpec::I {
+            flange_width,
+            flange_thickness,
+            web_thickness,
+            height,
+        } => Profile::i_section(*flange_width, *flange_thickness, *web_thickness, *height),
         ProfileSpec::Polygon { vertices } => Profile::polygon(vertices),
     }
 }
@@ -153,15 +216,27 @@ pub fn resolve(base: &Path, p: &Path) -> PathBuf {
 }
 
 /// Selects nodes of `mesh` (`key` is the key path for errors).
-pub fn select_nodes(mesh: &Mesh, sel: &NodeSelector, key: &str) -> Result<Vec<NodeIdx>, PipelineError> {
-    let bad = |m: String| PipelineError::Model { path: key.to_string(), message: m };
+pub fn select_nodes(
+    mesh: &Mesh,
+    sel: &NodeSelector,
+    key: &str,
+) -> Result<Vec<NodeIdx>, PipelineError> {
+    let bad = |m: String| PipelineError::Model {
+        path: key.to_string(),
+        message: m,
+    };
     let size = mesh_size(mesh);
     let nodes = match sel {
-        NodeSelector::Set(name) => mesh.node_set(name).map_err(|_| {
-            let known: Vec<&str> = mesh.node_sets.keys().map(|s| s.as_str()).collect();
-            bad(format!("no node set '{name}' (known: {})", known.join(", ")))
-        })?
-        .to_vec(),
+        NodeSelector::Set(name) => mesh
+            .node_set(name)
+            .map_err(|_| {
+                let known: Vec<&str> = mesh.node_sets.keys().map(|s| s.as_str()).collect();
+                bad(format!(
+                    "no node set '{name}' (known: {})",
+                    known.join(", ")
+                ))
+            })?
+            .to_vec(),
         NodeSelector::Plane { plane } => {
             let axis = match plane.axis.as_str() {
                 "x" | "X" => 0,
@@ -173,7 +248,9 @@ pub fn select_nodes(mesh: &Mesh, sel: &NodeSelector, key: &str) -> Result<Vec<No
         }
         NodeSelector::Within { within } => mesh.nodes_in_box(within.min, within.max, 1e-9 * size),
         NodeSelector::Nearest { nearest } => {
-            vec![mesh.nearest_node(*nearest).ok_or_else(|| bad("the mesh has no nodes".into()))?]
+            vec![mesh
+                .nearest_node(*nearest)
+                .ok_or_else(|| bad("the mesh has no nodes".into()))?]
         }
     };
     if nodes.is_empty() {
@@ -184,26 +261,44 @@ pub fn select_nodes(mesh: &Mesh, sel: &NodeSelector, key: &str) -> Result<Vec<No
 
 fn mesh_size(mesh: &Mesh) -> f64 {
     let (lo, hi) = mesh.bounding_box();
-    (0..3).map(|d| hi[d] - lo[d]).fold(0.0, f64::max).max(f64::MIN_POSITIVE)
+    (0..3)
+        .map(|d| hi[d] - lo[d])
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE)
 }
 
 /// Boundary conditions of the spec applied to `mesh`.
-pub fn boundary_conditions(mesh: &Mesh, b: &BoundarySpec) -> Result<BoundaryConditions, PipelineError> {
+pub fn boundary_conditions(
+    mesh: &Mesh,
+    b: &BoundarySpec,
+) -> Result<BoundaryConditions, PipelineError> {
     let mut bc = BoundaryConditions::default();
     for (i, sel) in b.fixed.iter().enumerate() {
-        bc.fixed.extend(select_nodes(mesh, sel, &format!("body.boundary.fixed[{i}]"))?);
+        bc.fixed.extend(select_nodes(
+            mesh,
+            sel,
+            &format!("body.boundary.fixed[{i}]"),
+        )?);
     }
     bc.fixed.sort_unstable();
     bc.fixed.dedup();
     for (i, r) in b.rigid.iter().enumerate() {
         let nodes = select_nodes(mesh, &r.nodes, &format!("body.boundary.rigid[{i}].nodes"))?;
-        bc.rigid.push(RigidInterface { name: r.name.clone(), nodes, point: r.point });
+        bc.rigid.push(RigidInterface {
+            name: r.name.clone(),
+            nodes,
+            point: r.point,
+        });
     }
     Ok(bc)
 }
 
 /// Builds mesh, boundary conditions and the constrained system of a body.
-pub fn prepare(spec: &FeBodySpec, base: &Path, progress: &mut dyn FnMut(Stage)) -> Result<PreparedBody, PipelineError> {
+pub fn prepare(
+    spec: &FeBodySpec,
+    base: &Path,
+    progress: &mut dyn FnMut(Stage),
+) -> Result<PreparedBody, PipelineError> {
     progress(Stage::Started("meshing".into()));
     let mesh = build_mesh(spec, base)?;
     let bc = boundary_conditions(&mesh, &spec.boundary)?;
@@ -212,19 +307,26 @@ pub fn prepare(spec: &FeBodySpec, base: &Path, progress: &mut dyn FnMut(Stage)) 
         MassName::Consistent => MassKind::Consistent,
     };
     let system = match &spec.mesh {
-        MeshSpec::Calculix { deck, matrices: CcxMatrices::Ccx } => {
+        MeshSpec::Calculix {
+            deck,
+            matrices: CcxMatrices::Ccx,
+        } => {
             progress(Stage::Started("running ccx (matrix export)".into()));
             let path = resolve(base, deck);
             let assembled = crate::calculix::import_matrices(&path, &mesh)?;
             if mass == MassKind::Lumped {
-                progress(Stage::Started("ccx mass matrices are consistent; lumping not applied".into()));
+                progress(Stage::Started(
+                    "ccx mass matrices are consistent; lumping not applied".into(),
+                ));
             }
             FeSystem::from_assembled(&mesh, &assembled, &bc).map_err(fe("body.boundary"))?
         }
         _ => {
             progress(Stage::Started("assembling".into()));
-            FeSystem::assemble(&mesh, &bc, mass, &mut |done, total| progress(Stage::Assembly { done, total }))
-                .map_err(fe("assembly"))?
+            FeSystem::assemble(&mesh, &bc, mass, &mut |done, total| {
+                progress(Stage::Assembly { done, total })
+            })
+            .map_err(fe("assembly"))?
         }
     };
     let mut interface = Vec::new();
@@ -239,12 +341,21 @@ pub fn prepare(spec: &FeBodySpec, base: &Path, progress: &mut dyn FnMut(Stage)) 
         interface.extend(select_nodes(&mesh, sel, &key)?);
     }
     let source = describe_source(spec, base);
-    Ok(PreparedBody { mesh, bc, system, interface, source })
+    Ok(PreparedBody {
+        mesh,
+        bc,
+        system,
+        interface,
+        source,
+    })
 }
 
 fn describe_source(spec: &FeBodySpec, base: &Path) -> String {
     match &spec.mesh {
-        MeshSpec::Calculix { deck, matrices } => format!("CalculiX deck {} (matrices: {matrices:?})", resolve(base, deck).display()),
+        MeshSpec::Calculix { deck, matrices } => format!(
+            "CalculiX deck {} (matrices: {matrices:?})",
+            resolve(base, deck).display()
+        ),
         MeshSpec::Seed { dir } => format!("seed 4-file folder {}", resolve(base, dir).display()),
         other => format!("built-in mesh {other:?}"),
     }
@@ -273,8 +384,10 @@ pub fn run_modal(
     progress: &mut dyn FnMut(Stage),
 ) -> Result<ModalResult, PipelineError> {
     progress(Stage::Started("eigen solution".into()));
-    modal_analysis(&body.system, n_modes, &eigen_options(spec), &mut |e| progress(Stage::Eigen(e)))
-        .map_err(fe("modal analysis"))
+    modal_analysis(&body.system, n_modes, &eigen_options(spec), &mut |e| {
+        progress(Stage::Eigen(e))
+    })
+    .map_err(fe("modal analysis"))
 }
 
 /// The reduced body the spec asks for.
@@ -299,10 +412,22 @@ pub fn run_reduction(
     match r.method {
         ReductionMethod::Modal => {
             let modal = run_modal(spec, body, r.modes, progress)?;
-            reduce_modal(&body.mesh, &body.system, &modal, r.modes, &spec.name, provenance).map_err(fe("reduction"))
+            reduce_modal(
+                &body.mesh,
+                &body.system,
+                &modal,
+                r.modes,
+                &spec.name,
+                provenance,
+            )
+            .map_err(fe("reduction"))
         }
         ReductionMethod::CraigBampton | ReductionMethod::Guyan => {
-            let k = if r.method == ReductionMethod::Guyan { 0 } else { r.modes };
+            let k = if r.method == ReductionMethod::Guyan {
+                0
+            } else {
+                r.modes
+            };
             progress(Stage::Started("Craig-Bampton reduction".into()));
             craig_bampton(
                 &body.mesh,

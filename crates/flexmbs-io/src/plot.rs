@@ -86,8 +86,14 @@ impl LinePlot {
     /// Writes the plot; the format follows the extension (`.svg`, otherwise PNG), 900 x 560 pixels.
     pub fn write(&self, path: &Path) -> Result<(), PlotError> {
         register_font();
-        let err = |e: String| PlotError::Draw { file: path.to_path_buf(), message: e };
-        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg")) {
+        let err = |e: String| PlotError::Draw {
+            file: path.to_path_buf(),
+            message: e,
+        };
+        if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+        {
             let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
             self.draw(&root, path)?;
             root.present().map_err(|e| err(e.to_string()))
@@ -100,7 +106,11 @@ impl LinePlot {
 
     fn range(&self, path: &Path) -> Result<((f64, f64), (f64, f64)), PlotError> {
         let ok = |v: f64, log: bool| v.is_finite() && (!log || v > 0.0);
-        let pts = self.series.iter().flat_map(|s| s.points.iter()).filter(|p| ok(p.0, self.log_x) && ok(p.1, self.log_y));
+        let pts = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|p| ok(p.0, self.log_x) && ok(p.1, self.log_y));
         let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for &(x, y) in pts {
             x0 = x0.min(x);
@@ -109,7 +119,9 @@ impl LinePlot {
             y1 = y1.max(y);
         }
         if x0 > x1 {
-            return Err(PlotError::Empty { file: path.to_path_buf() });
+            return Err(PlotError::Empty {
+                file: path.to_path_buf(),
+            });
         }
         let pad = |a: f64, b: f64, log: bool| {
             if log {
@@ -123,15 +135,26 @@ impl LinePlot {
         Ok((pad(x0, x1, self.log_x), pad(y0, y1, self.log_y)))
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, plotters::coord::Shift>, path: &Path) -> Result<(), PlotError>
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, plotters::coord::Shift>,
+        path: &Path,
+    ) -> Result<(), PlotError>
     where
         DB::ErrorType: 'static,
     {
-        let err = |e: String| PlotError::Draw { file: path.to_path_buf(), message: e };
+        let err = |e: String| PlotError::Draw {
+            file: path.to_path_buf(),
+            message: e,
+        };
         root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
         let ((x0, x1), (y0, y1)) = self.range(path)?;
         let mut builder = ChartBuilder::on(root);
-        builder.caption(&self.title, ("sans-serif", 22)).margin(12).x_label_area_size(45).y_label_area_size(75);
+        builder
+            .caption(&self.title, ("sans-serif", 22))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(75);
         macro_rules! body {
             ($chart:expr) => {{
                 let mut chart = $chart.map_err(|e| err(e.to_string()))?;
@@ -144,20 +167,28 @@ impl LinePlot {
                     .map_err(|e| err(e.to_string()))?;
                 for (i, s) in self.series.iter().enumerate() {
                     let c = COLORS[i % COLORS.len()];
-                    let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+                    let pts: Vec<(f64, f64)> = s
+                        .points
+                        .iter()
+                        .copied()
+                        .filter(|p| p.0.is_finite() && p.1.is_finite())
+                        .collect();
                     if matches!(s.style, Style::Line | Style::LinePoints) {
                         chart
                             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
                             .map_err(|e| err(e.to_string()))?
                             .label(&s.name)
-                            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+                            .legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                            });
                     }
                     if matches!(s.style, Style::Points | Style::LinePoints) {
                         let a = chart
                             .draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.filled())))
                             .map_err(|e| err(e.to_string()))?;
                         if s.style == Style::Points {
-                            a.label(&s.name).legend(move |(x, y)| Circle::new((x + 9, y), 4, c.filled()));
+                            a.label(&s.name)
+                                .legend(move |(x, y)| Circle::new((x + 9, y), 4, c.filled()));
                         }
                     }
                 }
@@ -174,7 +205,9 @@ impl LinePlot {
             (false, false) => body!(builder.build_cartesian_2d(x0..x1, y0..y1)),
             (true, false) => body!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)),
             (false, true) => body!(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale())),
-            (true, true) => body!(builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())),
+            (true, true) => {
+                body!(builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()))
+            }
         }
         Ok(())
     }

@@ -36,7 +36,9 @@ pub fn modal_rows(m: &ModalResult) -> Vec<ModeRow> {
 
 /// A fixed-width text table.
 pub fn modal_table(rows: &[ModeRow]) -> String {
-    let mut s = String::from(" mode   frequency [Hz]   dominant     eff. mass x   eff. mass y   eff. mass z\n");
+    let mut s = String::from(
+        " mode   frequency [Hz]   dominant     eff. mass x   eff. mass y   eff. mass z\n",
+    );
     for r in rows {
         s += &format!(
             "{:5}   {:14.6}   {:10}   {:11.4e}   {:11.4e}   {:11.4e}\n",
@@ -53,7 +55,8 @@ pub fn modal_table(rows: &[ModeRow]) -> String {
 
 /// CSV with a header line.
 pub fn modal_csv(rows: &[ModeRow]) -> String {
-    let mut s = String::from("mode,frequency_hz,omega2,dominant,eff_mass_x,eff_mass_y,eff_mass_z\n");
+    let mut s =
+        String::from("mode,frequency_hz,omega2,dominant,eff_mass_x,eff_mass_y,eff_mass_z\n");
     for r in rows {
         s += &format!(
             "{},{:.12e},{:.12e},{},{:.6e},{:.6e},{:.6e}\n",

@@ -36,7 +36,13 @@ pub fn analytic() -> [f64; 5] {
     let ip = A.powi(4) / 6.0;
     let torsion = (m.shear_modulus() * j / (m.rho * ip)).sqrt() / (4.0 * L);
     let axial = (m.e / m.rho).sqrt() / (4.0 * L);
-    [bend(1.875104), bend(4.694091), bend(7.854757), torsion, axial]
+    [
+        bend(1.875104),
+        bend(4.694091),
+        bend(7.854757),
+        torsion,
+        axial,
+    ]
 }
 
 /// The five identified frequencies of a modal result: bending 1-3 (mean of each pair), torsion, axial.
@@ -52,28 +58,52 @@ pub fn identify(m: &ModalResult) -> Result<[f64; 5]> {
         }
     }
     if bending.len() < 6 {
-        bail!("only {} bending modes found among {} modes", bending.len(), m.labels.len());
+        bail!(
+            "only {} bending modes found among {} modes",
+            bending.len(),
+            m.labels.len()
+        );
     }
     let pair = |k: usize| 0.5 * (bending[2 * k] + bending[2 * k + 1]);
-    let (Some(t), Some(a)) = (torsion, axial) else { bail!("torsion or axial mode not found") };
+    let (Some(t), Some(a)) = (torsion, axial) else {
+        bail!("torsion or axial mode not found")
+    };
     Ok([pair(0), pair(1), pair(2), t, a])
 }
 
 /// A clamped solid cantilever mesh with `n` elements along x and `m` across.
 pub fn solid_mesh(kind: ElementKind, n: usize, m: usize) -> Result<Mesh> {
-    Ok(box_mesh([L, A, A], [n, m, m], kind, Material::steel(), UnitSystem::Si)?)
+    Ok(box_mesh(
+        [L, A, A],
+        [n, m, m],
+        kind,
+        Material::steel(),
+        UnitSystem::Si,
+    )?)
 }
 
 /// A clamped beam-element cantilever.
 pub fn beam_mesh(theory: BeamTheory, n: usize) -> Result<Mesh> {
     let s = BeamSection::rectangle(A, A);
-    Ok(beam_line([0.0; 3], [L, 0.0, 0.0], n, s, theory, [0.0, 1.0, 0.0], Material::steel(), UnitSystem::Si)?)
+    Ok(beam_line(
+        [0.0; 3],
+        [L, 0.0, 0.0],
+        n,
+        s,
+        theory,
+        [0.0, 1.0, 0.0],
+        Material::steel(),
+        UnitSystem::Si,
+    )?)
 }
 
 /// Modal analysis of a mesh clamped at x = 0 (14 modes: five bending pairs, torsion, axial).
 pub fn clamped_modes(mesh: &Mesh, mass: MassKind) -> Result<(usize, ModalResult)> {
     let fixed = mesh.nodes_on_plane(0, 0.0, 1e-9);
-    let bc = BoundaryConditions { fixed, rigid: Vec::new() };
+    let bc = BoundaryConditions {
+        fixed,
+        rigid: Vec::new(),
+    };
     let sys = FeSystem::assemble(mesh, &bc, mass, &mut |_, _| {})?;
     let r = modal_analysis(&sys, 14, &EigenOptions::default(), &mut |_| {})?;
     Ok((sys.len(), r))
@@ -95,24 +125,58 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         if !quiet {
             eprintln!("  {name:28} {dofs:7} DOFs  f = {f:.3?}");
         }
-        rows.push(Row { model: name, dofs, f });
+        rows.push(Row {
+            model: name,
+            dofs,
+            f,
+        });
         Ok(())
     };
     for n in [10, 20, 40] {
-        run_one(format!("beam EB {n}"), beam_mesh(BeamTheory::EulerBernoulli, n)?, MassKind::Consistent)?;
+        run_one(
+            format!("beam EB {n}"),
+            beam_mesh(BeamTheory::EulerBernoulli, n)?,
+            MassKind::Consistent,
+        )?;
     }
-    run_one("beam Timoshenko 40".into(), beam_mesh(BeamTheory::Timoshenko, 40)?, MassKind::Consistent)?;
+    run_one(
+        "beam Timoshenko 40".into(),
+        beam_mesh(BeamTheory::Timoshenko, 40)?,
+        MassKind::Consistent,
+    )?;
     for (n, m) in [(20, 1), (40, 2), (80, 4)] {
-        run_one(format!("hex8i {n}x{m}x{m}"), solid_mesh(ElementKind::Hex8I, n, m)?, MassKind::Consistent)?;
+        run_one(
+            format!("hex8i {n}x{m}x{m}"),
+            solid_mesh(ElementKind::Hex8I, n, m)?,
+            MassKind::Consistent,
+        )?;
     }
     for (n, m) in [(10, 1), (20, 2), (40, 2), (80, 4)] {
-        run_one(format!("hex20r {n}x{m}x{m}"), solid_mesh(ElementKind::Hex20R, n, m)?, MassKind::Consistent)?;
+        run_one(
+            format!("hex20r {n}x{m}x{m}"),
+            solid_mesh(ElementKind::Hex20R, n, m)?,
+            MassKind::Consistent,
+        )?;
     }
-    run_one("hex20r 40x2x2 lumped".into(), solid_mesh(ElementKind::Hex20R, 40, 2)?, MassKind::Lumped)?;
-    run_one("hex20 40x2x2".into(), solid_mesh(ElementKind::Hex20, 40, 2)?, MassKind::Consistent)?;
+    run_one(
+        "hex20r 40x2x2 lumped".into(),
+        solid_mesh(ElementKind::Hex20R, 40, 2)?,
+        MassKind::Lumped,
+    )?;
+    run_one(
+        "hex20 40x2x2".into(),
+        solid_mesh(ElementKind::Hex20, 40, 2)?,
+        MassKind::Consistent,
+    )?;
 
     // tables and plot
-    let names = ["f_bend1_hz", "f_bend2_hz", "f_bend3_hz", "f_torsion1_hz", "f_axial1_hz"];
+    let names = [
+        "f_bend1_hz",
+        "f_bend2_hz",
+        "f_bend3_hz",
+        "f_torsion1_hz",
+        "f_axial1_hz",
+    ];
     let mut table = String::from("| model | DOFs | bend 1 | bend 2 | bend 3 | torsion 1 | axial 1 |\n|---|---|---|---|---|---|---|\n");
     let _ = writeln!(
         table,
@@ -128,14 +192,32 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     }
     std::fs::write(out.join("convergence.md"), &table)?;
     let mut series = Vec::new();
-    for (prefix, label) in [("beam EB", "beam EB"), ("hex8i", "hex8i"), ("hex20r", "hex20r")] {
-        for (q, qname) in [(0usize, "bend 1"), (2, "bend 3"), (3, "torsion"), (4, "axial")] {
+    for (prefix, label) in [
+        ("beam EB", "beam EB"),
+        ("hex8i", "hex8i"),
+        ("hex20r", "hex20r"),
+    ] {
+        for (q, qname) in [
+            (0usize, "bend 1"),
+            (2, "bend 3"),
+            (3, "torsion"),
+            (4, "axial"),
+        ] {
             let pts: Vec<(f64, f64)> = rows
                 .iter()
                 .filter(|r| r.model.starts_with(prefix) && !r.model.contains("lumped"))
-                .map(|r| (r.dofs as f64, 100.0 * (r.f[q] - reference[q]).abs() / reference[q]))
+                .map(|r| {
+                    (
+                        r.dofs as f64,
+                        100.0 * (r.f[q] - reference[q]).abs() / reference[q],
+                    )
+                })
                 .collect();
-            series.push(Series { name: format!("{label} {qname}"), points: pts, style: Style::LinePoints });
+            series.push(Series {
+                name: format!("{label} {qname}"),
+                points: pts,
+                style: Style::LinePoints,
+            });
         }
     }
     LinePlot {
@@ -149,7 +231,11 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     .write(&out.join("convergence.png"))?;
 
     // result: finest solid mesh (hex20r 80x4x4) against the formulas.
-    let finest = rows.iter().find(|r| r.model == "hex20r 80x4x4").map(|r| r.f).unwrap_or([f64::NAN; 5]);
+    let finest = rows
+        .iter()
+        .find(|r| r.model == "hex20r 80x4x4")
+        .map(|r| r.f)
+        .unwrap_or([f64::NAN; 5]);
     let mut res = ValidationResult::new("fe_cantilever_modes");
     // Tolerances: a 3D solid is not an Euler-Bernoulli beam. Shear and rotary inertia lower bending
     // mode n by about (n pi a / L)^2 / 12 relative (bend 3: ~0.3 %), the clamped face's Poisson
@@ -159,7 +245,10 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         res.check(names[q], finest[q], reference[q], tol[q]);
     }
     for r in &rows {
-        res.details.insert(r.model.clone(), serde_json::json!({ "dofs": r.dofs, "f_hz": r.f }));
+        res.details.insert(
+            r.model.clone(),
+            serde_json::json!({ "dofs": r.dofs, "f_hz": r.f }),
+        );
     }
     Ok(res)
 }

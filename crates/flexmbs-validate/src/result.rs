@@ -63,7 +63,11 @@ impl ValidationResult {
 
     /// A short text summary: one line per checked quantity.
     pub fn summary(&self) -> String {
-        let mut s = format!("{}: {}\n", self.case, if self.pass { "PASS" } else { "FAIL" });
+        let mut s = format!(
+            "{}: {}\n",
+            self.case,
+            if self.pass { "PASS" } else { "FAIL" }
+        );
         for (k, r) in &self.reference {
             let v = self.quantities[k];
             let e = Self::rel_err(v, *r);
