@@ -27,24 +27,34 @@ use crate::{FeError, Material};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 /// Local frame rows (e_x, e_y, e_z) and length of a beam from its end points and orientation.
-pub fn beam_frame(x1: [f64; 3], x2: [f64; 3], orientation: [f64; 3], element: usize) -> Result<(Matrix3<f64>, f64), FeError> {
+pub fn beam_frame(
+    x1: [f64; 3],
+    x2: [f64; 3],
+    orientation: [f64; 3],
+    element: usize,
+) -> Result<(Matrix3<f64>, f64), FeError> {
     let d = Vector3::from(x2) - Vector3::from(x1);
     let l = d.norm();
-    if !(l > 0.0) || !l.is_finite() {
-        return Err(FeError::Invalid(format!("beam element {element} has zero or invalid length {l}")));
+    if !l.is_finite() || l <= 0.0 {
+        return Err(FeError::Invalid(format!(
+            "beam element {element} has zero or invalid length {l}"
+        )));
     }
     let ex = d / l;
     let o = Vector3::from(orientation);
     let on = o.norm();
     let y = o - ex * o.dot(&ex);
-    if !(on > 0.0) || !(y.norm() > 1e-8 * on) {
+    if !on.is_finite() || on <= 0.0 || y.norm() <= 1e-8 * on {
         return Err(FeError::Invalid(format!(
             "beam element {element}: orientation {orientation:?} is zero or parallel to the beam axis"
         )));
     }
     let ey = y / y.norm();
     let ez = ex.cross(&ey);
-    Ok((Matrix3::from_rows(&[ex.transpose(), ey.transpose(), ez.transpose()]), l))
+    Ok((
+        Matrix3::from_rows(&[ex.transpose(), ey.transpose(), ez.transpose()]),
+        l,
+    ))
 }
 
 /// Checks section constants (positive, finite; shear factors positive for Timoshenko).
@@ -52,13 +62,17 @@ fn validate_section(s: &BeamSection, theory: BeamTheory, element: usize) -> Resu
     let vals = [("area", s.area), ("iy", s.iy), ("iz", s.iz), ("j", s.j)];
     for (name, v) in vals {
         if !(v.is_finite() && v > 0.0) {
-            return Err(FeError::Invalid(format!("beam element {element}: section {name} must be > 0, got {v}")));
+            return Err(FeError::Invalid(format!(
+                "beam element {element}: section {name} must be > 0, got {v}"
+            )));
         }
     }
     if theory == BeamTheory::Timoshenko {
         for (name, v) in [("ky", s.ky), ("kz", s.kz)] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(FeError::Invalid(format!("beam element {element}: shear factor {name} must be > 0, got {v}")));
+                return Err(FeError::Invalid(format!(
+                    "beam element {element}: shear factor {name} must be > 0, got {v}"
+                )));
             }
         }
     }
@@ -145,15 +159,29 @@ fn scatter_bar(k: &mut DMatrix<f64>, i: usize, j: usize, a: f64, b: f64) {
 }
 
 /// Local 12 x 12 stiffness and mass of a beam of length `l`.
-pub fn beam_local(l: f64, mat: &Material, s: &BeamSection, theory: BeamTheory, mass: MassKind) -> (DMatrix<f64>, DMatrix<f64>) {
+pub fn beam_local(
+    l: f64,
+    mat: &Material,
+    s: &BeamSection,
+    theory: BeamTheory,
+    mass: MassKind,
+) -> (DMatrix<f64>, DMatrix<f64>) {
     let (e, g, rho) = (mat.e, mat.shear_modulus(), mat.rho);
     let phi_y = shear_parameter(e, g, s.iz, s.ky, s.area, l, theory); // bending in x-y
     let phi_z = shear_parameter(e, g, s.iy, s.kz, s.area, l, theory); // bending in x-z
     let mut k = DMatrix::zeros(12, 12);
     scatter_bar(&mut k, 0, 6, e * s.area / l, -e * s.area / l);
     scatter_bar(&mut k, 3, 9, g * s.j / l, -g * s.j / l);
-    scatter_plane(&mut k, PLANE_XY, &plane_bending_stiffness(e * s.iz, l, phi_y));
-    scatter_plane(&mut k, PLANE_XZ, &plane_bending_stiffness(e * s.iy, l, phi_z));
+    scatter_plane(
+        &mut k,
+        PLANE_XY,
+        &plane_bending_stiffness(e * s.iz, l, phi_y),
+    );
+    scatter_plane(
+        &mut k,
+        PLANE_XZ,
+        &plane_bending_stiffness(e * s.iy, l, phi_z),
+    );
     let mut m = DMatrix::zeros(12, 12);
     let ma = rho * s.area * l;
     let jp = rho * (s.iy + s.iz) * l;
@@ -161,8 +189,16 @@ pub fn beam_local(l: f64, mat: &Material, s: &BeamSection, theory: BeamTheory, m
         MassKind::Consistent => {
             scatter_bar(&mut m, 0, 6, ma / 3.0, ma / 6.0);
             scatter_bar(&mut m, 3, 9, jp / 3.0, jp / 6.0);
-            scatter_plane(&mut m, PLANE_XY, &plane_bending_mass(rho * s.area, rho * s.iz, l, phi_y));
-            scatter_plane(&mut m, PLANE_XZ, &plane_bending_mass(rho * s.area, rho * s.iy, l, phi_z));
+            scatter_plane(
+                &mut m,
+                PLANE_XY,
+                &plane_bending_mass(rho * s.area, rho * s.iz, l, phi_y),
+            );
+            scatter_plane(
+                &mut m,
+                PLANE_XZ,
+                &plane_bending_mass(rho * s.area, rho * s.iy, l, phi_z),
+            );
         }
         MassKind::Lumped => {
             let rot = ma * l * l / 78.0;

@@ -13,15 +13,31 @@ fn steel() -> Material {
 }
 
 /// A straight beam of `n` elements from `a` to `b`.
-fn beam_mesh(n: usize, a: [f64; 3], b: [f64; 3], section: BeamSection, theory: BeamTheory, orientation: [f64; 3]) -> Mesh {
+fn beam_mesh(
+    n: usize,
+    a: [f64; 3],
+    b: [f64; 3],
+    section: BeamSection,
+    theory: BeamTheory,
+    orientation: [f64; 3],
+) -> Mesh {
     let mut m = Mesh::default();
     for i in 0..=n {
         let s = i as f64 / n as f64;
         m.add_node([0, 1, 2].map(|c| a[c] + s * (b[c] - a[c])));
     }
-    let property = m.add_property(Property::Beam { material: steel(), section, theory, orientation });
+    let property = m.add_property(Property::Beam {
+        material: steel(),
+        section,
+        theory,
+        orientation,
+    });
     for i in 0..n {
-        m.elements.push(Element { kind: ElementKind::Beam2, nodes: vec![i, i + 1], property });
+        m.elements.push(Element {
+            kind: ElementKind::Beam2,
+            nodes: vec![i, i + 1],
+            property,
+        });
     }
     m
 }
@@ -75,15 +91,22 @@ fn one_element_cantilever_exact_euler_bernoulli_and_timoshenko() {
             let f = dir * p;
             let u = tip_response(&mesh, [f[0], f[1], f[2], 0.0, 0.0, 0.0]);
             let tip = Vector3::new(u[6], u[7], u[8]);
-            let exact = p * l.powi(3) / (3.0 * e * i) + if shear { p * l / (k * g * s.area) } else { 0.0 };
+            let exact =
+                p * l.powi(3) / (3.0 * e * i) + if shear { p * l / (k * g * s.area) } else { 0.0 };
             let got = tip.dot(&dir);
-            assert!((got / exact - 1.0).abs() < 1e-10, "{theory:?}: {got} vs {exact}");
+            assert!(
+                (got / exact - 1.0).abs() < 1e-10,
+                "{theory:?}: {got} vs {exact}"
+            );
             // no coupling into the other directions
             assert!((tip - dir * got).norm() < 1e-10 * exact);
             // tip rotation P L^2/(2EI) about the axis ex x dir (for both theories)
             let rot = Vector3::new(u[9], u[10], u[11]).dot(&ex.cross(&dir));
             let rexact = p * l * l / (2.0 * e * i);
-            assert!((rot / rexact - 1.0).abs() < 1e-10, "{theory:?} tip rotation {rot} vs {rexact}");
+            assert!(
+                (rot / rexact - 1.0).abs() < 1e-10,
+                "{theory:?} tip rotation {rot} vs {rexact}"
+            );
         }
         // axial P L / (E A) and torsion T L / (G J)
         let u = tip_response(&mesh, [ex[0] * p, ex[1] * p, ex[2] * p, 0.0, 0.0, 0.0]);
@@ -112,18 +135,23 @@ fn timoshenko_stiffness_matches_interpolation_energy() {
         let (_, nt) = plane_bending_shape(s, l, phi);
         let (vp, tp) = plane_bending_shape(s + h, l, phi);
         let (vm, tm) = plane_bending_shape(s - h, l, phi);
-        for i in 0..4 {
-            for j in 0..4 {
-                let dt = |k: usize| (tp[k] - tm[k]) / (2.0 * h * l);
-                let gam = |k: usize| (vp[k] - vm[k]) / (2.0 * h * l) - nt[k];
-                kn[i][j] += w * (ei * dt(i) * dt(j) + kga * gam(i) * gam(j));
+        let dt = |k: usize| (tp[k] - tm[k]) / (2.0 * h * l);
+        let gam = |k: usize| (vp[k] - vm[k]) / (2.0 * h * l) - nt[k];
+        for (i, row) in kn.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v += w * (ei * dt(i) * dt(j) + kga * gam(i) * gam(j));
             }
         }
     }
     for i in 0..4 {
         for j in 0..4 {
             let scale = (kc[i][i] * kc[j][j]).sqrt();
-            assert!((kn[i][j] - kc[i][j]).abs() < 1e-7 * scale, "K[{i}][{j}]: {} vs {}", kn[i][j], kc[i][j]);
+            assert!(
+                (kn[i][j] - kc[i][j]).abs() < 1e-7 * scale,
+                "K[{i}][{j}]: {} vs {}",
+                kn[i][j],
+                kc[i][j]
+            );
         }
     }
     // the shear strain of the interpolation is constant along the element (exact-stiffness element)
@@ -194,13 +222,19 @@ fn beam_rigid_modes_rank_and_mass() {
             for c in 0..3 {
                 let rc = r.column(c);
                 let mt = (rc.transpose() * &em.m * rc)[(0, 0)];
-                assert!((mt / (rho * s.area * l) - 1.0).abs() < 1e-12, "{mass:?} dir {c}");
+                assert!(
+                    (mt / (rho * s.area * l) - 1.0).abs() < 1e-12,
+                    "{mass:?} dir {c}"
+                );
             }
             // rotation about the beam axis through node 0: polar inertia rho (Iy+Iz) L
             let (ex, _, _) = axes();
-            let rot = &r.columns(3, 3) * DVector::from_column_slice(ex.as_slice());
+            let rot = r.columns(3, 3) * DVector::from_column_slice(ex.as_slice());
             let jx = (rot.transpose() * &em.m * &rot)[(0, 0)];
-            assert!((jx / (rho * (s.iy + s.iz) * l) - 1.0).abs() < 1e-12, "{mass:?} torsional inertia");
+            assert!(
+                (jx / (rho * (s.iy + s.iz) * l) - 1.0).abs() < 1e-12,
+                "{mass:?} torsional inertia"
+            );
             let mev = sym_eigenvalues(&em.m);
             assert!(mev[0] > 0.0, "{mass:?} mass not positive definite");
         }
@@ -213,15 +247,26 @@ fn beam_rigid_modes_rank_and_mass() {
 fn cantilever_first_frequency_20_elements() {
     let s = BeamSection::circle(0.02);
     let l = 1.0;
-    let mesh = beam_mesh(20, [0.0; 3], [l, 0.0, 0.0], s, BeamTheory::EulerBernoulli, [0.0, 1.0, 0.0]);
+    let mesh = beam_mesh(
+        20,
+        [0.0; 3],
+        [l, 0.0, 0.0],
+        s,
+        BeamTheory::EulerBernoulli,
+        [0.0, 1.0, 0.0],
+    );
     let m = steel();
-    let f_exact = 1.875_104_f64.powi(2) * (m.e * s.iz / (m.rho * s.area * l.powi(4))).sqrt() / (2.0 * std::f64::consts::PI);
+    let f_exact = 1.875_104_f64.powi(2) * (m.e * s.iz / (m.rho * s.area * l.powi(4))).sqrt()
+        / (2.0 * std::f64::consts::PI);
     let fixed: Vec<usize> = (0..6).collect();
     for (mass, tol) in [(MassKind::Consistent, 1e-3), (MassKind::Lumped, 5e-3)] {
         let (k, mm) = assemble(&mesh, mass);
         let ev = gen_eigenvalues(&k, &mm, &fixed);
         let f1 = ev[0].sqrt() / (2.0 * std::f64::consts::PI);
-        println!("{mass:?}: f1 = {f1:.5} Hz, exact {f_exact:.5} Hz, rel {:.2e}", f1 / f_exact - 1.0);
+        println!(
+            "{mass:?}: f1 = {f1:.5} Hz, exact {f_exact:.5} Hz, rel {:.2e}",
+            f1 / f_exact - 1.0
+        );
         assert!((f1 / f_exact - 1.0).abs() < tol);
         // circular section: the two bending modes coincide
         assert!((ev[1] / ev[0] - 1.0).abs() < 1e-8);
@@ -231,18 +276,58 @@ fn cantilever_first_frequency_20_elements() {
 #[test]
 fn beam_errors() {
     let s = section();
-    let mesh = beam_mesh(1, [0.0; 3], [1.0, 0.0, 0.0], s, BeamTheory::EulerBernoulli, [2.0, 0.0, 0.0]);
-    assert!(matches!(element_matrices(&mesh, 0, MassKind::Consistent), Err(FeError::Invalid(_))));
-    let mesh = beam_mesh(1, [0.0; 3], [0.0; 3], s, BeamTheory::EulerBernoulli, [0.0, 1.0, 0.0]);
-    assert!(matches!(element_matrices(&mesh, 0, MassKind::Consistent), Err(FeError::Invalid(_))));
+    let mesh = beam_mesh(
+        1,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        s,
+        BeamTheory::EulerBernoulli,
+        [2.0, 0.0, 0.0],
+    );
+    assert!(matches!(
+        element_matrices(&mesh, 0, MassKind::Consistent),
+        Err(FeError::Invalid(_))
+    ));
+    let mesh = beam_mesh(
+        1,
+        [0.0; 3],
+        [0.0; 3],
+        s,
+        BeamTheory::EulerBernoulli,
+        [0.0, 1.0, 0.0],
+    );
+    assert!(matches!(
+        element_matrices(&mesh, 0, MassKind::Consistent),
+        Err(FeError::Invalid(_))
+    ));
     let mut bad = s;
     bad.ky = 0.0;
-    let mesh = beam_mesh(1, [0.0; 3], [1.0, 0.0, 0.0], bad, BeamTheory::Timoshenko, [0.0, 1.0, 0.0]);
-    assert!(matches!(element_matrices(&mesh, 0, MassKind::Consistent), Err(FeError::Invalid(_))));
+    let mesh = beam_mesh(
+        1,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        bad,
+        BeamTheory::Timoshenko,
+        [0.0, 1.0, 0.0],
+    );
+    assert!(matches!(
+        element_matrices(&mesh, 0, MassKind::Consistent),
+        Err(FeError::Invalid(_))
+    ));
     // solid property on a beam element
-    let mut mesh = beam_mesh(1, [0.0; 3], [1.0, 0.0, 0.0], s, BeamTheory::EulerBernoulli, [0.0, 1.0, 0.0]);
+    let mut mesh = beam_mesh(
+        1,
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        s,
+        BeamTheory::EulerBernoulli,
+        [0.0, 1.0, 0.0],
+    );
     mesh.properties[0] = Property::Solid { material: steel() };
-    assert!(matches!(element_matrices(&mesh, 0, MassKind::Consistent), Err(FeError::Invalid(_))));
+    assert!(matches!(
+        element_matrices(&mesh, 0, MassKind::Consistent),
+        Err(FeError::Invalid(_))
+    ));
     let _unused: DMatrix<f64> = DMatrix::zeros(1, 1);
 }
 
@@ -253,7 +338,14 @@ fn beam_errors() {
 fn simply_supported_timoshenko_frequency() {
     let s = section();
     let l = 0.1;
-    let mesh = beam_mesh(40, [0.0; 3], [l, 0.0, 0.0], s, BeamTheory::Timoshenko, [0.0, 1.0, 0.0]);
+    let mesh = beam_mesh(
+        40,
+        [0.0; 3],
+        [l, 0.0, 0.0],
+        s,
+        BeamTheory::Timoshenko,
+        [0.0, 1.0, 0.0],
+    );
     let m = steel();
     let (e, g, rho) = (m.e, m.shear_modulus(), m.rho);
     // bending in x-y (I_z, k_y) is the softest plane for this section
@@ -270,7 +362,13 @@ fn simply_supported_timoshenko_frequency() {
     let fixed = vec![0, 1, 2, 3, 6 * (n - 1) + 1, 6 * (n - 1) + 2];
     let (k, mm) = assemble(&mesh, MassKind::Consistent);
     let ev = gen_eigenvalues(&k, &mm, &fixed);
-    println!("SS Timoshenko: omega1^2 FE {:.6e}, exact {w2:.6e}, Euler-Bernoulli {w2_eb:.6e}", ev[0]);
-    assert!(w2 < 0.9 * w2_eb, "the test case must be shear-dominated enough to matter");
+    println!(
+        "SS Timoshenko: omega1^2 FE {:.6e}, exact {w2:.6e}, Euler-Bernoulli {w2_eb:.6e}",
+        ev[0]
+    );
+    assert!(
+        w2 < 0.9 * w2_eb,
+        "the test case must be shear-dominated enough to matter"
+    );
     assert!((ev[0] / w2 - 1.0).abs() < 1e-3, "rel {}", ev[0] / w2 - 1.0);
 }

@@ -14,7 +14,10 @@ pub struct QuadPoint {
 pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
     const G1: [(f64, f64); 1] = [(0.0, 2.0)];
     // +-1/sqrt(3)
-    const G2: [(f64, f64); 2] = [(-0.577_350_269_189_625_8, 1.0), (0.577_350_269_189_625_8, 1.0)];
+    const G2: [(f64, f64); 2] = [
+        (-0.577_350_269_189_625_8, 1.0),
+        (0.577_350_269_189_625_8, 1.0),
+    ];
     // +-sqrt(3/5), weights 5/9, 8/9
     const G3: [(f64, f64); 3] = [
         (-0.774_596_669_241_483_4, 5.0 / 9.0),
@@ -44,7 +47,10 @@ pub fn hex_rule(n: usize) -> Vec<QuadPoint> {
     for &(z, wz) in g {
         for &(y, wy) in g {
             for &(x, wx) in g {
-                v.push(QuadPoint { xi: [x, y, z], w: wx * wy * wz });
+                v.push(QuadPoint {
+                    xi: [x, y, z],
+                    w: wx * wy * wz,
+                });
             }
         }
     }
@@ -57,7 +63,10 @@ pub fn tet_rule_4() -> Vec<QuadPoint> {
     let a = 0.138_196_601_125_010_5;
     let b = 0.585_410_196_624_968_5;
     let w = 1.0 / 24.0;
-    [[a, a, a], [b, a, a], [a, b, a], [a, a, b]].into_iter().map(|xi| QuadPoint { xi, w }).collect()
+    [[a, a, a], [b, a, a], [a, b, a], [a, a, b]]
+        .into_iter()
+        .map(|xi| QuadPoint { xi, w })
+        .collect()
 }
 
 /// 14-point rule on the reference tetrahedron with positive weights, exact for polynomials of
@@ -65,7 +74,10 @@ pub fn tet_rule_4() -> Vec<QuadPoint> {
 /// integrand is of degree 4). Values refined by Newton iteration on the moment equations.
 pub fn tet_rule_14() -> Vec<QuadPoint> {
     // (orbit parameter, weight) for the two 4-point orbits (a, a, a, 1 - 3a)
-    let orbits4 = [(0.092_735_250_310_891_25, 0.012_248_840_519_393_676), (0.310_885_919_263_301_1, 0.018_781_320_953_002_827)];
+    let orbits4 = [
+        (0.092_735_250_310_891_25, 0.012_248_840_519_393_676),
+        (0.310_885_919_263_301_1, 0.018_781_320_953_002_827),
+    ];
     // 6-point orbit (b, b, 1/2 - b, 1/2 - b)
     let (b, wb) = (0.045_503_704_125_649_136, 0.007_091_003_462_846_771_6);
     let mut v = Vec::with_capacity(14);
@@ -73,7 +85,10 @@ pub fn tet_rule_14() -> Vec<QuadPoint> {
         for k in 0..4 {
             let mut l = [a; 4];
             l[k] = 1.0 - 3.0 * a;
-            v.push(QuadPoint { xi: [l[1], l[2], l[3]], w });
+            v.push(QuadPoint {
+                xi: [l[1], l[2], l[3]],
+                w,
+            });
         }
     }
     for i in 0..4 {
@@ -81,7 +96,10 @@ pub fn tet_rule_14() -> Vec<QuadPoint> {
             let mut l = [0.5 - b; 4];
             l[i] = b;
             l[j] = b;
-            v.push(QuadPoint { xi: [l[1], l[2], l[3]], w: wb });
+            v.push(QuadPoint {
+                xi: [l[1], l[2], l[3]],
+                w: wb,
+            });
         }
     }
     v
@@ -101,7 +119,9 @@ mod tests {
     }
 
     fn integrate(rule: &[QuadPoint], i: i32, j: i32, k: i32) -> f64 {
-        rule.iter().map(|p| p.w * p.xi[0].powi(i) * p.xi[1].powi(j) * p.xi[2].powi(k)).sum()
+        rule.iter()
+            .map(|p| p.w * p.xi[0].powi(i) * p.xi[1].powi(j) * p.xi[2].powi(k))
+            .sum()
     }
 
     #[test]
@@ -113,7 +133,10 @@ mod tests {
                     for k in 0..=(deg - i - j) {
                         let q = integrate(&rule, i as i32, j as i32, k as i32);
                         let e = tet_monomial(i, j, k);
-                        assert!((q - e).abs() < 1e-15, "deg {deg}: x^{i} y^{j} z^{k}: {q} vs {e}");
+                        assert!(
+                            (q - e).abs() < 1e-15,
+                            "deg {deg}: x^{i} y^{j} z^{k}: {q} vs {e}"
+                        );
                     }
                 }
             }
@@ -130,7 +153,13 @@ mod tests {
             for i in 0..=deg {
                 for j in 0..=deg {
                     // int_{-1}^{1} x^i dx = 2/(i+1) for even i, 0 for odd
-                    let ex = |p: i32| if p % 2 == 0 { 2.0 / (p as f64 + 1.0) } else { 0.0 };
+                    let ex = |p: i32| {
+                        if p % 2 == 0 {
+                            2.0 / (p as f64 + 1.0)
+                        } else {
+                            0.0
+                        }
+                    };
                     let q = integrate(&rule, i, j, deg - i.min(deg));
                     let e = ex(i) * ex(j) * ex(deg - i.min(deg));
                     assert!((q - e).abs() < 1e-14, "n {n}: {i} {j}: {q} vs {e}");

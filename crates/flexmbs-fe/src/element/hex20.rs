@@ -65,14 +65,21 @@ mod tests {
         for (a, r) in HEX20_NODES.iter().enumerate() {
             hex20_shape(*r, &mut n, &mut dn);
             for (b, nb) in n.iter().enumerate() {
-                assert!((nb - if a == b { 1.0 } else { 0.0 }).abs() < 1e-15, "node {a} fn {b}");
+                assert!(
+                    (nb - if a == b { 1.0 } else { 0.0 }).abs() < 1e-15,
+                    "node {a} fn {b}"
+                );
             }
         }
         let xi = [0.31, -0.52, 0.77];
         hex20_shape(xi, &mut n, &mut dn);
         assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-14);
         // completeness to quadratic: sum N_a xi_a^2 = xi^2
-        let s: f64 = n.iter().zip(HEX20_NODES.iter()).map(|(na, r)| na * r[0] * r[0]).sum();
+        let s: f64 = n
+            .iter()
+            .zip(HEX20_NODES.iter())
+            .map(|(na, r)| na * r[0] * r[0])
+            .sum();
         assert!((s - xi[0] * xi[0]).abs() < 1e-14);
         for c in 0..3 {
             let (mut np, mut nm) = ([0.0; 20], [0.0; 20]);
@@ -83,7 +90,10 @@ mod tests {
             hex20_shape(xp, &mut np, &mut dd);
             hex20_shape(xm, &mut nm, &mut dd);
             for a in 0..20 {
-                assert!(((np[a] - nm[a]) / 2e-6 - dn[a][c]).abs() < 1e-9, "a {a} c {c}");
+                assert!(
+                    ((np[a] - nm[a]) / 2e-6 - dn[a][c]).abs() < 1e-9,
+                    "a {a} c {c}"
+                );
             }
         }
     }

@@ -29,22 +29,38 @@ pub fn hex8_shape(xi: [f64; 3], n: &mut [f64], dn: &mut [[f64; 3]]) {
     for (a, r) in HEX8_NODES.iter().enumerate() {
         let f = [1.0 + xi[0] * r[0], 1.0 + xi[1] * r[1], 1.0 + xi[2] * r[2]];
         n[a] = 0.125 * f[0] * f[1] * f[2];
-        dn[a] = [0.125 * r[0] * f[1] * f[2], 0.125 * f[0] * r[1] * f[2], 0.125 * f[0] * f[1] * r[2]];
+        dn[a] = [
+            0.125 * r[0] * f[1] * f[2],
+            0.125 * f[0] * r[1] * f[2],
+            0.125 * f[0] * f[1] * r[2],
+        ];
     }
 }
 
 /// Stiffness of the incompatible-mode hexahedron with static condensation of the 9 internal DOFs.
-pub fn hex8i_stiffness(x: &[[f64; 3]], d: &Matrix6<f64>, element: usize) -> Result<DMatrix<f64>, FeError> {
+pub fn hex8i_stiffness(
+    x: &[[f64; 3]],
+    d: &Matrix6<f64>,
+    element: usize,
+) -> Result<DMatrix<f64>, FeError> {
     // Jacobian at the element centre (Taylor correction)
     let mut n0 = [0.0; 8];
     let mut dn0 = [[0.0; 3]; 8];
     hex8_shape([0.0; 3], &mut n0, &mut dn0);
     let j0 = jacobian(x, &dn0);
     let det0 = j0.determinant();
-    if !(det0 > 0.0) {
-        return Err(FeError::BadJacobian { element, point: 0, det: det0 });
+    if det0.is_nan() || det0 <= 0.0 {
+        return Err(FeError::BadJacobian {
+            element,
+            point: 0,
+            det: det0,
+        });
     }
-    let j0inv = j0.try_inverse().ok_or(FeError::BadJacobian { element, point: 0, det: det0 })?;
+    let j0inv = j0.try_inverse().ok_or(FeError::BadJacobian {
+        element,
+        point: 0,
+        det: det0,
+    })?;
     let dd = dyn_d(d);
     let mut kcc = DMatrix::zeros(24, 24);
     let mut kic = DMatrix::zeros(9, 24);
@@ -68,10 +84,11 @@ pub fn hex8i_stiffness(x: &[[f64; 3]], d: &Matrix6<f64>, element: usize) -> Resu
         kii.gemm_tr(f, &bi, &dbi, 1.0);
     }
     symmetrize(&mut kii);
-    let chol = kii
-        .clone()
-        .cholesky()
-        .ok_or_else(|| FeError::Invalid(format!("element {element}: Hex8I internal-mode stiffness not positive definite")))?;
+    let chol = kii.clone().cholesky().ok_or_else(|| {
+        FeError::Invalid(format!(
+            "element {element}: Hex8I internal-mode stiffness not positive definite"
+        ))
+    })?;
     // K = K_cc - K_ic^T K_ii^{-1} K_ic
     let x_ic = chol.solve(&kic);
     let mut k = kcc - kic.transpose() * x_ic;

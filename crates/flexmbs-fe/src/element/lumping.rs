@@ -12,8 +12,12 @@ use nalgebra::DMatrix;
 /// HRZ-lumped diagonal mass of a solid element with 3 translational DOFs per node (node-major).
 pub fn hrz_lump_solid(m: &DMatrix<f64>, element: usize) -> Result<DMatrix<f64>, FeError> {
     let nd = m.nrows();
-    if nd % 3 != 0 || m.ncols() != nd {
-        return Err(FeError::Invalid(format!("element {element}: mass matrix {}x{} is not 3n x 3n", nd, m.ncols())));
+    if !nd.is_multiple_of(3) || m.ncols() != nd {
+        return Err(FeError::Invalid(format!(
+            "element {element}: mass matrix {}x{} is not 3n x 3n",
+            nd,
+            m.ncols()
+        )));
     }
     let nn = nd / 3;
     let mut out = DMatrix::zeros(nd, nd);
@@ -28,7 +32,7 @@ pub fn hrz_lump_solid(m: &DMatrix<f64>, element: usize) -> Result<DMatrix<f64>, 
         }
         for a in 0..nn {
             let mii = m[(3 * a + c, 3 * a + c)];
-            if !(mii > 0.0) || !(diag > 0.0) {
+            if mii.is_nan() || mii <= 0.0 || diag <= 0.0 {
                 return Err(FeError::Invalid(format!(
                     "element {element}: consistent mass diagonal {mii:e} at DOF {} is not positive; cannot lump",
                     3 * a + c

@@ -35,7 +35,13 @@ pub fn jacobian(x: &[[f64; 3]], dn: &[[f64; 3]]) -> Matrix3<f64> {
 
 /// Evaluates shape functions, Jacobian and Cartesian derivatives at `xi`. Errors with
 /// [`FeError::BadJacobian`] when det J <= 0 (`element`, `point` only label the error).
-pub fn eval_point(shape: ShapeFn, x: &[[f64; 3]], xi: [f64; 3], element: usize, point: usize) -> Result<PointEval, FeError> {
+pub fn eval_point(
+    shape: ShapeFn,
+    x: &[[f64; 3]],
+    xi: [f64; 3],
+    element: usize,
+    point: usize,
+) -> Result<PointEval, FeError> {
     let nn = x.len();
     let mut n = vec![0.0; nn];
     let mut dn = vec![[0.0; 3]; nn];
@@ -44,11 +50,22 @@ pub fn eval_point(shape: ShapeFn, x: &[[f64; 3]], xi: [f64; 3], element: usize, 
     let det = jac.determinant();
     // relative threshold: a degenerate element has det J tiny compared to its size^3
     let scale = jac.norm().powi(3);
-    if !(det > 1e-12 * scale) {
-        return Err(FeError::BadJacobian { element, point, det });
+    if det.is_nan() || det <= 1e-12 * scale {
+        return Err(FeError::BadJacobian {
+            element,
+            point,
+            det,
+        });
     }
-    let jinv = jac.try_inverse().ok_or(FeError::BadJacobian { element, point, det })?;
-    let dndx = dn.iter().map(|d| jinv * Vector3::new(d[0], d[1], d[2])).collect();
+    let jinv = jac.try_inverse().ok_or(FeError::BadJacobian {
+        element,
+        point,
+        det,
+    })?;
+    let dndx = dn
+        .iter()
+        .map(|d| jinv * Vector3::new(d[0], d[1], d[2]))
+        .collect();
     Ok(PointEval { n, dndx, jac, det })
 }
 
@@ -81,7 +98,13 @@ pub fn dyn_d(d: &Matrix6<f64>) -> DMatrix<f64> {
 }
 
 /// Stiffness K = sum_p B^T D B det J w over `rule`.
-pub fn stiffness(shape: ShapeFn, x: &[[f64; 3]], d: &Matrix6<f64>, rule: &[QuadPoint], element: usize) -> Result<DMatrix<f64>, FeError> {
+pub fn stiffness(
+    shape: ShapeFn,
+    x: &[[f64; 3]],
+    d: &Matrix6<f64>,
+    rule: &[QuadPoint],
+    element: usize,
+) -> Result<DMatrix<f64>, FeError> {
     let nd = 3 * x.len();
     let dd = dyn_d(d);
     let mut k = DMatrix::zeros(nd, nd);
@@ -97,7 +120,13 @@ pub fn stiffness(shape: ShapeFn, x: &[[f64; 3]], d: &Matrix6<f64>, rule: &[QuadP
 
 /// Consistent mass M = sum_p rho N^T N det J w over `rule`, expanded to the 3 translations
 /// (node-major DOF order).
-pub fn consistent_mass(shape: ShapeFn, x: &[[f64; 3]], rho: f64, rule: &[QuadPoint], element: usize) -> Result<DMatrix<f64>, FeError> {
+pub fn consistent_mass(
+    shape: ShapeFn,
+    x: &[[f64; 3]],
+    rho: f64,
+    rule: &[QuadPoint],
+    element: usize,
+) -> Result<DMatrix<f64>, FeError> {
     let nn = x.len();
     let mut m = DMatrix::zeros(3 * nn, 3 * nn);
     for (ip, p) in rule.iter().enumerate() {
@@ -117,7 +146,12 @@ pub fn consistent_mass(shape: ShapeFn, x: &[[f64; 3]], rho: f64, rule: &[QuadPoi
 }
 
 /// Element volume sum det J w over `rule`.
-pub fn volume(shape: ShapeFn, x: &[[f64; 3]], rule: &[QuadPoint], element: usize) -> Result<f64, FeError> {
+pub fn volume(
+    shape: ShapeFn,
+    x: &[[f64; 3]],
+    rule: &[QuadPoint],
+    element: usize,
+) -> Result<f64, FeError> {
     let mut v = 0.0;
     for (ip, p) in rule.iter().enumerate() {
         v += eval_point(shape, x, p.xi, element, ip)?.det * p.w;

@@ -6,15 +6,28 @@ use crate::mesh::ElementKind;
 use crate::{FeError, Material};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 
-const SOLIDS: [ElementKind; 5] = [ElementKind::Hex8, ElementKind::Hex8I, ElementKind::Hex20, ElementKind::Hex20R, ElementKind::Tet10];
+const SOLIDS: [ElementKind; 5] = [
+    ElementKind::Hex8,
+    ElementKind::Hex8I,
+    ElementKind::Hex20,
+    ElementKind::Hex20R,
+    ElementKind::Tet10,
+];
 
 fn mat() -> Material {
-    Material { e: 210e3, nu: 0.3, rho: 7.85e-9 }
+    Material {
+        e: 210e3,
+        nu: 0.3,
+        rho: 7.85e-9,
+    }
 }
 
 /// A general (non-symmetric) affine map with det > 0.
 fn affine() -> (Matrix3<f64>, Vector3<f64>) {
-    (Matrix3::new(1.3, 0.2, -0.1, 0.1, 0.9, 0.25, -0.15, 0.05, 1.1), Vector3::new(0.4, -1.2, 2.0))
+    (
+        Matrix3::new(1.3, 0.2, -0.1, 0.1, 0.9, 0.25, -0.15, 0.05, 1.1),
+        Vector3::new(0.4, -1.2, 2.0),
+    )
 }
 
 /// Corner positions moved by an affine map plus a non-affine perturbation; mid-edge nodes at
@@ -30,13 +43,28 @@ fn distorted(kind: ElementKind, nonlinear: f64) -> Vec<[f64; 3]> {
         .map(|(i, r)| {
             let p = a * Vector3::from(*r) + t;
             let s = nonlinear * if kind == ElementKind::Tet10 { 0.0 } else { 1.0 };
-            let d = Vector3::new((1.7 * i as f64).sin(), (2.3 * i as f64).cos(), (0.9 * i as f64 + 0.4).sin()) * s;
+            let d = Vector3::new(
+                (1.7 * i as f64).sin(),
+                (2.3 * i as f64).cos(),
+                (0.9 * i as f64 + 0.4).sin(),
+            ) * s;
             (p + d).into()
         })
         .collect();
     let edges: &[(usize, usize)] = match kind {
         ElementKind::Hex20 | ElementKind::Hex20R => &[
-            (0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7),
+            (0, 1),
+            (1, 2),
+            (2, 3),
+            (3, 0),
+            (4, 5),
+            (5, 6),
+            (6, 7),
+            (7, 4),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
         ],
         ElementKind::Tet10 => &[(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)],
         _ => &[],
@@ -62,7 +90,10 @@ fn every_solid_has_six_rigid_modes_and_correct_rank() {
         let em = element_matrices(&single_solid(kind, &x, mat()), 0, MassKind::Consistent).unwrap();
         let k = &em.k;
         let kmax = max_abs(k);
-        assert!(max_abs(&(k - k.transpose())) <= 1e-14 * kmax, "{kind:?} K not symmetric");
+        assert!(
+            max_abs(&(k - k.transpose())) <= 1e-14 * kmax,
+            "{kind:?} K not symmetric"
+        );
         let r = rigid_modes(&x, 3);
         let kr = max_abs(&(k * &r)) / (kmax * max_abs(&r));
         assert!(kr < 1e-10, "{kind:?}: |K R| / (|K| |R|) = {kr:e}");
@@ -73,9 +104,15 @@ fn every_solid_has_six_rigid_modes_and_correct_rank() {
         // Hex20R: 2x2x2 integration leaves 6 spurious zero-energy modes in a single element
         // (48 strain samples against 54 deformation modes), as for CalculiX C3D20R.
         let expected = if kind == ElementKind::Hex20R { 12 } else { 6 };
-        println!("{kind:?}: {zeros} zero eigenvalues, |KR| rel {kr:.2e}, next {:.3e}", ev[zeros] / lmax);
+        println!(
+            "{kind:?}: {zeros} zero eigenvalues, |KR| rel {kr:.2e}, next {:.3e}",
+            ev[zeros] / lmax
+        );
         assert_eq!(zeros, expected, "{kind:?} zero eigenvalue count");
-        assert!(ev[zeros] > 1e-6 * lmax, "{kind:?}: smallest nonzero eigenvalue too close to zero");
+        assert!(
+            ev[zeros] > 1e-6 * lmax,
+            "{kind:?}: smallest nonzero eigenvalue too close to zero"
+        );
     }
 }
 
@@ -107,10 +144,15 @@ fn mass_totals_and_lumping() {
         }
         // distorted element: total mass = rho * volume from an independent 4x4x4 / 14-point rule
         let x = distorted(kind, 0.12);
-        let m = element_matrices(&single_solid(kind, &x, mat()), 0, MassKind::Lumped).unwrap().m;
+        let m = element_matrices(&single_solid(kind, &x, mat()), 0, MassKind::Lumped)
+            .unwrap()
+            .m;
         let v = volume_high(kind, &x);
         let tot: f64 = (0..m.nrows()).map(|i| m[(i, i)]).sum::<f64>() / 3.0;
-        assert!((tot / (mat().rho * v) - 1.0).abs() < 1e-12, "{kind:?} distorted lumped mass");
+        assert!(
+            (tot / (mat().rho * v) - 1.0).abs() < 1e-12,
+            "{kind:?} distorted lumped mass"
+        );
     }
 }
 
@@ -123,7 +165,11 @@ fn shape_of(kind: ElementKind) -> solid::ShapeFn {
 }
 
 fn volume_high(kind: ElementKind, x: &[[f64; 3]]) -> f64 {
-    let rule = if kind == ElementKind::Tet10 { super::gauss::tet_rule_14() } else { super::gauss::hex_rule(4) };
+    let rule = if kind == ElementKind::Tet10 {
+        super::gauss::tet_rule_14()
+    } else {
+        super::gauss::hex_rule(4)
+    };
     solid::volume(shape_of(kind), x, &rule, 0).unwrap()
 }
 
@@ -142,13 +188,31 @@ fn hex20_row_sums_negative_but_hrz_positive() {
 /// Energy of a linear field u = A x + c on a distorted element equals 1/2 eps^T D eps V.
 #[test]
 fn constant_strain_energy_exact_on_distorted_elements() {
-    let g = Matrix3::new(1.0e-3, 2.0e-4, -3.0e-4, -1.0e-4, -5.0e-4, 4.0e-4, 6.0e-4, 1.0e-4, 2.0e-4);
-    let eps = Vector6::new(g[(0, 0)], g[(1, 1)], g[(2, 2)], g[(0, 1)] + g[(1, 0)], g[(1, 2)] + g[(2, 1)], g[(2, 0)] + g[(0, 2)]);
+    let g = Matrix3::new(
+        1.0e-3, 2.0e-4, -3.0e-4, -1.0e-4, -5.0e-4, 4.0e-4, 6.0e-4, 1.0e-4, 2.0e-4,
+    );
+    let eps = Vector6::new(
+        g[(0, 0)],
+        g[(1, 1)],
+        g[(2, 2)],
+        g[(0, 1)] + g[(1, 0)],
+        g[(1, 2)] + g[(2, 1)],
+        g[(2, 0)] + g[(0, 2)],
+    );
     let d = mat().elasticity_matrix();
     for kind in SOLIDS {
         let x = distorted(kind, 0.12);
-        let k = element_matrices(&single_solid(kind, &x, mat()), 0, MassKind::Consistent).unwrap().k;
-        let u = DVector::from_iterator(3 * x.len(), x.iter().flat_map(|p| (g * Vector3::from(*p) + Vector3::new(1e-4, 2e-4, -3e-4)).data.0[0]));
+        let k = element_matrices(&single_solid(kind, &x, mat()), 0, MassKind::Consistent)
+            .unwrap()
+            .k;
+        let u = DVector::from_iterator(
+            3 * x.len(),
+            x.iter().flat_map(|p| {
+                (g * Vector3::from(*p) + Vector3::new(1e-4, 2e-4, -3e-4))
+                    .data
+                    .0[0]
+            }),
+        );
         let energy = 0.5 * (u.transpose() * &k * &u)[(0, 0)];
         let exact = 0.5 * (eps.transpose() * d * eps)[(0, 0)] * volume_high(kind, &x);
         let err = (energy / exact - 1.0).abs();
@@ -162,7 +226,9 @@ fn constant_strain_energy_exact_on_distorted_elements() {
 /// displacements must reproduce the linear field.
 #[test]
 fn patch_test_interior_nodes_reproduce_linear_field() {
-    let g = Matrix3::new(1.0e-3, 2.0e-4, -3.0e-4, -1.0e-4, -5.0e-4, 4.0e-4, 6.0e-4, 1.0e-4, 2.0e-4);
+    let g = Matrix3::new(
+        1.0e-3, 2.0e-4, -3.0e-4, -1.0e-4, -5.0e-4, 4.0e-4, 6.0e-4, 1.0e-4, 2.0e-4,
+    );
     let pert = |l: [usize; 3], lmax: [usize; 3]| -> Vector3<f64> {
         if (0..3).any(|c| l[c] == 0 || l[c] == lmax[c]) {
             return Vector3::zeros();
@@ -223,28 +289,47 @@ fn hex8i_pure_bending_exact_hex8_locks() {
         24,
         x.iter().flat_map(|p| {
             let (px, py, pz) = (p[0], p[1], p[2]);
-            [kap * px * pz, -m.nu * kap * py * pz, -0.5 * kap * px * px + 0.5 * m.nu * kap * (py * py - pz * pz)]
+            [
+                kap * px * pz,
+                -m.nu * kap * py * pz,
+                -0.5 * kap * px * px + 0.5 * m.nu * kap * (py * py - pz * pz),
+            ]
         }),
     );
     let exact = 0.5 * m.e * kap * kap * (b * h.powi(3) / 12.0) * l;
     let mut ratios = Vec::new();
     for kind in [ElementKind::Hex8I, ElementKind::Hex8] {
-        let k = element_matrices(&single_solid(kind, &x, m), 0, MassKind::Consistent).unwrap().k;
+        let k = element_matrices(&single_solid(kind, &x, m), 0, MassKind::Consistent)
+            .unwrap()
+            .k;
         ratios.push(0.5 * (u.transpose() * &k * &u)[(0, 0)] / exact);
     }
-    println!("pure bending energy / exact: Hex8I {:.12}, Hex8 {:.4}", ratios[0], ratios[1]);
+    println!(
+        "pure bending energy / exact: Hex8I {:.12}, Hex8 {:.4}",
+        ratios[0], ratios[1]
+    );
     assert!((ratios[0] - 1.0).abs() < 1e-10);
     assert!(ratios[1] > 1.5, "Hex8 should lock in bending (L/h = 4)");
 }
 
 /// Tip deflection (work-conjugate: f^T u / P) of a cantilever box mesh clamped at x = 0 with a
 /// uniform shear traction of resultant P in y on the face x = L (consistent nodal loads).
-fn cantilever_tip(kind: ElementKind, n: [usize; 3], len: [f64; 3], material: Material, p: f64) -> f64 {
+fn cantilever_tip(
+    kind: ElementKind,
+    n: [usize; 3],
+    len: [f64; 3],
+    material: Material,
+    p: f64,
+) -> f64 {
     let (mesh, lattice) = box_mesh(kind, n, len, material, &|_, _, x| x);
     let (k, _) = assemble(&mesh, MassKind::Consistent);
     let lx = 2 * n[0];
-    let fixed: Vec<usize> =
-        lattice.iter().enumerate().filter(|(_, l)| l[0] == 0).flat_map(|(i, _)| (0..3).map(move |c| 3 * i + c)).collect();
+    let fixed: Vec<usize> = lattice
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l[0] == 0)
+        .flat_map(|(i, _)| (0..3).map(move |c| 3 * i + c))
+        .collect();
     // consistent loads: f_a = t int N_a dA over element faces at x = L (3x3 Gauss on the face)
     let t = p / (len[1] * len[2]);
     let mut f = DVector::zeros(k.nrows());
@@ -268,10 +353,22 @@ fn cantilever_tip(kind: ElementKind, n: [usize; 3], len: [f64; 3], material: Mat
 
 /// Adds t int_face N_a dA (y direction) for the face whose nodes are flagged in `on_face`, by a
 /// 3x3 Gauss rule on the face in reference coordinates (hex: xi = +1; tet: parametrised face).
-fn face_load(shape: solid::ShapeFn, kind: ElementKind, x: &[[f64; 3]], on_face: &[bool], t: f64, nodes: &[usize], f: &mut DVector<f64>) {
+fn face_load(
+    shape: solid::ShapeFn,
+    kind: ElementKind,
+    x: &[[f64; 3]],
+    on_face: &[bool],
+    t: f64,
+    nodes: &[usize],
+    f: &mut DVector<f64>,
+) {
     let nn = x.len();
     let refn = reference_nodes(kind);
-    let fr: Vec<[f64; 3]> = (0..nn).filter(|&a| on_face[a]).map(|a| refn[a]).take(if kind == ElementKind::Tet10 { 3 } else { 0 }).collect();
+    let fr: Vec<[f64; 3]> = (0..nn)
+        .filter(|&a| on_face[a])
+        .map(|a| refn[a])
+        .take(if kind == ElementKind::Tet10 { 3 } else { 0 })
+        .collect();
     let g = super::gauss::gauss_legendre(4);
     let mut n = vec![0.0; nn];
     let mut dn = vec![[0.0; 3]; nn];
@@ -281,7 +378,8 @@ fn face_load(shape: solid::ShapeFn, kind: ElementKind, x: &[[f64; 3]], on_face: 
             let (xi, t1, t2, w) = if kind == ElementKind::Tet10 {
                 // collapsed square -> triangle with corners fr[0..3]: (a, b) in [0,1]^2
                 let (a, b) = (0.5 * (s1 + 1.0), 0.5 * (s2 + 1.0));
-                let p = |c: usize| fr[0][c] + a * (fr[1][c] - fr[0][c]) + a * b * (fr[2][c] - fr[1][c]);
+                let p =
+                    |c: usize| fr[0][c] + a * (fr[1][c] - fr[0][c]) + a * b * (fr[2][c] - fr[1][c]);
                 let t1 = [0, 1, 2].map(|c| (fr[1][c] - fr[0][c]) + b * (fr[2][c] - fr[1][c]));
                 let t2 = [0, 1, 2].map(|c| a * (fr[2][c] - fr[1][c]));
                 ([p(0), p(1), p(2)], t1, t2, 0.25 * w1 * w2)
@@ -303,28 +401,51 @@ fn face_load(shape: solid::ShapeFn, kind: ElementKind, x: &[[f64; 3]], on_face: 
 
 #[test]
 fn hex8i_cantilever_strip_matches_beam_theory_hex8_locks() {
-    let m = Material { e: 1000.0, nu: 0.0, rho: 1.0 };
+    let m = Material {
+        e: 1000.0,
+        nu: 0.0,
+        rho: 1.0,
+    };
     let (l, b, h, p): (f64, f64, f64, f64) = (10.0, 1.0, 1.0, 1.0);
     let i = b * h.powi(3) / 12.0;
     let eb = p * l.powi(3) / (3.0 * m.e * i);
     let d8i = cantilever_tip(ElementKind::Hex8I, [10, 1, 1], [l, b, h], m, p);
     let d8 = cantilever_tip(ElementKind::Hex8, [10, 1, 1], [l, b, h], m, p);
-    println!("10x1x1 cantilever tip / Euler-Bernoulli: Hex8I {:.5}, Hex8 {:.5}", d8i / eb, d8 / eb);
+    println!(
+        "10x1x1 cantilever tip / Euler-Bernoulli: Hex8I {:.5}, Hex8 {:.5}",
+        d8i / eb,
+        d8 / eb
+    );
     assert!((d8i / eb - 1.0).abs() < 0.02);
     assert!(d8 / eb < 0.8, "Hex8 expected to lock");
 }
 
 #[test]
 fn hex20_cantilever_matches_timoshenko() {
-    let m = Material { e: 1000.0, nu: 0.0, rho: 1.0 };
+    let m = Material {
+        e: 1000.0,
+        nu: 0.0,
+        rho: 1.0,
+    };
     let (l, b, h, p): (f64, f64, f64, f64) = (10.0, 1.0, 1.0, 1.0);
     let i = b * h.powi(3) / 12.0;
     let timo = p * l.powi(3) / (3.0 * m.e * i) + p * l / (5.0 / 6.0 * m.shear_modulus() * b * h);
     // Hex20R needs 2 elements across: in a single column its spurious modes propagate (below).
-    for (kind, n) in [(ElementKind::Hex20, [10, 1, 1]), (ElementKind::Hex20R, [10, 2, 2]), (ElementKind::Tet10, [10, 1, 1])] {
+    for (kind, n) in [
+        (ElementKind::Hex20, [10, 1, 1]),
+        (ElementKind::Hex20R, [10, 2, 2]),
+        (ElementKind::Tet10, [10, 1, 1]),
+    ] {
         let d = cantilever_tip(kind, n, [l, b, h], m, p);
-        println!("{kind:?} {n:?} cantilever tip / Timoshenko = {:.5}", d / timo);
-        let tol = if kind == ElementKind::Tet10 { 0.03 } else { 0.01 };
+        println!(
+            "{kind:?} {n:?} cantilever tip / Timoshenko = {:.5}",
+            d / timo
+        );
+        let tol = if kind == ElementKind::Tet10 {
+            0.03
+        } else {
+            0.01
+        };
         assert!((d / timo - 1.0).abs() < tol, "{kind:?}: {}", d / timo);
     }
 }
@@ -333,17 +454,29 @@ fn hex20_cantilever_matches_timoshenko() {
 fn hex20_cantilever_first_frequency_near_beam_theory() {
     // 10 x 1 x 1 cantilever, nu = 0: first bending frequency vs Euler-Bernoulli; shear and rotary
     // inertia lower it by about (1 + 1.25 * r^2 ...) ~ 1 % at L/h = 10; tolerance 2 %.
-    let m = Material { e: 1000.0, nu: 0.0, rho: 1.0 };
+    let m = Material {
+        e: 1000.0,
+        nu: 0.0,
+        rho: 1.0,
+    };
     let (l, b, h) = (10.0, 1.0, 1.0);
     let (mesh, lattice) = box_mesh(ElementKind::Hex20, [10, 1, 1], [l, b, h], m, &|_, _, x| x);
     let (k, mm) = assemble(&mesh, MassKind::Consistent);
-    let fixed: Vec<usize> =
-        lattice.iter().enumerate().filter(|(_, q)| q[0] == 0).flat_map(|(i, _)| (0..3).map(move |c| 3 * i + c)).collect();
+    let fixed: Vec<usize> = lattice
+        .iter()
+        .enumerate()
+        .filter(|(_, q)| q[0] == 0)
+        .flat_map(|(i, _)| (0..3).map(move |c| 3 * i + c))
+        .collect();
     let ev = gen_eigenvalues(&k, &mm, &fixed);
-    let w_eb = 1.875_104_f64.powi(2) * (m.e * b * h.powi(3) / 12.0 / (m.rho * b * h * l.powi(4))).sqrt();
+    let w_eb =
+        1.875_104_f64.powi(2) * (m.e * b * h.powi(3) / 12.0 / (m.rho * b * h * l.powi(4))).sqrt();
     let ratio = ev[0].sqrt() / w_eb;
     println!("Hex20 cantilever omega1 / omega_EB = {ratio:.5}");
-    assert!((ev[0] - ev[1]).abs() < 1e-8 * ev[0], "square section: two equal bending modes");
+    assert!(
+        (ev[0] - ev[1]).abs() < 1e-8 * ev[0],
+        "square section: two equal bending modes"
+    );
     assert!(ratio < 1.0 && ratio > 0.98, "ratio {ratio}");
 }
 
@@ -352,24 +485,52 @@ fn errors_for_bad_input() {
     // inverted element: swap bottom and top faces
     let mut x = reference_nodes(ElementKind::Hex8);
     x.rotate_left(4);
-    let r = element_matrices(&single_solid(ElementKind::Hex8, &x, mat()), 0, MassKind::Consistent);
+    let r = element_matrices(
+        &single_solid(ElementKind::Hex8, &x, mat()),
+        0,
+        MassKind::Consistent,
+    );
     assert!(matches!(r, Err(FeError::BadJacobian { .. })), "{r:?}");
-    let r = element_matrices(&single_solid(ElementKind::Hex8I, &x, mat()), 0, MassKind::Consistent);
+    let r = element_matrices(
+        &single_solid(ElementKind::Hex8I, &x, mat()),
+        0,
+        MassKind::Consistent,
+    );
     assert!(matches!(r, Err(FeError::BadJacobian { .. })));
     // degenerate Tet10: all corners coplanar
     let mut t = reference_nodes(ElementKind::Tet10);
     for p in &mut t {
         p[2] = 0.0;
     }
-    let r = element_matrices(&single_solid(ElementKind::Tet10, &t, mat()), 0, MassKind::Consistent);
+    let r = element_matrices(
+        &single_solid(ElementKind::Tet10, &t, mat()),
+        0,
+        MassKind::Consistent,
+    );
     assert!(matches!(r, Err(FeError::BadJacobian { .. })));
-    let mesh = single_solid(ElementKind::Hex8, &reference_nodes(ElementKind::Hex8), mat());
-    assert!(matches!(element_matrices(&mesh, 1, MassKind::Consistent), Err(FeError::Invalid(_))));
+    let mesh = single_solid(
+        ElementKind::Hex8,
+        &reference_nodes(ElementKind::Hex8),
+        mat(),
+    );
+    assert!(matches!(
+        element_matrices(&mesh, 1, MassKind::Consistent),
+        Err(FeError::Invalid(_))
+    ));
     let mut bad = mesh.clone();
     bad.elements[0].nodes.pop();
-    assert!(matches!(element_matrices(&bad, 0, MassKind::Consistent), Err(FeError::Invalid(_))));
+    assert!(matches!(
+        element_matrices(&bad, 0, MassKind::Consistent),
+        Err(FeError::Invalid(_))
+    ));
     let mut bad = mesh.clone();
-    bad.properties[0] = crate::mesh::Property::Solid { material: Material { e: -1.0, nu: 0.3, rho: 1.0 } };
+    bad.properties[0] = crate::mesh::Property::Solid {
+        material: Material {
+            e: -1.0,
+            nu: 0.3,
+            rho: 1.0,
+        },
+    };
     assert!(element_matrices(&bad, 0, MassKind::Consistent).is_err());
     let _unused: DMatrix<f64> = DMatrix::zeros(1, 1);
 }
@@ -379,10 +540,20 @@ fn errors_for_bad_input() {
 /// (so a 10x1x1 Hex20R cantilever is singular; use at least 2 elements across).
 #[test]
 fn hex20r_spurious_modes_in_meshes() {
-    let m = Material { e: 1000.0, nu: 0.3, rho: 1.0 };
+    let m = Material {
+        e: 1000.0,
+        nu: 0.3,
+        rho: 1.0,
+    };
     let mut counts = Vec::new();
     for n in [[1, 1, 1], [3, 1, 1], [2, 2, 2]] {
-        let (mesh, _) = box_mesh(ElementKind::Hex20R, n, [n[0] as f64, n[1] as f64, n[2] as f64], m, &|_, _, x| x);
+        let (mesh, _) = box_mesh(
+            ElementKind::Hex20R,
+            n,
+            [n[0] as f64, n[1] as f64, n[2] as f64],
+            m,
+            &|_, _, x| x,
+        );
         let (k, _) = assemble(&mesh, MassKind::Consistent);
         let ev = sym_eigenvalues(&k);
         let lmax = *ev.last().unwrap();

@@ -12,7 +12,11 @@ pub fn single_solid(kind: ElementKind, x: &[[f64; 3]], material: Material) -> Me
     let mut m = Mesh::default();
     let nodes = x.iter().map(|p| m.add_node(*p)).collect();
     let property = m.add_property(Property::Solid { material });
-    m.elements.push(Element { kind, nodes, property });
+    m.elements.push(Element {
+        kind,
+        nodes,
+        property,
+    });
     m
 }
 
@@ -53,7 +57,11 @@ pub fn rigid_modes(x: &[[f64; 3]], dofs_per_node: usize) -> DMatrix<f64> {
 
 /// Sorted eigenvalues of a symmetric matrix.
 pub fn sym_eigenvalues(a: &DMatrix<f64>) -> Vec<f64> {
-    let mut v: Vec<f64> = SymmetricEigen::new(a.clone()).eigenvalues.iter().copied().collect();
+    let mut v: Vec<f64> = SymmetricEigen::new(a.clone())
+        .eigenvalues
+        .iter()
+        .copied()
+        .collect();
     v.sort_by(|a, b| a.total_cmp(b));
     v
 }
@@ -71,7 +79,11 @@ pub fn assemble(mesh: &Mesh, mass: MassKind) -> (DMatrix<f64>, DMatrix<f64>) {
     let mut m = DMatrix::zeros(n, n);
     for (ei, el) in mesh.elements.iter().enumerate() {
         let em = element_matrices(mesh, ei, mass).unwrap();
-        let dofs: Vec<usize> = el.nodes.iter().flat_map(|&nd| (0..dpn).map(move |c| nd * dpn + c)).collect();
+        let dofs: Vec<usize> = el
+            .nodes
+            .iter()
+            .flat_map(|&nd| (0..dpn).map(move |c| nd * dpn + c))
+            .collect();
         for (i, &gi) in dofs.iter().enumerate() {
             for (j, &gj) in dofs.iter().enumerate() {
                 k[(gi, gj)] += em.k[(i, j)];
@@ -83,7 +95,12 @@ pub fn assemble(mesh: &Mesh, mass: MassKind) -> (DMatrix<f64>, DMatrix<f64>) {
 }
 
 /// Solves K u = f with the DOFs in `fixed` prescribed to `u_fixed` (same length); returns full u.
-pub fn solve_prescribed(k: &DMatrix<f64>, f: &DVector<f64>, fixed: &[usize], u_fixed: &[f64]) -> DVector<f64> {
+pub fn solve_prescribed(
+    k: &DMatrix<f64>,
+    f: &DVector<f64>,
+    fixed: &[usize],
+    u_fixed: &[f64],
+) -> DVector<f64> {
     let n = k.nrows();
     let mut is_fixed = vec![None; n];
     for (i, &d) in fixed.iter().enumerate() {
@@ -97,8 +114,13 @@ pub fn solve_prescribed(k: &DMatrix<f64>, f: &DVector<f64>, fixed: &[usize], u_f
         }
     }
     let kff = DMatrix::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
-    let rhs = DVector::from_fn(free.len(), |i, _| f[free[i]] - (0..n).map(|j| k[(free[i], j)] * u[j]).sum::<f64>());
-    let uf = kff.cholesky().expect("constrained K positive definite").solve(&rhs);
+    let rhs = DVector::from_fn(free.len(), |i, _| {
+        f[free[i]] - (0..n).map(|j| k[(free[i], j)] * u[j]).sum::<f64>()
+    });
+    let uf = kff
+        .cholesky()
+        .expect("constrained K positive definite")
+        .solve(&rhs);
     for (i, &d) in free.iter().enumerate() {
         u[d] = uf[i];
     }
@@ -145,12 +167,18 @@ pub fn box_mesh(
                 let base = [2 * ex, 2 * ey, 2 * ez];
                 let at = |r: [f64; 3]| [0, 1, 2].map(|c| (base[c] as f64 + 1.0 + r[c]) as usize);
                 let conn: Vec<Vec<[usize; 3]>> = match kind {
-                    ElementKind::Tet10 => kuhn_tets().iter().map(|t| tet10_lattice(t, base)).collect(),
+                    ElementKind::Tet10 => {
+                        kuhn_tets().iter().map(|t| tet10_lattice(t, base)).collect()
+                    }
                     _ => vec![reference_nodes(kind).iter().map(|r| at(*r)).collect()],
                 };
                 for c in conn {
                     let nodes = c.iter().map(|l| node(&mut mesh, *l)).collect();
-                    mesh.elements.push(Element { kind, nodes, property });
+                    mesh.elements.push(Element {
+                        kind,
+                        nodes,
+                        property,
+                    });
                 }
             }
         }
@@ -160,7 +188,14 @@ pub fn box_mesh(
 
 /// The 6 Kuhn tetrahedra of the unit cube as corner bit-vectors, positively oriented.
 fn kuhn_tets() -> Vec<[[usize; 3]; 4]> {
-    let perms = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+    let perms = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
     perms
         .iter()
         .map(|p| {
@@ -185,5 +220,16 @@ fn tet10_lattice(t: &[[usize; 3]; 4], base: [usize; 3]) -> Vec<[usize; 3]> {
     let corner = |v: [usize; 3]| [0, 1, 2].map(|c| base[c] + 2 * v[c]);
     let c: Vec<[usize; 3]> = t.iter().map(|v| corner(*v)).collect();
     let mid = |a: usize, b: usize| [0, 1, 2].map(|k| (c[a][k] + c[b][k]) / 2);
-    vec![c[0], c[1], c[2], c[3], mid(0, 1), mid(1, 2), mid(2, 0), mid(0, 3), mid(1, 3), mid(2, 3)]
+    vec![
+        c[0],
+        c[1],
+        c[2],
+        c[3],
+        mid(0, 1),
+        mid(1, 2),
+        mid(2, 0),
+        mid(0, 3),
+        mid(1, 3),
+        mid(2, 3),
+    ]
 }

@@ -25,7 +25,12 @@ const EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 
 pub fn tet10_shape(xi: [f64; 3], n: &mut [f64], dn: &mut [[f64; 3]]) {
     let l = [1.0 - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]];
     // dL_i/dxi
-    let dl: [[f64; 3]; 4] = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let dl: [[f64; 3]; 4] = [
+        [-1.0, -1.0, -1.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
     for i in 0..4 {
         n[i] = l[i] * (2.0 * l[i] - 1.0);
         for c in 0..3 {
@@ -51,7 +56,10 @@ mod tests {
         for (a, r) in TET10_NODES.iter().enumerate() {
             tet10_shape(*r, &mut n, &mut dn);
             for (b, nb) in n.iter().enumerate() {
-                assert!((nb - if a == b { 1.0 } else { 0.0 }).abs() < 1e-15, "node {a} fn {b}");
+                assert!(
+                    (nb - if a == b { 1.0 } else { 0.0 }).abs() < 1e-15,
+                    "node {a} fn {b}"
+                );
             }
         }
         let xi = [0.21, 0.33, 0.17];
