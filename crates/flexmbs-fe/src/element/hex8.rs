@@ -43,6 +43,18 @@ pub fn hex8i_stiffness(
     d: &Matrix6<f64>,
     element: usize,
 ) -> Result<DMatrix<f64>, FeError> {
+    hex8i_stiffness_variant(x, d, element, true)
+}
+
+/// Incompatible-mode stiffness; `det_ratio` = false omits the factor det J0 / det J in B_I (the
+/// variant of CalculiX `C3D8I`, which fails the patch test on non-parallelepiped elements; kept
+/// only to verify the CalculiX comparison).
+pub(crate) fn hex8i_stiffness_variant(
+    x: &[[f64; 3]],
+    d: &Matrix6<f64>,
+    element: usize,
+    det_ratio: bool,
+) -> Result<DMatrix<f64>, FeError> {
     // Jacobian at the element centre (Taylor correction)
     let mut n0 = [0.0; 8];
     let mut dn0 = [[0.0; 3]; 8];
@@ -73,7 +85,7 @@ pub fn hex8i_stiffness(
         for k in 0..3 {
             let mut g = Vector3::zeros();
             g[k] = -2.0 * p.xi[k];
-            let gx = j0inv * g * (det0 / e.det);
+            let gx = j0inv * g * if det_ratio { det0 / e.det } else { 1.0 };
             b_block(&mut bi, 3 * k, &gx);
         }
         let f = e.det * p.w;
