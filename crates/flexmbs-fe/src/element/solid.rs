@@ -34,7 +34,8 @@ pub fn jacobian(x: &[[f64; 3]], dn: &[[f64; 3]]) -> Matrix3<f64> {
 }
 
 /// Evaluates shape functions, Jacobian and Cartesian derivatives at `xi`. Errors with
-/// [`FeError::BadJacobian`] when det J <= 0 (`element`, `point` only label the error).
+/// [`FeError::BadJacobian`] when det J <= 1e-12 |J|_F^3 (inverted or degenerate; `element` and
+/// `point` only label the error).
 pub fn eval_point(
     shape: ShapeFn,
     x: &[[f64; 3]],
