@@ -20,6 +20,8 @@ use super::{BeamSection, BeamTheory, Element, ElementKind, Mesh, NodeIdx, Proper
 use crate::{FeError, Material, UnitSystem};
 use std::collections::{BTreeSet, HashMap};
 
+pub use super::profile::extrude_profile;
+
 /// Largest number of grid cells a structured generator accepts (guards against a tiny element
 /// size exhausting memory).
 pub const MAX_GRID_CELLS: usize = 5_000_000;
@@ -47,7 +49,14 @@ impl BoxRegion {
 
     /// The box `[origin, origin + size]`.
     pub fn from_origin_size(origin: [f64; 3], size: [f64; 3]) -> Result<Self, FeError> {
-        Self::new(origin, [origin[0] + size[0], origin[1] + size[1], origin[2] + size[2]])
+        Self::new(
+            origin,
+            [
+                origin[0] + size[0],
+                origin[1] + size[1],
+                origin[2] + size[2],
+            ],
+        )
     }
 
     /// Checks that all bounds are finite and `min < max` along every axis (no degenerate box).
@@ -107,7 +116,9 @@ pub fn box_mesh(
     let mut grid: [Vec<f64>; 3] = Default::default();
     for a in 0..3 {
         if counts[a] == 0 {
-            return Err(FeError::Invalid(format!("box_mesh: element count along axis {a} must be >= 1, got 0")));
+            return Err(FeError::Invalid(format!(
+                "box_mesh: element count along axis {a} must be >= 1, got 0"
+            )));
         }
         grid[a] = subdivide(b.min[a], b.max[a], counts[a]);
     }
@@ -129,10 +140,13 @@ pub fn union_of_boxes(
     units: UnitSystem,
 ) -> Result<Mesh, FeError> {
     if boxes.is_empty() {
-        return Err(FeError::Invalid("union_of_boxes: the list of boxes is empty".into()));
+        return Err(FeError::Invalid(
+            "union_of_boxes: the list of boxes is empty".into(),
+        ));
     }
     for (i, b) in boxes.iter().enumerate() {
-        b.check().map_err(|e| FeError::Invalid(format!("union_of_boxes: box {i}: {e}")))?;
+        b.check()
+            .map_err(|e| FeError::Invalid(format!("union_of_boxes: box {i}: {e}")))?;
     }
     for (a, h) in max_size.iter().enumerate() {
         if !(h.is_finite() && *h > 0.0) {
@@ -149,7 +163,9 @@ pub fn union_of_boxes(
         bounds.dedup_by(|x, prev| (*x - *prev).abs() <= tol);
         let mut lines = vec![bounds[0]];
         for w in bounds.windows(2) {
-            let n = ((w[1] - w[0]) / max_size[a] * (1.0 - 1e-12)).ceil().max(1.0);
+            let n = ((w[1] - w[0]) / max_size[a] * (1.0 - 1e-12))
+                .ceil()
+                .max(1.0);
             if n > MAX_GRID_CELLS as f64 {
                 return Err(too_many_cells(n));
             }
@@ -168,15 +184,26 @@ pub fn union_of_boxes(
 pub fn complex_beam_boxes() -> Vec<BoxRegion> {
     let (w1, w2) = (20.0, 9.74);
     vec![
-        BoxRegion { min: [0.0, 0.0, 0.0], max: [10.0, w1, 34.2] },
-        BoxRegion { min: [10.0, (w1 - w2) / 2.0, 0.0], max: [105.0, (w1 + w2) / 2.0, 15.0] },
-        BoxRegion { min: [10.0, 0.0, 15.0], max: [105.0, w1, 20.0] },
+        BoxRegion {
+            min: [0.0, 0.0, 0.0],
+            max: [10.0, w1, 34.2],
+        },
+        BoxRegion {
+            min: [10.0, (w1 - w2) / 2.0, 0.0],
+            max: [105.0, (w1 + w2) / 2.0, 15.0],
+        },
+        BoxRegion {
+            min: [10.0, 0.0, 15.0],
+            max: [105.0, w1, 20.0],
+        },
     ]
 }
 
 /// `n` equal intervals of `[lo, hi]` as `n + 1` grid coordinates (ends exact).
 fn subdivide(lo: f64, hi: f64, n: usize) -> Vec<f64> {
-    let mut v: Vec<f64> = (0..=n).map(|i| lo + (hi - lo) * (i as f64) / (n as f64)).collect();
+    let mut v: Vec<f64> = (0..=n)
+        .map(|i| lo + (hi - lo) * (i as f64) / (n as f64))
+        .collect();
     v[n] = hi;
     v
 }
@@ -185,7 +212,10 @@ fn bounding_diagonal(boxes: &[BoxRegion]) -> f64 {
     let mut d2 = 0.0;
     for a in 0..3 {
         let lo = boxes.iter().map(|b| b.min[a]).fold(f64::INFINITY, f64::min);
-        let hi = boxes.iter().map(|b| b.max[a]).fold(f64::NEG_INFINITY, f64::max);
+        let hi = boxes
+            .iter()
+            .map(|b| b.max[a])
+            .fold(f64::NEG_INFINITY, f64::max);
         d2 += (hi - lo) * (hi - lo);
     }
     d2.sqrt()
@@ -250,15 +280,28 @@ fn structured_hex_mesh(
         }
     }
     if cells.is_empty() {
-        return Err(FeError::Invalid("structured mesh: no grid cell lies inside the region".into()));
+        return Err(FeError::Invalid(
+            "structured mesh: no grid cell lies inside the region".into(),
+        ));
     }
     let per_elem = if quadratic { 20 } else { 8 };
     // Node keys in doubled grid indices: corners even, mid-edge nodes with one odd index.
     let key = |c: &[usize; 3], o: &[usize; 3]| [2 * c[0] + o[0], 2 * c[1] + o[1], 2 * c[2] + o[2]];
-    let used: BTreeSet<[usize; 3]> =
-        cells.iter().flat_map(|c| HEX20_OFFSETS[..per_elem].iter().map(move |o| key(c, o))).collect();
-    let coord = |a: usize, d: usize| if d % 2 == 0 { grid[a][d / 2] } else { mid(a, d / 2) };
-    let mut mesh = Mesh { units, ..Mesh::default() };
+    let used: BTreeSet<[usize; 3]> = cells
+        .iter()
+        .flat_map(|c| HEX20_OFFSETS[..per_elem].iter().map(move |o| key(c, o)))
+        .collect();
+    let coord = |a: usize, d: usize| {
+        if d.is_multiple_of(2) {
+            grid[a][d / 2]
+        } else {
+            mid(a, d / 2)
+        }
+    };
+    let mut mesh = Mesh {
+        units,
+        ..Mesh::default()
+    };
     let mut index: HashMap<[usize; 3], NodeIdx> = HashMap::with_capacity(used.len());
     for k in &used {
         let idx = mesh.add_node([coord(0, k[0]), coord(1, k[1]), coord(2, k[2])]);
@@ -269,7 +312,10 @@ fn structured_hex_mesh(
         .iter()
         .map(|c| Element {
             kind,
-            nodes: HEX20_OFFSETS[..per_elem].iter().map(|o| index[&key(c, o)]).collect(),
+            nodes: HEX20_OFFSETS[..per_elem]
+                .iter()
+                .map(|o| index[&key(c, o)])
+                .collect(),
             property,
         })
         .collect();
@@ -279,7 +325,9 @@ fn structured_hex_mesh(
 
 /// Adds the node sets `xmin` ... `zmax` (nodes on the bounding-box faces) and `all`.
 pub(crate) fn add_bounding_face_sets(mesh: &mut Mesh) {
-    let Some((lo, hi)) = mesh.bounding_box() else { return };
+    let Some((lo, hi)) = mesh.try_bounding_box() else {
+        return;
+    };
     let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
     let tol = GEOMETRIC_TOLERANCE * diag.max(f64::MIN_POSITIVE);
     for (a, name) in ["x", "y", "z"].iter().enumerate() {
@@ -288,7 +336,8 @@ pub(crate) fn add_bounding_face_sets(mesh: &mut Mesh) {
         mesh.node_sets.insert(format!("{name}min"), nmin);
         mesh.node_sets.insert(format!("{name}max"), nmax);
     }
-    mesh.node_sets.insert("all".into(), (0..mesh.num_nodes()).collect());
+    mesh.node_sets
+        .insert("all".into(), (0..mesh.num_nodes()).collect());
 }
 
 /// A straight line of `n_elements` equal [`ElementKind::Beam2`] elements from `p0` to `p1`.
@@ -308,16 +357,27 @@ pub fn beam_line(
     units: UnitSystem,
 ) -> Result<Mesh, FeError> {
     if n_elements == 0 {
-        return Err(FeError::Invalid("beam_line: the number of elements must be >= 1".into()));
+        return Err(FeError::Invalid(
+            "beam_line: the number of elements must be >= 1".into(),
+        ));
     }
-    if p0.iter().chain(&p1).chain(&orientation).any(|v| !v.is_finite()) {
-        return Err(FeError::Invalid("beam_line: end points and orientation must be finite".into()));
+    if p0
+        .iter()
+        .chain(&p1)
+        .chain(&orientation)
+        .any(|v| !v.is_finite())
+    {
+        return Err(FeError::Invalid(
+            "beam_line: end points and orientation must be finite".into(),
+        ));
     }
     material.validate()?;
     let d = [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]];
     let len = norm(d);
     if len == 0.0 {
-        return Err(FeError::Invalid(format!("beam_line: start and end point coincide at {p0:?}")));
+        return Err(FeError::Invalid(format!(
+            "beam_line: start and end point coincide at {p0:?}"
+        )));
     }
     let c = [
         d[1] * orientation[2] - d[2] * orientation[1],
@@ -336,24 +396,43 @@ pub fn beam_line(
             "beam_line: section area, iy, iz and j must be finite and > 0, got {section:?}"
         )));
     }
-    if theory == BeamTheory::Timoshenko && [s.ky, s.kz].iter().any(|k| !(k.is_finite() && *k > 0.0)) {
+    if theory == BeamTheory::Timoshenko && [s.ky, s.kz].iter().any(|k| !(k.is_finite() && *k > 0.0))
+    {
         return Err(FeError::Invalid(format!(
             "beam_line: Timoshenko shear factors must be > 0, got ky {} kz {}",
             s.ky, s.kz
         )));
     }
-    let mut mesh = Mesh { units, ..Mesh::default() };
+    let mut mesh = Mesh {
+        units,
+        ..Mesh::default()
+    };
     for i in 0..=n_elements {
         let t = i as f64 / n_elements as f64;
-        let x = if i == n_elements { p1 } else { [p0[0] + t * d[0], p0[1] + t * d[1], p0[2] + t * d[2]] };
+        let x = if i == n_elements {
+            p1
+        } else {
+            [p0[0] + t * d[0], p0[1] + t * d[1], p0[2] + t * d[2]]
+        };
         mesh.add_node(x);
     }
-    let property = mesh.add_property(Property::Beam { material, section, theory, orientation });
-    mesh.elements =
-        (0..n_elements).map(|i| Element { kind: ElementKind::Beam2, nodes: vec![i, i + 1], property }).collect();
+    let property = mesh.add_property(Property::Beam {
+        material,
+        section,
+        theory,
+        orientation,
+    });
+    mesh.elements = (0..n_elements)
+        .map(|i| Element {
+            kind: ElementKind::Beam2,
+            nodes: vec![i, i + 1],
+            property,
+        })
+        .collect();
     mesh.node_sets.insert("start".into(), vec![0]);
     mesh.node_sets.insert("end".into(), vec![n_elements]);
-    mesh.node_sets.insert("all".into(), (0..=n_elements).collect());
+    mesh.node_sets
+        .insert("all".into(), (0..=n_elements).collect());
     Ok(mesh)
 }
 
@@ -367,11 +446,27 @@ mod tests {
     use crate::mesh::select::trilinear_jacobian_det;
 
     /// Corner pairs of the 12 mid-edge nodes 9..20 (0-based 8..19) of `C3D20`.
-    const HEX20_EDGES: [[usize; 2]; 12] =
-        [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
+    const HEX20_EDGES: [[usize; 2]; 12] = [
+        [0, 1],
+        [1, 2],
+        [2, 3],
+        [3, 0],
+        [4, 5],
+        [5, 6],
+        [6, 7],
+        [7, 4],
+        [0, 4],
+        [1, 5],
+        [2, 6],
+        [3, 7],
+    ];
 
     fn steel_mm() -> Material {
-        Material { e: 210000.0, nu: 0.3, rho: 7.987e-9 }
+        Material {
+            e: 210000.0,
+            nu: 0.3,
+            rho: 7.987e-9,
+        }
     }
 
     /// Checks every generated solid mesh: validate() passes, no duplicate nodes (all pairwise
@@ -379,12 +474,16 @@ mod tests {
     /// centre, and (Hex20) mid-edge nodes at the edge midpoints to 1e-12 of the diagonal.
     fn check_solid_mesh(m: &Mesh) {
         m.validate().unwrap();
-        let (lo, hi) = m.bounding_box().unwrap();
+        let (lo, hi) = m.bounding_box();
         let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
-        let dist = |p: [f64; 3], q: [f64; 3]| (0..3).map(|a| (p[a] - q[a]).powi(2)).sum::<f64>().sqrt();
+        let dist =
+            |p: [f64; 3], q: [f64; 3]| (0..3).map(|a| (p[a] - q[a]).powi(2)).sum::<f64>().sqrt();
         for i in 0..m.num_nodes() {
             for j in 0..i {
-                assert!(dist(m.nodes[i], m.nodes[j]) > 1e-9 * diag, "duplicate nodes {i} {j}");
+                assert!(
+                    dist(m.nodes[i], m.nodes[j]) > 1e-9 * diag,
+                    "duplicate nodes {i} {j}"
+                );
             }
         }
         assert!(m.node_dofs().iter().all(|&d| d == 3), "orphan node");
@@ -395,8 +494,15 @@ mod tests {
             if e.kind.num_nodes() == 20 {
                 for (k, [a, b]) in HEX20_EDGES.iter().enumerate() {
                     let (pa, pb) = (m.nodes[e.nodes[*a]], m.nodes[e.nodes[*b]]);
-                    let midpoint = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1]), 0.5 * (pa[2] + pb[2])];
-                    assert!(dist(m.nodes[e.nodes[8 + k]], midpoint) <= 1e-12 * diag, "element {ei} edge {k}");
+                    let midpoint = [
+                        0.5 * (pa[0] + pb[0]),
+                        0.5 * (pa[1] + pb[1]),
+                        0.5 * (pa[2] + pb[2]),
+                    ];
+                    assert!(
+                        dist(m.nodes[e.nodes[8 + k]], midpoint) <= 1e-12 * diag,
+                        "element {ei} edge {k}"
+                    );
                 }
             }
         }
@@ -404,13 +510,21 @@ mod tests {
 
     fn hex20_nodes(n: [usize; 3]) -> usize {
         let [x, y, z] = n;
-        (x + 1) * (y + 1) * (z + 1) + x * (y + 1) * (z + 1) + (x + 1) * y * (z + 1) + (x + 1) * (y + 1) * z
+        (x + 1) * (y + 1) * (z + 1)
+            + x * (y + 1) * (z + 1)
+            + (x + 1) * y * (z + 1)
+            + (x + 1) * (y + 1) * z
     }
 
     #[test]
     fn box_counts_sets_and_volume() {
         let (size, n) = ([2.0, 1.0, 0.5], [4, 3, 2]);
-        for kind in [ElementKind::Hex8, ElementKind::Hex8I, ElementKind::Hex20, ElementKind::Hex20R] {
+        for kind in [
+            ElementKind::Hex8,
+            ElementKind::Hex8I,
+            ElementKind::Hex20,
+            ElementKind::Hex20R,
+        ] {
             let m = box_mesh(size, n, kind, Material::steel(), UnitSystem::Si).unwrap();
             check_solid_mesh(&m);
             assert_eq!(m.elements.len(), 24);
@@ -420,7 +534,9 @@ mod tests {
             assert!(m.elements.iter().all(|e| e.kind == kind));
             assert!((m.volume().unwrap() - 1.0).abs() < 1e-14);
             // Face sets: a face with a x b elements has (a+1)(b+1) corner nodes (+ a(b+1) + (a+1)b).
-            let face = |a: usize, b: usize| (a + 1) * (b + 1) + if quad { a * (b + 1) + (a + 1) * b } else { 0 };
+            let face = |a: usize, b: usize| {
+                (a + 1) * (b + 1) + if quad { a * (b + 1) + (a + 1) * b } else { 0 }
+            };
             for (name, count) in [
                 ("xmin", face(3, 2)),
                 ("xmax", face(3, 2)),
@@ -432,7 +548,11 @@ mod tests {
                 let set = m.node_set(name).unwrap();
                 assert_eq!(set.len(), count, "{kind:?} {name}");
                 let axis = (name.as_bytes()[0] - b'x') as usize;
-                let value = if name.ends_with("min") { 0.0 } else { size[axis] };
+                let value = if name.ends_with("min") {
+                    0.0
+                } else {
+                    size[axis]
+                };
                 assert!(set.iter().all(|&i| m.nodes[i][axis] == value));
             }
             assert_eq!(m.node_set("all").unwrap().len(), nodes);
@@ -451,7 +571,10 @@ mod tests {
             let m = union_of_boxes(&boxes, [h; 3], kind, steel_mm(), UnitSystem::SiMm).unwrap();
             check_solid_mesh(&m);
             let v = m.volume().unwrap();
-            assert!((v - analytic).abs() <= 1e-12 * analytic, "{kind:?}: {v} vs {analytic}");
+            assert!(
+                (v - analytic).abs() <= 1e-12 * analytic,
+                "{kind:?}: {v} vs {analytic}"
+            );
             // every element edge is <= h
             for e in &m.elements {
                 let (p, q) = (m.nodes[e.nodes[0]], m.nodes[e.nodes[6]]);
@@ -462,7 +585,11 @@ mod tests {
             // y lines 0, 5.13, 14.87, 20 and z lines 0, 15, 20, 34.2, intervals split by ceil(L/h):
             // h = 2.5: ny = 3+4+3, nz = 6+2+6; h = 5: ny = 2+2+2, nz = 3+1+3.
             let (ny, nz) = if h == 2.5 { (10, 14) } else { (6, 7) };
-            let expected = if kind.num_nodes() == 20 { hex20_nodes([0, ny, nz]) } else { (ny + 1) * (nz + 1) };
+            let expected = if kind.num_nodes() == 20 {
+                hex20_nodes([0, ny, nz])
+            } else {
+                (ny + 1) * (nz + 1)
+            };
             assert_eq!(clamp.len(), expected, "{kind:?}");
         }
     }
@@ -472,7 +599,14 @@ mod tests {
         // Two unit cubes touching at x = 1, h = 0.25: 9 x 5 x 5 nodes, 25 shared on the interface.
         let a = BoxRegion::new([0.0; 3], [1.0; 3]).unwrap();
         let b = BoxRegion::new([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]).unwrap();
-        let m = union_of_boxes(&[a, b], [0.25; 3], ElementKind::Hex8, Material::steel(), UnitSystem::Si).unwrap();
+        let m = union_of_boxes(
+            &[a, b],
+            [0.25; 3],
+            ElementKind::Hex8,
+            Material::steel(),
+            UnitSystem::Si,
+        )
+        .unwrap();
         check_solid_mesh(&m);
         assert_eq!(m.num_nodes(), 9 * 5 * 5);
         assert_eq!(2 * 125 - m.num_nodes(), 25);
@@ -486,11 +620,21 @@ mod tests {
                 .filter(|e| e.nodes.contains(&n))
                 .map(|e| e.nodes.iter().map(|&k| m.nodes[k][0]).sum::<f64>() / 8.0)
                 .collect();
-            assert!(sides.iter().any(|&c| c < 1.0) && sides.iter().any(|&c| c > 1.0), "node {n}");
+            assert!(
+                sides.iter().any(|&c| c < 1.0) && sides.iter().any(|&c| c > 1.0),
+                "node {n}"
+            );
         }
         // Stepped block (smaller box on a face), quadratic: the small face's nodes are all shared.
         let c = BoxRegion::new([1.0, 0.25, 0.0], [3.0, 0.75, 0.5]).unwrap();
-        let m = union_of_boxes(&[a, c], [0.25; 3], ElementKind::Hex20, Material::steel(), UnitSystem::Si).unwrap();
+        let m = union_of_boxes(
+            &[a, c],
+            [0.25; 3],
+            ElementKind::Hex20,
+            Material::steel(),
+            UnitSystem::Si,
+        )
+        .unwrap();
         check_solid_mesh(&m);
         assert!((m.volume().unwrap() - 1.5).abs() < 1e-14);
         let face = m.nodes_in_box([1.0, 0.25, 0.0], [1.0, 0.75, 0.5], 1e-12);
@@ -506,49 +650,75 @@ mod tests {
         // [0,2]x[0,1]x[0,1] and [1,3]x[0,1]x[0,1] overlap in a unit cube: union volume 3.
         let a = BoxRegion::new([0.0; 3], [2.0, 1.0, 1.0]).unwrap();
         let b = BoxRegion::new([1.0, 0.0, 0.0], [3.0, 1.0, 1.0]).unwrap();
-        let m = union_of_boxes(&[a, b], [0.3, 0.5, 1.0], ElementKind::Hex8, Material::steel(), UnitSystem::Si).unwrap();
+        let m = union_of_boxes(
+            &[a, b],
+            [0.3, 0.5, 1.0],
+            ElementKind::Hex8,
+            Material::steel(),
+            UnitSystem::Si,
+        )
+        .unwrap();
         check_solid_mesh(&m);
         assert!((m.volume().unwrap() - 3.0).abs() < 1e-14);
         assert_eq!(m.elements.len(), 3 * 4 * 2); // each unit interval in x split into ceil(1/0.3) = 4
-        // An L-shaped union leaves out the empty corner cells and their nodes.
+                                                 // An L-shaped union leaves out the empty corner cells and their nodes.
         let c = BoxRegion::new([0.0, 1.0, 0.0], [1.0, 2.0, 1.0]).unwrap();
-        let m = union_of_boxes(&[a, c], [1.0; 3], ElementKind::Hex8, Material::steel(), UnitSystem::Si).unwrap();
+        let m = union_of_boxes(
+            &[a, c],
+            [1.0; 3],
+            ElementKind::Hex8,
+            Material::steel(),
+            UnitSystem::Si,
+        )
+        .unwrap();
         check_solid_mesh(&m);
         assert_eq!((m.elements.len(), m.num_nodes()), (3, 16));
     }
 
     #[test]
     fn invalid_input_is_rejected() {
-        let steel = Material::steel();
-        let si = UnitSystem::Si;
-        let is_invalid = |r: Result<Mesh, FeError>| matches!(r, Err(FeError::Invalid(_)));
-        assert!(is_invalid(box_mesh([1.0, 0.0, 1.0], [1, 1, 1], ElementKind::Hex8, steel, si)));
-        assert!(is_invalid(box_mesh([1.0, -1.0, 1.0], [1, 1, 1], ElementKind::Hex8, steel, si)));
-        assert!(is_invalid(box_mesh([1.0, f64::NAN, 1.0], [1, 1, 1], ElementKind::Hex8, steel, si)));
-        assert!(is_invalid(box_mesh([1.0; 3], [1, 0, 1], ElementKind::Hex8, steel, si)));
-        assert!(is_invalid(box_mesh([1.0; 3], [1, 1, 1], ElementKind::Tet10, steel, si)));
-        assert!(is_invalid(box_mesh([1.0; 3], [1, 1, 1], ElementKind::Beam2, steel, si)));
-        assert!(is_invalid(box_mesh([1.0; 3], [3000; 3], ElementKind::Hex8, steel, si)));
+        let (steel, si, h8) = (Material::steel(), UnitSystem::Si, ElementKind::Hex8);
+        let bad = |r: Result<Mesh, FeError>| matches!(r, Err(FeError::Invalid(_)));
+        let bm = |size: [f64; 3], n: [usize; 3], kind| box_mesh(size, n, kind, steel, si);
+        assert!(bad(bm([1.0, 0.0, 1.0], [1, 1, 1], h8)));
+        assert!(bad(bm([1.0, -1.0, 1.0], [1, 1, 1], h8)));
+        assert!(bad(bm([1.0, f64::NAN, 1.0], [1, 1, 1], h8)));
+        assert!(bad(bm([1.0; 3], [1, 0, 1], h8)));
+        assert!(bad(bm([1.0; 3], [1, 1, 1], ElementKind::Tet10)));
+        assert!(bad(bm([1.0; 3], [1, 1, 1], ElementKind::Beam2)));
+        assert!(bad(bm([1.0; 3], [3000; 3], h8))); // > MAX_GRID_CELLS
         let bad_mat = Material { e: -1.0, ..steel };
-        assert!(is_invalid(box_mesh([1.0; 3], [1, 1, 1], ElementKind::Hex8, bad_mat, si)));
-        let unit = BoxRegion { min: [0.0; 3], max: [1.0; 3] };
-        assert!(is_invalid(union_of_boxes(&[], [1.0; 3], ElementKind::Hex8, steel, si)));
-        let flat = BoxRegion { min: [0.0; 3], max: [1.0, 1.0, 0.0] };
-        assert!(is_invalid(union_of_boxes(&[unit, flat], [1.0; 3], ElementKind::Hex8, steel, si)));
-        assert!(is_invalid(union_of_boxes(&[unit], [1.0, 0.0, 1.0], ElementKind::Hex8, steel, si)));
-        assert!(is_invalid(union_of_boxes(&[unit], [1e-9; 3], ElementKind::Hex8, steel, si)));
+        assert!(bad(box_mesh([1.0; 3], [1, 1, 1], h8, bad_mat, si)));
+        let unit = BoxRegion {
+            min: [0.0; 3],
+            max: [1.0; 3],
+        };
+        let flat = BoxRegion {
+            min: [0.0; 3],
+            max: [1.0, 1.0, 0.0],
+        };
+        let ub = |b: &[BoxRegion], h: [f64; 3]| union_of_boxes(b, h, h8, steel, si);
+        assert!(bad(ub(&[], [1.0; 3])));
+        assert!(bad(ub(&[unit, flat], [1.0; 3])));
+        assert!(bad(ub(&[unit], [1.0, 0.0, 1.0])));
+        assert!(bad(ub(&[unit], [1e-9; 3])));
         assert!(BoxRegion::new([0.0; 3], [1.0, f64::INFINITY, 1.0]).is_err());
     }
 
     #[test]
     fn beam_line_nodes_elements_and_sets() {
         let s = BeamSection::tube(0.01, 0.001);
-        let (p0, p1) = ([0.0, 0.0, 0.0], [1.0, 2.0, 2.0]);
-        let m = beam_line(p0, p1, 6, s, BeamTheory::Timoshenko, [0.0, 0.0, 1.0], Material::steel(), UnitSystem::Si)
-            .unwrap();
+        let (p0, p1, z) = ([0.0, 0.0, 0.0], [1.0, 2.0, 2.0], [0.0, 0.0, 1.0]);
+        let (ti, eb) = (BeamTheory::Timoshenko, BeamTheory::EulerBernoulli);
+        let bl = |p1, n, s, theory, o| {
+            beam_line(p0, p1, n, s, theory, o, Material::steel(), UnitSystem::Si)
+        };
+        let m = bl(p1, 6, s, ti, z).unwrap();
         m.validate().unwrap();
         assert_eq!((m.num_nodes(), m.elements.len()), (7, 6));
-        assert!(m.elements.iter().enumerate().all(|(i, e)| e.kind == ElementKind::Beam2 && e.nodes == [i, i + 1]));
+        let chain =
+            |(i, e): (usize, &Element)| e.kind == ElementKind::Beam2 && e.nodes == [i, i + 1];
+        assert!(m.elements.iter().enumerate().all(chain));
         assert_eq!(m.node_set("start").unwrap(), &[0]);
         assert_eq!(m.node_set("end").unwrap(), &[6]);
         assert_eq!(m.nodes[6], p1);
@@ -558,17 +728,14 @@ mod tests {
         }
         assert!((m.volume().unwrap() - 3.0 * s.area).abs() < 1e-15); // length 3
         assert!(m.node_dofs().iter().all(|&d| d == 6));
-        let mat = Material::steel();
-        let eb = BeamTheory::EulerBernoulli;
         let err = |r: Result<Mesh, FeError>| matches!(r, Err(FeError::Invalid(_)));
-        assert!(err(beam_line(p0, p1, 0, s, eb, [0.0, 0.0, 1.0], mat, UnitSystem::Si)));
-        assert!(err(beam_line(p0, p0, 2, s, eb, [0.0, 0.0, 1.0], mat, UnitSystem::Si)));
-        assert!(err(beam_line(p0, p1, 2, s, eb, [0.5, 1.0, 1.0], mat, UnitSystem::Si)));
-        assert!(err(beam_line(p0, p1, 2, s, eb, [0.0; 3], mat, UnitSystem::Si)));
-        let no_area = BeamSection { area: 0.0, ..s };
-        assert!(err(beam_line(p0, p1, 2, no_area, eb, [0.0, 0.0, 1.0], mat, UnitSystem::Si)));
+        assert!(err(bl(p1, 0, s, eb, z)));
+        assert!(err(bl(p0, 2, s, eb, z)));
+        assert!(err(bl(p1, 2, s, eb, [0.5, 1.0, 1.0])));
+        assert!(err(bl(p1, 2, s, eb, [0.0; 3])));
+        assert!(err(bl(p1, 2, BeamSection { area: 0.0, ..s }, eb, z)));
         let no_k = BeamSection { ky: 0.0, ..s };
-        assert!(err(beam_line(p0, p1, 2, no_k, BeamTheory::Timoshenko, [0.0, 0.0, 1.0], mat, UnitSystem::Si)));
-        assert!(beam_line(p0, p1, 2, no_k, eb, [0.0, 0.0, 1.0], mat, UnitSystem::Si).is_ok());
+        assert!(err(bl(p1, 2, no_k, ti, z)));
+        assert!(bl(p1, 2, no_k, eb, z).is_ok());
     }
 }

@@ -69,7 +69,11 @@ impl SectionProperties {
         let mean = 0.5 * (self.iy + self.iz);
         let half = 0.5 * (self.iy - self.iz);
         let r = half.hypot(self.iyz);
-        (mean + r, mean - r, 0.5 * (-2.0 * self.iyz).atan2(self.iy - self.iz))
+        (
+            mean + r,
+            mean - r,
+            0.5 * (-2.0 * self.iyz).atan2(self.iy - self.iz),
+        )
     }
 
     /// Beam section constants with the given Saint-Venant torsion constant `j` and shear
@@ -89,7 +93,14 @@ impl SectionProperties {
                 "torsion constant and shear factors must be > 0, got j {j}, ky {ky}, kz {kz}"
             )));
         }
-        Ok(BeamSection { area: self.area, iy: self.iy, iz: self.iz, j, ky, kz })
+        Ok(BeamSection {
+            area: self.area,
+            iy: self.iy,
+            iz: self.iz,
+            j,
+            ky,
+            kz,
+        })
     }
 }
 
@@ -104,12 +115,17 @@ fn positive(name: &str, v: f64) -> Result<(), FeError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(FeError::Invalid(format!("profile: {name} must be finite and > 0, got {v}")))
+        Err(FeError::Invalid(format!(
+            "profile: {name} must be finite and > 0, got {v}"
+        )))
     }
 }
 
 fn rect(y0: f64, y1: f64, z0: f64, z1: f64) -> Rect {
-    Rect { min: [y0, z0], max: [y1, z1] }
+    Rect {
+        min: [y0, z0],
+        max: [y1, z1],
+    }
 }
 
 /// Sorted coordinates with values closer than `tol` merged.
@@ -146,18 +162,32 @@ impl Profile {
     /// degenerate or non-finite rectangle.
     pub fn from_rectangles(rects: &[Rect]) -> Result<Self, FeError> {
         if rects.is_empty() {
-            return Err(FeError::Invalid("profile: the list of rectangles is empty".into()));
+            return Err(FeError::Invalid(
+                "profile: the list of rectangles is empty".into(),
+            ));
         }
         for (i, r) in rects.iter().enumerate() {
-            r.check().map_err(|e| FeError::Invalid(format!("profile rectangle {i}: {e}")))?;
+            r.check()
+                .map_err(|e| FeError::Invalid(format!("profile rectangle {i}: {e}")))?;
         }
         let tol = GEOMETRIC_TOLERANCE * diagonal(rects);
-        let ys = grid_lines(rects.iter().flat_map(|r| [r.min[0], r.max[0]]).collect(), tol);
-        let zs = grid_lines(rects.iter().flat_map(|r| [r.min[1], r.max[1]]).collect(), tol);
+        let ys = grid_lines(
+            rects.iter().flat_map(|r| [r.min[0], r.max[0]]).collect(),
+            tol,
+        );
+        let zs = grid_lines(
+            rects.iter().flat_map(|r| [r.min[1], r.max[1]]).collect(),
+            tol,
+        );
         let cells = grid_decomposition(&ys, &zs, |y, z| {
-            rects.iter().any(|r| y > r.min[0] && y < r.max[0] && z > r.min[1] && z < r.max[1])
+            rects
+                .iter()
+                .any(|r| y > r.min[0] && y < r.max[0] && z > r.min[1] && z < r.max[1])
         });
-        Ok(Self { rects: rects.to_vec(), cells })
+        Ok(Self {
+            rects: rects.to_vec(),
+            cells,
+        })
     }
 
     /// Solid rectangle, `b` wide (y) and `h` high (z): `[0, b] x [0, h]`.
@@ -169,32 +199,62 @@ impl Profile {
 
     /// T-section: a web `web_width` wide (centred in y) and `web_height` high standing on `z = 0`,
     /// carrying a flange `flange_width` x `flange_thickness` on top (`web_width <= flange_width`).
-    pub fn t_section(flange_width: f64, flange_thickness: f64, web_width: f64, web_height: f64) -> Result<Self, FeError> {
+    pub fn t_section(
+        flange_width: f64,
+        flange_thickness: f64,
+        web_width: f64,
+        web_height: f64,
+    ) -> Result<Self, FeError> {
         check_flanged(flange_width, flange_thickness, web_width, web_height)?;
-        let (y0, y1) = (0.5 * (flange_width - web_width), 0.5 * (flange_width + web_width));
+        let (y0, y1) = (
+            0.5 * (flange_width - web_width),
+            0.5 * (flange_width + web_width),
+        );
         Self::from_rectangles(&[
             rect(y0, y1, 0.0, web_height),
             rect(0.0, flange_width, web_height, web_height + flange_thickness),
         ])
     }
 
-    /// I-section (symmetric): flanges `flange_width` x `flange_thickness` at the bottom and top,
-    /// joined by a centred web `web_width` wide and `web_height` high (clear height between the
-    /// flanges; total height `web_height + 2 flange_thickness`).
-    pub fn i_section(flange_width: f64, flange_thickness: f64, web_width: f64, web_height: f64) -> Result<Self, FeError> {
-        check_flanged(flange_width, flange_thickness, web_width, web_height)?;
-        let (y0, y1) = (0.5 * (flange_width - web_width), 0.5 * (flange_width + web_width));
-        let top = web_height + flange_thickness;
+    /// I-section (doubly symmetric): flanges `flange_width` x `flange_thickness` at the bottom and
+    /// top, joined by a centred web `web_thickness` wide; `height` is the total height
+    /// (`> 2 flange_thickness`, clear web height `height - 2 flange_thickness`).
+    pub fn i_section(
+        flange_width: f64,
+        flange_thickness: f64,
+        web_thickness: f64,
+        height: f64,
+    ) -> Result<Self, FeError> {
+        positive("height", height)?;
+        let web_height = height - 2.0 * flange_thickness;
+        if web_height <= 0.0 {
+            return Err(FeError::Invalid(format!(
+                "i_section: total height {height} must exceed twice the flange thickness {flange_thickness}"
+            )));
+        }
+        check_flanged(flange_width, flange_thickness, web_thickness, web_height)?;
+        let (y0, y1) = (
+            0.5 * (flange_width - web_thickness),
+            0.5 * (flange_width + web_thickness),
+        );
+        let top = height - flange_thickness;
         Self::from_rectangles(&[
             rect(0.0, flange_width, 0.0, flange_thickness),
             rect(y0, y1, flange_thickness, top),
-            rect(0.0, flange_width, top, top + flange_thickness),
+            rect(0.0, flange_width, top, height),
         ])
     }
 
-    /// L-section (angle): a horizontal leg `[0, width] x [0, horizontal_thickness]` and a vertical
-    /// leg `[0, vertical_thickness] x [0, height]` (thicknesses smaller than the leg lengths).
-    pub fn l_section(
+    /// L-section (equal wall thickness): a horizontal leg `[0, width] x [0, thickness]` and a
+    /// vertical leg `[0, thickness] x [0, height]`; see [`Profile::l_section_unequal`].
+    pub fn l_section(width: f64, height: f64, thickness: f64) -> Result<Self, FeError> {
+        Self::l_section_unequal(width, height, thickness, thickness)
+    }
+
+    /// L-section (angle) with unequal legs: a horizontal leg `[0, width] x [0,
+    /// horizontal_thickness]` and a vertical leg `[0, vertical_thickness] x [0, height]`
+    /// (thicknesses smaller than the leg lengths).
+    pub fn l_section_unequal(
         width: f64,
         height: f64,
         horizontal_thickness: f64,
@@ -236,7 +296,9 @@ impl Profile {
             )));
         }
         if v.iter().flatten().any(|c| !c.is_finite()) {
-            return Err(FeError::Invalid("polygon: vertex coordinates must be finite".into()));
+            return Err(FeError::Invalid(
+                "polygon: vertex coordinates must be finite".into(),
+            ));
         }
         let span = |a: usize| {
             let lo = v.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min);
@@ -256,7 +318,9 @@ impl Profile {
                 )));
             }
             if dy <= tol && dz <= tol {
-                return Err(FeError::Invalid(format!("polygon: edge {i} has zero length (repeated vertex {p:?})")));
+                return Err(FeError::Invalid(format!(
+                    "polygon: edge {i} has zero length (repeated vertex {p:?})"
+                )));
             }
             shoelace += p[0] * q[1] - q[0] * p[1];
         }
@@ -267,7 +331,11 @@ impl Profile {
             let mut crossings = 0;
             for i in 0..n {
                 let (p, q) = (v[i], v[(i + 1) % n]);
-                if (q[0] - p[0]).abs() <= tol && p[0] > y && z > p[1].min(q[1]) && z < p[1].max(q[1]) {
+                if (q[0] - p[0]).abs() <= tol
+                    && p[0] > y
+                    && z > p[1].min(q[1])
+                    && z < p[1].max(q[1])
+                {
                     crossings += 1;
                 }
             }
@@ -282,7 +350,10 @@ impl Profile {
                  differs from shoelace area {expected}"
             )));
         }
-        Ok(Self { rects: cells.clone(), cells })
+        Ok(Self {
+            rects: cells.clone(),
+            cells,
+        })
     }
 
     /// The rectangles the profile was built from.
@@ -298,7 +369,10 @@ impl Profile {
     /// The profile moved by `(dy, dz)`.
     pub fn translated(&self, dy: f64, dz: f64) -> Self {
         let mv = |r: &Rect| rect(r.min[0] + dy, r.max[0] + dy, r.min[1] + dz, r.max[1] + dz);
-        Self { rects: self.rects.iter().map(mv).collect(), cells: self.cells.iter().map(mv).collect() }
+        Self {
+            rects: self.rects.iter().map(mv).collect(),
+            cells: self.cells.iter().map(mv).collect(),
+        }
     }
 
     /// The profile moved so that its centroid is at the origin.
@@ -327,17 +401,31 @@ impl Profile {
             iz += h * b.powi(3) / 12.0 + a * dy * dy;
             iyz += a * dy * dz;
         }
-        SectionProperties { area, centroid: c, iy, iz, iyz }
+        SectionProperties {
+            area,
+            centroid: c,
+            iy,
+            iz,
+            iyz,
+        }
     }
 
     /// Boxes `[x0, x1] x rectangle` of the disjoint rectangles (for combining extrusions with other
     /// boxes in [`union_of_boxes`]).
     pub fn boxes(&self, x0: f64, x1: f64) -> Result<Vec<BoxRegion>, FeError> {
-        self.cells.iter().map(|r| BoxRegion::new([x0, r.min[0], r.min[1]], [x1, r.max[0], r.max[1]])).collect()
+        self.cells
+            .iter()
+            .map(|r| BoxRegion::new([x0, r.min[0], r.min[1]], [x1, r.max[0], r.max[1]]))
+            .collect()
     }
 }
 
-fn check_flanged(flange_width: f64, flange_thickness: f64, web_width: f64, web_height: f64) -> Result<(), FeError> {
+fn check_flanged(
+    flange_width: f64,
+    flange_thickness: f64,
+    web_width: f64,
+    web_height: f64,
+) -> Result<(), FeError> {
     for (n, v) in [
         ("flange width", flange_width),
         ("flange thickness", flange_thickness),
@@ -357,7 +445,10 @@ fn check_flanged(flange_width: f64, flange_thickness: f64, web_width: f64, web_h
 fn diagonal(rects: &[Rect]) -> f64 {
     let span = |a: usize| {
         let lo = rects.iter().map(|r| r.min[a]).fold(f64::INFINITY, f64::min);
-        let hi = rects.iter().map(|r| r.max[a]).fold(f64::NEG_INFINITY, f64::max);
+        let hi = rects
+            .iter()
+            .map(|r| r.max[a])
+            .fold(f64::NEG_INFINITY, f64::max);
         hi - lo
     };
     span(0).hypot(span(1))
@@ -375,5 +466,279 @@ pub fn extrude_profile(
     units: UnitSystem,
 ) -> Result<Mesh, FeError> {
     positive("extrusion length", length)?;
-    union_of_boxes(&profile.boxes(0.0, length)?, max_size, kind, material, units)
+    union_of_boxes(
+        &profile.boxes(0.0, length)?,
+        max_size,
+        kind,
+        material,
+        units,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::complex_beam_boxes;
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
+    }
+
+    #[test]
+    fn rectangle_properties() {
+        let p = Profile::rectangle(3.0, 5.0).unwrap().properties();
+        assert_eq!(p.area, 15.0);
+        assert_eq!(p.centroid, [1.5, 2.5]);
+        assert!(rel(p.iy, 3.0 * 125.0 / 12.0) < 1e-15 && rel(p.iz, 5.0 * 27.0 / 12.0) < 1e-15);
+        assert!(p.iyz.abs() < 1e-15);
+        let s = p.beam_section(1.0, 5.0 / 6.0, 5.0 / 6.0).unwrap();
+        let r = BeamSection::rectangle(3.0, 5.0);
+        assert!(rel(s.iy, r.iy) < 1e-15 && rel(s.iz, r.iz) < 1e-15 && s.area == r.area);
+        assert!(p.beam_section(0.0, 1.0, 1.0).is_err());
+    }
+
+    #[test]
+    fn t_section_against_textbook() {
+        // Flange 100 x 20 on a web 20 x 80 (mm). Centroid from the base:
+        // zc = (2000*90 + 1600*40)/3600 = 67.78 mm; Iy = I_base - A zc^2 with
+        // I_base = bf((hw+tf)^3 - hw^3)/3 + tw hw^3/3 = 3.142e6 mm^4 (textbook value 3.1422e6).
+        let (bf, tf, tw, hw) = (100.0, 20.0, 20.0, 80.0);
+        let p = Profile::t_section(bf, tf, tw, hw).unwrap().properties();
+        let area = bf * tf + tw * hw;
+        let zc = (bf * tf * (hw + tf / 2.0) + tw * hw * hw / 2.0) / area;
+        let i_base = bf * ((hw + tf).powi(3) - hw.powi(3)) / 3.0 + tw * hw.powi(3) / 3.0;
+        assert!(rel(p.area, 3600.0) < 1e-15);
+        assert!(rel(p.centroid[1], zc) < 1e-14 && rel(p.centroid[0], 50.0) < 1e-15);
+        assert!(rel(p.iy, i_base - area * zc * zc) < 1e-12, "iy {}", p.iy);
+        assert!(rel(p.iy, 3_142_222.222_222) < 1e-9);
+        assert!(rel(p.iz, tf * bf.powi(3) / 12.0 + hw * tw.powi(3) / 12.0) < 1e-14); // 1.72e6
+        assert!(p.iyz.abs() < 1e-9 * p.iy);
+        // The benchmark T: flange 20 x 5, web 9.74 x 15 (mm).
+        let p = Profile::t_section(20.0, 5.0, 9.74, 15.0)
+            .unwrap()
+            .properties();
+        assert!(rel(p.area, 100.0 + 146.1) < 1e-14);
+    }
+
+    #[test]
+    fn i_section_against_textbook() {
+        // Iy = (bf H^3 - (bf - tw) hw^3)/12, Iz = 2 tf bf^3/12 + hw tw^3/12, centroid at mid-height.
+        // IPE 300 without root fillets: h = 300, b = 150, tw = 7.1, tf = 10.7 mm gives
+        // Iy = 7.999e7 mm^4 (tables with fillets: 8.356e7).
+        let (bf, tf, tw, big_h) = (150.0, 10.7, 7.1, 300.0);
+        let hw = big_h - 2.0 * tf;
+        let p = Profile::i_section(bf, tf, tw, big_h).unwrap().properties();
+        assert!(rel(p.area, 2.0 * bf * tf + tw * hw) < 1e-14);
+        assert!(rel(p.centroid[1], big_h / 2.0) < 1e-14 && rel(p.centroid[0], bf / 2.0) < 1e-14);
+        assert!(rel(p.iy, (bf * big_h.powi(3) - (bf - tw) * hw.powi(3)) / 12.0) < 1e-12);
+        assert!(rel(p.iz, 2.0 * tf * bf.powi(3) / 12.0 + hw * tw.powi(3) / 12.0) < 1e-12);
+        assert!(rel(p.iy, 7.998_986_946e7) < 1e-9);
+        assert!(p.iyz.abs() < 1e-9 * p.iy);
+    }
+
+    #[test]
+    fn l_section_and_principal_axes() {
+        // Equal angle 100 x 100 x 10: A = 1900, e = (1000*5 + 900*55)/1900 = 28.68 mm from the
+        // outer faces, Iy = Iz = I_base - A e^2, principal axes at 45 degrees.
+        let p = Profile::l_section(100.0, 100.0, 10.0).unwrap().properties();
+        let e = (1000.0 * 5.0 + 900.0 * 55.0) / 1900.0;
+        let i_base = 100.0 * 1000.0 / 3.0 + 10.0 * (1e6 - 1000.0) / 3.0;
+        let iyz = 1000.0 * (50.0 - e) * (5.0 - e) + 900.0 * (5.0 - e) * (55.0 - e);
+        assert!(rel(p.area, 1900.0) < 1e-15);
+        assert!(rel(p.centroid[0], e) < 1e-14 && rel(p.centroid[1], e) < 1e-14);
+        assert!(rel(p.iy, i_base - 1900.0 * e * e) < 1e-12 && rel(p.iz, p.iy) < 1e-12);
+        assert!(rel(p.iyz, iyz) < 1e-12 && p.iyz < 0.0);
+        let (i1, i2, theta) = p.principal();
+        assert!(rel(i1, p.iy - p.iyz) < 1e-12 && rel(i2, p.iy + p.iyz) < 1e-12);
+        assert!(rel(theta, std::f64::consts::FRAC_PI_4) < 1e-12);
+        assert!(p.beam_section(1.0, 1.0, 1.0).is_err());
+        // Unequal angle 150 x 90 x 12 x 8: the rotated moments match i1, i2 with zero product.
+        let p = Profile::l_section_unequal(150.0, 90.0, 12.0, 8.0)
+            .unwrap()
+            .properties();
+        let (i1, i2, t) = p.principal();
+        let (s, c) = t.sin_cos();
+        let iy_rot = p.iz * s * s + p.iy * c * c - 2.0 * p.iyz * s * c;
+        let iz_rot = p.iz * c * c + p.iy * s * s + 2.0 * p.iyz * s * c;
+        let iyz_rot = (p.iy - p.iz) * s * c + p.iyz * (c * c - s * s);
+        assert!(rel(iy_rot, i1) < 1e-12 && rel(iz_rot, i2) < 1e-12 && iyz_rot.abs() < 1e-12 * i1);
+        assert!(i1 >= i2 && i2 > 0.0);
+    }
+
+    #[test]
+    fn polygons_decompose_into_rectangles() {
+        // The L polygon has the properties of l_section (both orientations).
+        let l = [
+            [0.0, 0.0],
+            [100.0, 0.0],
+            [100.0, 10.0],
+            [10.0, 10.0],
+            [10.0, 100.0],
+            [0.0, 100.0],
+        ];
+        let reference = Profile::l_section(100.0, 100.0, 10.0).unwrap().properties();
+        let mut cw = l.to_vec();
+        cw.reverse();
+        cw.push(cw[0]); // explicit closing vertex
+        for v in [l.to_vec(), cw] {
+            let p = Profile::polygon(&v).unwrap().properties();
+            assert!(rel(p.area, reference.area) < 1e-14 && rel(p.iy, reference.iy) < 1e-12);
+            assert!(
+                rel(p.iyz, reference.iyz) < 1e-12
+                    && rel(p.centroid[0], reference.centroid[0]) < 1e-14
+            );
+        }
+        // A U (channel) opening upwards: two separate strips in the upper rows.
+        let u = [
+            [0.0, 0.0],
+            [6.0, 0.0],
+            [6.0, 4.0],
+            [5.0, 4.0],
+            [5.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 4.0],
+            [0.0, 4.0],
+        ];
+        let pu = Profile::polygon(&u).unwrap();
+        let rects = [
+            Rect {
+                min: [0.0, 0.0],
+                max: [6.0, 1.0],
+            },
+            Rect {
+                min: [0.0, 0.0],
+                max: [1.0, 4.0],
+            },
+            Rect {
+                min: [5.0, 0.0],
+                max: [6.0, 4.0],
+            },
+        ];
+        let pr = Profile::from_rectangles(&rects).unwrap().properties(); // overlapping input
+        let p = pu.properties();
+        assert!(rel(p.area, 12.0) < 1e-15 && rel(pr.area, 12.0) < 1e-15);
+        assert!(
+            rel(p.iy, pr.iy) < 1e-14
+                && rel(p.iz, pr.iz) < 1e-14
+                && rel(p.centroid[1], pr.centroid[1]) < 1e-14
+        );
+        let total: f64 = pu.disjoint_rectangles().iter().map(Rect::area).sum();
+        assert!(rel(total, 12.0) < 1e-15);
+        // Rejections: slanted edge, too few vertices, repeated vertex, self-intersection.
+        let invalid = |v: &[[f64; 2]]| matches!(Profile::polygon(v), Err(FeError::Invalid(_)));
+        assert!(invalid(&[
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0]
+        ]));
+        assert!(invalid(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]));
+        assert!(invalid(&[
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0]
+        ]));
+        assert!(invalid(&[
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 2.0],
+            [1.0, 2.0],
+            [1.0, -1.0],
+            [0.0, -1.0]
+        ]));
+        assert!(invalid(&[
+            [0.0, 0.0],
+            [f64::NAN, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0]
+        ]));
+    }
+
+    #[test]
+    fn invalid_profiles_are_rejected() {
+        let invalid = |r: Result<Profile, FeError>| matches!(r, Err(FeError::Invalid(_)));
+        assert!(invalid(Profile::rectangle(0.0, 1.0)));
+        assert!(invalid(Profile::t_section(10.0, 1.0, 11.0, 5.0)));
+        assert!(invalid(Profile::i_section(10.0, -1.0, 1.0, 5.0)));
+        assert!(invalid(Profile::l_section(10.0, 10.0, 10.0)));
+        assert!(invalid(Profile::l_section_unequal(10.0, 10.0, 1.0, 10.0)));
+        assert!(invalid(Profile::i_section(10.0, 3.0, 1.0, 6.0)));
+        assert!(invalid(Profile::from_rectangles(&[])));
+        assert!(invalid(Profile::from_rectangles(&[Rect {
+            min: [0.0, 0.0],
+            max: [1.0, 0.0]
+        }])));
+    }
+
+    #[test]
+    fn centred_profile_has_centroid_at_origin() {
+        let p = Profile::t_section(20.0, 5.0, 9.74, 15.0).unwrap();
+        let c = p.centred();
+        let (pp, pc) = (p.properties(), c.properties());
+        assert!(pc.centroid[0].abs() < 1e-13 && pc.centroid[1].abs() < 1e-13);
+        assert!(rel(pc.iy, pp.iy) < 1e-12 && rel(pc.iz, pp.iz) < 1e-12);
+    }
+
+    #[test]
+    fn extruded_profiles() {
+        let steel = Material {
+            e: 210000.0,
+            nu: 0.3,
+            rho: 7.987e-9,
+        };
+        let t = Profile::t_section(20.0, 5.0, 9.74, 15.0).unwrap();
+        let area = t.properties().area;
+        for kind in [ElementKind::Hex8, ElementKind::Hex20R] {
+            let m =
+                extrude_profile(&t, 95.0, [5.0, 2.5, 2.5], kind, steel, UnitSystem::SiMm).unwrap();
+            m.validate().unwrap();
+            assert!(rel(m.volume().unwrap(), 95.0 * area) < 1e-12);
+            // section grid: y 0|5.13|14.87|20 -> 3+4+3 cells; web rows z 0..15 -> 6, flange 2.
+            // linear section nodes: flange rows 11 * 3 (z = 15, 17.5, 20) + web rows 5 * 6 = 63
+            let expected = if kind == ElementKind::Hex8 {
+                63
+            } else {
+                63 + 5 * 6 + 4 * 6 + 10 * 3 + 11 * 2
+            };
+            assert_eq!(m.node_set("xmin").unwrap().len(), expected, "{kind:?}");
+            assert_eq!(m.node_set("xmax").unwrap().len(), expected, "{kind:?}");
+            assert_eq!(m.elements.len(), 19 * (4 * 6 + 10 * 2));
+        }
+        assert!(extrude_profile(
+            &t,
+            0.0,
+            [1.0; 3],
+            ElementKind::Hex8,
+            steel,
+            UnitSystem::SiMm
+        )
+        .is_err());
+        // The complex beam built from the profile equals complex_beam_boxes().
+        let mut boxes = vec![BoxRegion::new([0.0; 3], [10.0, 20.0, 34.2]).unwrap()];
+        boxes.extend(t.boxes(10.0, 105.0).unwrap());
+        let a = union_of_boxes(
+            &boxes,
+            [5.0; 3],
+            ElementKind::Hex20,
+            steel,
+            UnitSystem::SiMm,
+        )
+        .unwrap();
+        let b = union_of_boxes(
+            &complex_beam_boxes(),
+            [5.0; 3],
+            ElementKind::Hex20,
+            steel,
+            UnitSystem::SiMm,
+        )
+        .unwrap();
+        assert_eq!(
+            (a.num_nodes(), a.elements.len()),
+            (b.num_nodes(), b.elements.len())
+        );
+        assert!(rel(a.volume().unwrap(), b.volume().unwrap()) < 1e-12);
+    }
 }

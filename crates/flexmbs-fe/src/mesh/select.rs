@@ -22,14 +22,19 @@ pub fn trilinear_jacobian_det(corners: &[[f64; 3]; 8], xi: [f64; 3]) -> f64 {
     let mut j = [[0.0; 3]; 3]; // j[i][a] = d x_i / d xi_a
     for (x, s) in corners.iter().zip(HEX_CORNERS.iter()) {
         let f = [1.0 + s[0] * xi[0], 1.0 + s[1] * xi[1], 1.0 + s[2] * xi[2]];
-        let dn = [s[0] * f[1] * f[2] / 8.0, f[0] * s[1] * f[2] / 8.0, f[0] * f[1] * s[2] / 8.0];
+        let dn = [
+            s[0] * f[1] * f[2] / 8.0,
+            f[0] * s[1] * f[2] / 8.0,
+            f[0] * f[1] * s[2] / 8.0,
+        ];
         for i in 0..3 {
             for a in 0..3 {
                 j[i][a] += x[i] * dn[a];
             }
         }
     }
-    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
         + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
 }
 
@@ -40,13 +45,17 @@ impl Mesh {
         if axis > 2 {
             return Vec::new();
         }
-        (0..self.nodes.len()).filter(|&n| (self.nodes[n][axis] - value).abs() <= tol).collect()
+        (0..self.nodes.len())
+            .filter(|&n| (self.nodes[n][axis] - value).abs() <= tol)
+            .collect()
     }
 
     /// Nodes inside the box `[min - tol, max + tol]` (bounds inclusive), in increasing index order.
     pub fn nodes_in_box(&self, min: [f64; 3], max: [f64; 3], tol: f64) -> Vec<NodeIdx> {
         (0..self.nodes.len())
-            .filter(|&n| (0..3).all(|a| self.nodes[n][a] >= min[a] - tol && self.nodes[n][a] <= max[a] + tol))
+            .filter(|&n| {
+                (0..3).all(|a| self.nodes[n][a] >= min[a] - tol && self.nodes[n][a] <= max[a] + tol)
+            })
             .collect()
     }
 
@@ -82,8 +91,14 @@ impl Mesh {
         Ok(())
     }
 
+    /// Axis-aligned bounding box `(min, max)` of all nodes; `([0; 3], [0; 3])` for a mesh without
+    /// nodes (use [`Mesh::try_bounding_box`] to tell that case apart).
+    pub fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
+        self.try_bounding_box().unwrap_or(([0.0; 3], [0.0; 3]))
+    }
+
     /// Axis-aligned bounding box `(min, max)` of all nodes, `None` for a mesh without nodes.
-    pub fn bounding_box(&self) -> Option<([f64; 3], [f64; 3])> {
+    pub fn try_bounding_box(&self) -> Option<([f64; 3], [f64; 3])> {
         let first = *self.nodes.first()?;
         let (mut lo, mut hi) = (first, first);
         for p in &self.nodes {
@@ -111,7 +126,9 @@ impl Mesh {
             .get(element)
             .ok_or_else(|| FeError::Invalid(format!("element index {element} out of range")))?;
         if e.nodes.len() != e.kind.num_nodes() || e.nodes.iter().any(|&n| n >= self.nodes.len()) {
-            return Err(FeError::Invalid(format!("element {element} has a wrong node count or node index")));
+            return Err(FeError::Invalid(format!(
+                "element {element} has a wrong node count or node index"
+            )));
         }
         let x = |i: usize| self.nodes[e.nodes[i]];
         match e.kind {
@@ -122,7 +139,11 @@ impl Mesh {
                 for (point, s) in HEX_CORNERS.iter().enumerate() {
                     let det = trilinear_jacobian_det(&corners, [s[0] * g, s[1] * g, s[2] * g]);
                     if det <= 0.0 {
-                        return Err(FeError::BadJacobian { element, point, det });
+                        return Err(FeError::BadJacobian {
+                            element,
+                            point,
+                            det,
+                        });
                     }
                     v += det; // Gauss weights are 1
                 }
@@ -136,7 +157,11 @@ impl Mesh {
                 let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
                     + a[2] * (b[0] * c[1] - b[1] * c[0]);
                 if det <= 0.0 {
-                    return Err(FeError::BadJacobian { element, point: 0, det });
+                    return Err(FeError::BadJacobian {
+                        element,
+                        point: 0,
+                        det,
+                    });
                 }
                 Ok(det / 6.0)
             }
@@ -145,7 +170,9 @@ impl Mesh {
                 let len = (0..3).map(|a| (p1[a] - p0[a]).powi(2)).sum::<f64>().sqrt();
                 match self.properties.get(e.property) {
                     Some(Property::Beam { section, .. }) => Ok(section.area * len),
-                    _ => Err(FeError::Invalid(format!("beam element {element} has no beam property"))),
+                    _ => Err(FeError::Invalid(format!(
+                        "beam element {element} has no beam property"
+                    ))),
                 }
             }
         }
@@ -154,7 +181,9 @@ impl Mesh {
     /// Total volume: the sum of [`Mesh::element_volume`] over all elements (beams count as
     /// area times length).
     pub fn volume(&self) -> Result<f64, FeError> {
-        (0..self.elements.len()).map(|e| self.element_volume(e)).sum()
+        (0..self.elements.len())
+            .map(|e| self.element_volume(e))
+            .sum()
     }
 }
 
@@ -170,8 +199,14 @@ mod tests {
         for p in x {
             m.add_node(p);
         }
-        let property = m.add_property(Property::Solid { material: Material::steel() });
-        m.elements.push(Element { kind: ElementKind::Hex8, nodes: (0..8).collect(), property });
+        let property = m.add_property(Property::Solid {
+            material: Material::steel(),
+        });
+        m.elements.push(Element {
+            kind: ElementKind::Hex8,
+            nodes: (0..8).collect(),
+            property,
+        });
         m
     }
 
@@ -202,7 +237,9 @@ mod tests {
         x.swap(2, 6);
         x.swap(3, 7);
         match single_hex(x).volume() {
-            Err(FeError::BadJacobian { element: 0, det, .. }) => assert!(det < 0.0),
+            Err(FeError::BadJacobian {
+                element: 0, det, ..
+            }) => assert!(det < 0.0),
             other => panic!("expected BadJacobian, got {other:?}"),
         }
         // det J of the unit cube is (1/2)^3 everywhere.
@@ -217,23 +254,45 @@ mod tests {
         assert_eq!(m.nodes_on_plane(2, 0.0, 1e-12), vec![0, 1, 2, 3]);
         assert!(m.nodes_on_plane(3, 0.0, 1.0).is_empty());
         assert!(m.nodes_on_plane(0, 0.5, 0.1).is_empty());
-        assert_eq!(m.nodes_in_box([-0.1, -0.1, 0.5], [1.1, 0.2, 1.1], 0.0), vec![4, 5]);
-        assert_eq!(m.nodes_in_box([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], 1e-12), vec![0]);
+        assert_eq!(
+            m.nodes_in_box([-0.1, -0.1, 0.5], [1.1, 0.2, 1.1], 0.0),
+            vec![4, 5]
+        );
+        assert_eq!(
+            m.nodes_in_box([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], 1e-12),
+            vec![0]
+        );
         assert_eq!(m.nearest_node([0.9, 0.8, 1.3]), Some(6));
         assert_eq!(Mesh::default().nearest_node([0.0; 3]), None);
-        assert_eq!(m.bounding_box(), Some(([0.0; 3], [1.0; 3])));
-        assert_eq!(Mesh::default().bounding_box(), None);
+        assert_eq!(m.try_bounding_box(), Some(([0.0; 3], [1.0; 3])));
+        assert_eq!(m.bounding_box(), ([0.0; 3], [1.0; 3]));
+        assert_eq!(Mesh::default().try_bounding_box(), None);
+        assert_eq!(Mesh::default().bounding_box(), ([0.0; 3], [0.0; 3]));
         m.add_node_set("s", vec![3, 1, 3]).unwrap();
         assert_eq!(m.node_set("s").unwrap(), &[1, 3]);
-        assert!(matches!(m.add_node_set("bad", vec![8]), Err(FeError::Invalid(_))));
-        assert!(matches!(m.add_node_set(" ", vec![0]), Err(FeError::Invalid(_))));
+        assert!(matches!(
+            m.add_node_set("bad", vec![8]),
+            Err(FeError::Invalid(_))
+        ));
+        assert!(matches!(
+            m.add_node_set(" ", vec![0]),
+            Err(FeError::Invalid(_))
+        ));
         assert!(m.validate().is_ok());
     }
 
     #[test]
     fn tet_and_beam_volumes() {
-        let mut m = Mesh { units: UnitSystem::Si, ..Mesh::default() };
-        let pts = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 4.0]];
+        let mut m = Mesh {
+            units: UnitSystem::Si,
+            ..Mesh::default()
+        };
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 3.0, 0.0],
+            [0.0, 0.0, 4.0],
+        ];
         for p in pts {
             m.add_node(p);
         }
@@ -241,8 +300,14 @@ mod tests {
             // mid-edge nodes are not used by the volume; place them anywhere valid
             m.add_node([0.1 * i as f64, 0.0, 0.0]);
         }
-        let solid = m.add_property(Property::Solid { material: Material::steel() });
-        m.elements.push(Element { kind: ElementKind::Tet10, nodes: (0..10).collect(), property: solid });
+        let solid = m.add_property(Property::Solid {
+            material: Material::steel(),
+        });
+        m.elements.push(Element {
+            kind: ElementKind::Tet10,
+            nodes: (0..10).collect(),
+            property: solid,
+        });
         assert!((m.volume().unwrap() - 4.0).abs() < 1e-14); // 2*3*4/6
         let beam = m.add_property(Property::Beam {
             material: Material::steel(),
@@ -250,7 +315,11 @@ mod tests {
             theory: Default::default(),
             orientation: [0.0, 1.0, 0.0],
         });
-        m.elements.push(Element { kind: ElementKind::Beam2, nodes: vec![0, 1], property: beam });
+        m.elements.push(Element {
+            kind: ElementKind::Beam2,
+            nodes: vec![0, 1],
+            property: beam,
+        });
         let expected = 4.0 + std::f64::consts::PI * 0.05 * 0.05 * 2.0;
         assert!((m.volume().unwrap() - expected).abs() < 1e-14);
     }
