@@ -5,6 +5,7 @@
 //! FE code gave them are kept in [`Mesh::node_ids`].
 
 pub mod generate;
+pub mod profile;
 pub mod select;
 
 use crate::{FeError, Material, UnitSystem};
