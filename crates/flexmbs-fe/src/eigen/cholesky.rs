@@ -47,7 +47,8 @@ impl SparseCholesky {
     ) -> Result<Self, FeError> {
         let mut values = vec![0.0; symbolic.len_val()];
         let par = Par::Seq;
-        let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default());
+        let req =
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default());
         let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
         let res = symbolic.factorize_numeric_llt(
             &mut values,
@@ -59,7 +60,11 @@ impl SparseCholesky {
             Spec::<LltParams, f64>::default(),
         );
         match res {
-            Ok(_) => Ok(Self { symbolic, values, pattern_nnz: a.compute_nnz() }),
+            Ok(_) => Ok(Self {
+                symbolic,
+                values,
+                pattern_nnz: a.compute_nnz(),
+            }),
             Err(e) => Err(FeError::NotPositiveDefinite {
                 what: format!("sparse matrix of dimension {}", a.nrows()),
                 hint: format!(" ({e:?})"),
@@ -73,7 +78,9 @@ impl SparseCholesky {
     /// Panics if `rhs.nrows() != self.dim()` (a programming error, not an input error).
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         let par = Par::Seq;
-        let req = self.symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par);
+        let req = self
+            .symbolic
+            .solve_in_place_scratch::<f64>(rhs.ncols(), par);
         let mut mem = MemBuffer::new(req);
         let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.values);
         llt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
@@ -104,7 +111,11 @@ fn symbolic_factor(a: &SparseMatrix) -> Result<SymbolicCholesky<usize>, FeError>
             a.ncols()
         )));
     }
-    let perm = if a.nrows() >= METIS_MIN_DIM { metis_nested_dissection(a) } else { None };
+    let perm = if a.nrows() >= METIS_MIN_DIM {
+        metis_nested_dissection(a)
+    } else {
+        None
+    };
     let params = CholeskySymbolicParams::default();
     let sym = match &perm {
         Some(p) => factorize_symbolic_cholesky(
@@ -113,7 +124,9 @@ fn symbolic_factor(a: &SparseMatrix) -> Result<SymbolicCholesky<usize>, FeError>
             SymmetricOrdering::Custom(p.as_ref()),
             params,
         ),
-        None => factorize_symbolic_cholesky(a.symbolic(), Side::Lower, SymmetricOrdering::Amd, params),
+        None => {
+            factorize_symbolic_cholesky(a.symbolic(), Side::Lower, SymmetricOrdering::Amd, params)
+        }
     };
     sym.map_err(|e| FeError::Invalid(format!("symbolic Cholesky analysis failed: {e:?}")))
 }
@@ -129,11 +142,11 @@ pub(crate) fn metis_nested_dissection(a: &SparseMatrix) -> Option<Perm<usize>> {
     // 1. supervariables: runs of consecutive columns with identical row patterns.
     let mut group_of = vec![0usize; n];
     let mut group_start = vec![0usize];
-    for j in 1..n {
+    for (j, g) in group_of.iter_mut().enumerate().skip(1) {
         if a.row_idx_of_col_raw(j) != a.row_idx_of_col_raw(j - 1) {
             group_start.push(j);
         }
-        group_of[j] = group_start.len() - 1;
+        *g = group_start.len() - 1;
     }
     let ng = group_start.len();
     group_start.push(n);
@@ -193,7 +206,11 @@ pub(crate) fn metis_nested_dissection(a: &SparseMatrix) -> Option<Perm<usize>> {
     for (new, &old) in fwd.iter().enumerate() {
         inv[old] = new;
     }
-    Some(Perm::new_checked(fwd.into_boxed_slice(), inv.into_boxed_slice(), n))
+    Some(Perm::new_checked(
+        fwd.into_boxed_slice(),
+        inv.into_boxed_slice(),
+        n,
+    ))
 }
 
 /// Inertia of a symmetric matrix: numbers of negative, (numerically) zero and
@@ -222,7 +239,10 @@ impl SparseCholesky {
     /// Inertia of `a`, which must have exactly the sparsity pattern of the matrix this
     /// factorization was computed from (e.g. `K - b M` vs. `K - sigma M` from
     /// [`super::shifted`]); the symbolic analysis (ordering) is reused.
-    pub(crate) fn inertia_same_pattern(&self, a: &SparseMatrix) -> Result<Option<Inertia>, FeError> {
+    pub(crate) fn inertia_same_pattern(
+        &self,
+        a: &SparseMatrix,
+    ) -> Result<Option<Inertia>, FeError> {
         if a.nrows() != self.dim() || a.compute_nnz() != self.pattern_nnz {
             return ldlt_inertia(a);
         }
@@ -236,7 +256,8 @@ fn inertia_with_symbolic(
 ) -> Result<Option<Inertia>, FeError> {
     let mut values = vec![0.0; symbolic.len_val()];
     let par = Par::Seq;
-    let req = symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::<LdltParams, f64>::default());
+    let req =
+        symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::<LdltParams, f64>::default());
     let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
     let res = symbolic.factorize_numeric_ldlt(
         &mut values,
@@ -261,7 +282,11 @@ fn inertia_with_symbolic(
         })
         .fold(0.0f64, f64::max);
     let tiny = 1e-13 * scale;
-    let mut inertia = Inertia { negative: 0, near_zero: 0, positive: 0 };
+    let mut inertia = Inertia {
+        negative: 0,
+        near_zero: 0,
+        positive: 0,
+    };
     for d in diag {
         if d.abs() <= tiny || !d.is_finite() {
             inertia.near_zero += 1;

@@ -29,7 +29,9 @@ pub fn dense_generalized(k: MatRef<f64>, m: MatRef<f64>) -> Result<(Vec<f64>, Ma
     for (name, a) in [("K", k), ("M", m)] {
         let scale = a.norm_max();
         if !scale.is_finite() {
-            return Err(FeError::Invalid(format!("dense_generalized: {name} has non-finite entries")));
+            return Err(FeError::Invalid(format!(
+                "dense_generalized: {name} has non-finite entries"
+            )));
         }
         for j in 0..n {
             for i in 0..j {
@@ -46,10 +48,12 @@ pub fn dense_generalized(k: MatRef<f64>, m: MatRef<f64>) -> Result<(Vec<f64>, Ma
     if n == 0 {
         return Ok((Vec::new(), Mat::zeros(0, 0)));
     }
-    let llt = m.llt(Side::Lower).map_err(|e| FeError::NotPositiveDefinite {
-        what: "mass matrix M".into(),
-        hint: format!(" ({e:?}); the dense generalized eigen solver needs an SPD mass matrix"),
-    })?;
+    let llt = m
+        .llt(Side::Lower)
+        .map_err(|e| FeError::NotPositiveDefinite {
+            what: "mass matrix M".into(),
+            hint: format!(" ({e:?}); the dense generalized eigen solver needs an SPD mass matrix"),
+        })?;
     let l = llt.L();
     // C = L^{-1} K L^{-T}: solve L Z = K, then L C^T = Z^T (C symmetric).
     let mut z = k.to_owned();
@@ -58,9 +62,9 @@ pub fn dense_generalized(k: MatRef<f64>, m: MatRef<f64>) -> Result<(Vec<f64>, Ma
     solve_lower_triangular_in_place(l, c.as_mut(), Par::Seq);
     // symmetrise against round-off
     let c = Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
-    let evd = c
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| FeError::EigenNotConverged(format!("dense symmetric eigen solver failed: {e:?}")))?;
+    let evd = c.self_adjoint_eigen(Side::Lower).map_err(|e| {
+        FeError::EigenNotConverged(format!("dense symmetric eigen solver failed: {e:?}"))
+    })?;
     let lambda: Vec<f64> = (0..n).map(|i| evd.S()[i]).collect();
     let mut x = evd.U().to_owned();
     solve_upper_triangular_in_place(l.transpose(), x.as_mut(), Par::Seq);
@@ -100,8 +104,14 @@ mod tests {
             Err(FeError::NotPositiveDefinite { .. })
         ));
         let ns = Mat::from_fn(2, 2, |i, j| (i + 2 * j) as f64);
-        assert!(matches!(dense_generalized(ns.as_ref(), k.as_ref()), Err(FeError::Invalid(_))));
+        assert!(matches!(
+            dense_generalized(ns.as_ref(), k.as_ref()),
+            Err(FeError::Invalid(_))
+        ));
         let r = Mat::<f64>::zeros(2, 3);
-        assert!(matches!(dense_generalized(k.as_ref(), r.as_ref()), Err(FeError::Invalid(_))));
+        assert!(matches!(
+            dense_generalized(k.as_ref(), r.as_ref()),
+            Err(FeError::Invalid(_))
+        ));
     }
 }

@@ -29,6 +29,9 @@ pub(crate) struct RitzPairs {
     pub basis: usize,
 }
 
+/// Ritz values (descending), coefficient vectors `S` and residual estimates.
+type RitzDecomposition = (Vec<f64>, Mat<f64>, Vec<f64>);
+
 /// Deterministic splitmix64 generator for start blocks (no external RNG dependency).
 struct SplitMix(u64);
 
@@ -152,7 +155,14 @@ impl<'a> BlockLanczos<'a> {
         let (ls, used) = (self.last, self.used);
         let bl = used - ls;
         let mut w = Mat::zeros(self.n, bl);
-        sparse_dense_matmul(w.as_mut(), Accum::Replace, self.m.as_ref(), self.v.subcols(ls, bl), 1.0, Par::Seq);
+        sparse_dense_matmul(
+            w.as_mut(),
+            Accum::Replace,
+            self.m.as_ref(),
+            self.v.subcols(ls, bl),
+            1.0,
+            Par::Seq,
+        );
         self.op.solve_in_place(w.as_mut());
         let c = self.project_out(&mut w, used);
         for j in 0..bl {
@@ -185,7 +195,9 @@ impl<'a> BlockLanczos<'a> {
         }
         let used = self.used;
         let room = self.n - used;
-        let Some((q, b)) = self.next.take() else { return Ok(()) };
+        let Some((q, b)) = self.next.take() else {
+            return Ok(());
+        };
         let extra = self.inject.min(room.saturating_sub(q.ncols()));
         self.inject = 0;
         if extra == 0 {
@@ -208,8 +220,22 @@ impl<'a> BlockLanczos<'a> {
         let mut ci = Mat::zeros(used, bl);
         let vb = self.v.subcols(0, used);
         for _ in 0..2 {
-            sparse_dense_matmul(mw.as_mut(), Accum::Replace, self.m.as_ref(), w.as_ref(), 1.0, Par::Seq);
-            matmul(ci.as_mut(), Accum::Replace, vb.transpose(), mw.as_ref(), 1.0, Par::Seq);
+            sparse_dense_matmul(
+                mw.as_mut(),
+                Accum::Replace,
+                self.m.as_ref(),
+                w.as_ref(),
+                1.0,
+                Par::Seq,
+            );
+            matmul(
+                ci.as_mut(),
+                Accum::Replace,
+                vb.transpose(),
+                mw.as_ref(),
+                1.0,
+                Par::Seq,
+            );
             matmul(w.as_mut(), Accum::Add, vb, ci.as_ref(), -1.0, Par::Seq);
             c += &ci;
         }
@@ -255,7 +281,14 @@ impl<'a> BlockLanczos<'a> {
                 let _ = self.project_out(&mut w, used);
             }
             let mut mw = Mat::zeros(self.n, w.ncols());
-            sparse_dense_matmul(mw.as_mut(), Accum::Replace, self.m.as_ref(), w.as_ref(), 1.0, Par::Seq);
+            sparse_dense_matmul(
+                mw.as_mut(),
+                Accum::Replace,
+                self.m.as_ref(),
+                w.as_ref(),
+                1.0,
+                Par::Seq,
+            );
             let g = w.transpose() * &mw;
             let g = Mat::from_fn(g.nrows(), g.ncols(), |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
             let gmax = (0..g.nrows()).map(|i| g[(i, i)]).fold(0.0f64, f64::max);
@@ -263,14 +296,18 @@ impl<'a> BlockLanczos<'a> {
             if g.nrows() == 0 || gmax <= 0.0 || !gmax.is_finite() {
                 return Ok((Mat::zeros(self.n, 0), Mat::zeros(0, bl)));
             }
-            let evd = g
-                .self_adjoint_eigen(Side::Lower)
-                .map_err(|e| FeError::EigenNotConverged(format!("Gram matrix eigen solver failed: {e:?}")))?;
+            let evd = g.self_adjoint_eigen(Side::Lower).map_err(|e| {
+                FeError::EigenNotConverged(format!("Gram matrix eigen solver failed: {e:?}"))
+            })?;
             let keep: Vec<usize> = (0..g.nrows()).rev().filter(|&i| evd.S()[i] > thr).collect();
             let u = evd.U();
             // Q = W U_k D_k^{-1/2}, B = D_k^{1/2} U_k^T
-            let uk = Mat::from_fn(g.nrows(), keep.len(), |i, j| u[(i, keep[j])] / evd.S()[keep[j]].sqrt());
-            let bk = Mat::from_fn(keep.len(), g.nrows(), |i, j| u[(j, keep[i])] * evd.S()[keep[i]].sqrt());
+            let uk = Mat::from_fn(g.nrows(), keep.len(), |i, j| {
+                u[(i, keep[j])] / evd.S()[keep[j]].sqrt()
+            });
+            let bk = Mat::from_fn(keep.len(), g.nrows(), |i, j| {
+                u[(j, keep[i])] * evd.S()[keep[i]].sqrt()
+            });
             w = &w * &uk;
             b_total = &bk * &b_total;
         }
@@ -295,7 +332,14 @@ impl<'a> BlockLanczos<'a> {
             for _ in 0..2 {
                 if let Some(x) = extra {
                     let mut mr = Mat::zeros(self.n, count);
-                    sparse_dense_matmul(mr.as_mut(), Accum::Replace, self.m.as_ref(), r.as_ref(), 1.0, Par::Seq);
+                    sparse_dense_matmul(
+                        mr.as_mut(),
+                        Accum::Replace,
+                        self.m.as_ref(),
+                        r.as_ref(),
+                        1.0,
+                        Par::Seq,
+                    );
                     let c = x.transpose() * &mr;
                     r -= x * &c;
                 }
@@ -318,22 +362,29 @@ impl<'a> BlockLanczos<'a> {
 
     /// Eigen-decomposition of the projected matrix; Ritz values descending,
     /// eigenvector coefficients and residual estimates in the same order.
-    fn rayleigh_ritz(&self) -> Result<(Vec<f64>, Mat<f64>, Vec<f64>), FeError> {
+    fn rayleigh_ritz(&self) -> Result<RitzDecomposition, FeError> {
         let u = self.used;
         let hs = self.h.submatrix(0, 0, u, u).to_owned();
-        let evd = hs
-            .self_adjoint_eigen(Side::Lower)
-            .map_err(|e| FeError::EigenNotConverged(format!("projected eigenproblem failed: {e:?}")))?;
+        let evd = hs.self_adjoint_eigen(Side::Lower).map_err(|e| {
+            FeError::EigenNotConverged(format!("projected eigenproblem failed: {e:?}"))
+        })?;
         let theta: Vec<f64> = (0..u).rev().map(|i| evd.S()[i]).collect();
         let s = Mat::from_fn(u, u, |i, j| evd.U()[(i, u - 1 - j)]);
-        let (_, b) = self.next.as_ref().expect("expand() precedes rayleigh_ritz()");
+        let (_, b) = self
+            .next
+            .as_ref()
+            .expect("expand() precedes rayleigh_ritz()");
         let bl = u - self.last;
         let s_last = s.subrows(self.last, bl);
         let r = b * s_last; // rows: next block, cols: Ritz pairs
         let est = (0..u)
             .map(|j| {
                 let nr = r.col(j).norm_l2();
-                if theta[j].abs() > 0.0 { nr / theta[j].abs() } else { f64::INFINITY }
+                if theta[j].abs() > 0.0 {
+                    nr / theta[j].abs()
+                } else {
+                    f64::INFINITY
+                }
             })
             .collect();
         Ok((theta, s, est))
@@ -341,13 +392,25 @@ impl<'a> BlockLanczos<'a> {
 
     fn ritz_vectors(&self, s: MatRef<'_, f64>, p: usize) -> Mat<f64> {
         let mut y = Mat::zeros(self.n, p);
-        matmul(y.as_mut(), Accum::Replace, self.v.subcols(0, self.used), s.subcols(0, p), 1.0, Par::Seq);
+        matmul(
+            y.as_mut(),
+            Accum::Replace,
+            self.v.subcols(0, self.used),
+            s.subcols(0, p),
+            1.0,
+            Par::Seq,
+        );
         y
     }
 
     /// Appends the pending block `Q`; if the basis is full, first performs a thick
     /// restart keeping the leading Ritz vectors (`V <- [V S_k, Q]`, `H <- diag(theta_k)`).
-    fn append_next(&mut self, theta: &[f64], s: MatRef<'_, f64>, wanted: usize) -> Result<(), FeError> {
+    fn append_next(
+        &mut self,
+        theta: &[f64],
+        s: MatRef<'_, f64>,
+        wanted: usize,
+    ) -> Result<(), FeError> {
         let (q, _b) = self.next.take().expect("expand() precedes append_next()");
         let bq = q.ncols();
         if bq == 0 {
@@ -357,7 +420,9 @@ impl<'a> BlockLanczos<'a> {
             )));
         }
         if self.used + bq > self.cap {
-            let keep = (wanted + self.block.max(wanted / 2)).min(self.cap.saturating_sub(2 * bq)).min(self.used);
+            let keep = (wanted + self.block.max(wanted / 2))
+                .min(self.cap.saturating_sub(2 * bq))
+                .min(self.used);
             if keep == 0 {
                 return Err(FeError::EigenNotConverged(format!(
                     "maximum basis size {} too small for block size {bq}",
@@ -373,7 +438,10 @@ impl<'a> BlockLanczos<'a> {
             self.used = keep;
         }
         let bq = bq.min(self.cap - self.used);
-        self.v.as_mut().subcols_mut(self.used, bq).copy_from(q.subcols(0, bq));
+        self.v
+            .as_mut()
+            .subcols_mut(self.used, bq)
+            .copy_from(q.subcols(0, bq));
         self.last = self.used;
         self.used += bq;
         Ok(())
@@ -382,10 +450,22 @@ impl<'a> BlockLanczos<'a> {
 
 fn concat_cols(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     let ca = a.ncols();
-    Mat::from_fn(a.nrows(), ca + b.ncols(), |i, j| if j < ca { a[(i, j)] } else { b[(i, j - ca)] })
+    Mat::from_fn(a.nrows(), ca + b.ncols(), |i, j| {
+        if j < ca {
+            a[(i, j)]
+        } else {
+            b[(i, j - ca)]
+        }
+    })
 }
 
 fn concat_rows(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     let ra = a.nrows();
-    Mat::from_fn(ra + b.nrows(), a.ncols(), |i, j| if i < ra { a[(i, j)] } else { b[(i - ra, j)] })
+    Mat::from_fn(ra + b.nrows(), a.ncols(), |i, j| {
+        if i < ra {
+            a[(i, j)]
+        } else {
+            b[(i - ra, j)]
+        }
+    })
 }

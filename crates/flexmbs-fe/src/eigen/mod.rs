@@ -171,7 +171,9 @@ fn validate(k: &SparseMatrix, m: &SparseMatrix) -> Result<(), FeError> {
     }
     for (name, a) in [("K", k), ("M", m)] {
         if !rows_sorted(a) {
-            return Err(FeError::Invalid(format!("{name} has unsorted or duplicate row indices")));
+            return Err(FeError::Invalid(format!(
+                "{name} has unsorted or duplicate row indices"
+            )));
         }
         let amax = a.val().iter().fold(0.0f64, |s, v| s.max(v.abs()));
         if !amax.is_finite() {
@@ -235,8 +237,22 @@ fn rayleigh_and_residuals(
     let (n, p) = (x.nrows(), x.ncols());
     let mut kx = Mat::zeros(n, p);
     let mut mx = Mat::zeros(n, p);
-    sparse_dense_matmul(kx.as_mut(), Accum::Replace, k.as_ref(), x.as_ref(), 1.0, Par::Seq);
-    sparse_dense_matmul(mx.as_mut(), Accum::Replace, m.as_ref(), x.as_ref(), 1.0, Par::Seq);
+    sparse_dense_matmul(
+        kx.as_mut(),
+        Accum::Replace,
+        k.as_ref(),
+        x.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    sparse_dense_matmul(
+        mx.as_mut(),
+        Accum::Replace,
+        m.as_ref(),
+        x.as_ref(),
+        1.0,
+        Par::Seq,
+    );
     let mut lam = Vec::with_capacity(p);
     let mut res = Vec::with_capacity(p);
     for j in 0..p {
@@ -244,7 +260,10 @@ fn rayleigh_and_residuals(
         let xkx = x.col(j).transpose() * kx.col(j);
         let l = xkx / xmx;
         let s = 1.0 / xmx.sqrt();
-        let r = (0..n).map(|i| (kx[(i, j)] - l * mx[(i, j)]).powi(2)).sum::<f64>().sqrt();
+        let r = (0..n)
+            .map(|i| (kx[(i, j)] - l * mx[(i, j)]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         res.push(r / ((l.abs() + sigma.abs()) * mx.col(j).norm_l2()));
         lam.push(l);
         for i in 0..n {
@@ -259,7 +278,11 @@ fn sort_pairs(lam: Vec<f64>, res: Vec<f64>, x: &Mat<f64>) -> (Vec<f64>, Vec<f64>
     let mut idx: Vec<usize> = (0..lam.len()).collect();
     idx.sort_by(|&a, &b| lam[a].total_cmp(&lam[b]));
     let xs = Mat::from_fn(x.nrows(), idx.len(), |i, j| x[(i, idx[j])]);
-    (idx.iter().map(|&i| lam[i]).collect(), idx.iter().map(|&i| res[i]).collect(), xs)
+    (
+        idx.iter().map(|&i| lam[i]).collect(),
+        idx.iter().map(|&i| res[i]).collect(),
+        xs,
+    )
 }
 
 /// The `opts.n_modes` lowest eigenpairs of `K phi = lambda M phi` (`K` symmetric,
@@ -279,13 +302,23 @@ pub fn lowest_modes(
     let n = k.nrows();
     let nm = opts.n_modes;
     if nm > n {
-        return Err(FeError::Invalid(format!("{nm} modes requested but the model has only {n} unknowns")));
+        return Err(FeError::Invalid(format!(
+            "{nm} modes requested but the model has only {n} unknowns"
+        )));
     }
     if !(opts.tol > 0.0 && opts.tol < 1.0) {
-        return Err(FeError::Invalid(format!("eigen tolerance {} must lie in (0, 1)", opts.tol)));
+        return Err(FeError::Invalid(format!(
+            "eigen tolerance {} must lie in (0, 1)",
+            opts.tol
+        )));
     }
     if nm == 0 {
-        return Ok(EigenSolution { omega2: vec![], vectors: Mat::zeros(n, 0), residuals: vec![], sturm: None });
+        return Ok(EigenSolution {
+            omega2: vec![],
+            vectors: Mat::zeros(n, 0),
+            residuals: vec![],
+            sturm: None,
+        });
     }
     let dense = match opts.method {
         EigenMethod::Dense => true,
@@ -297,7 +330,12 @@ pub fn lowest_modes(
         let mut x = x.subcols(0, nm).to_owned();
         let sigma = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
         let (_, res) = rayleigh_and_residuals(k, m, &mut x, sigma);
-        return Ok(EigenSolution { omega2: lam[..nm].to_vec(), vectors: x, residuals: res, sturm: None });
+        return Ok(EigenSolution {
+            omega2: lam[..nm].to_vec(),
+            vectors: x,
+            residuals: res,
+            sturm: None,
+        });
     }
     let mut sigma = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
     let mut last_err = None;
@@ -332,14 +370,24 @@ fn lanczos_at_shift(
     let n = k.nrows();
     let nm = opts.n_modes;
     let a = shifted(k, m, sigma)?;
-    progress(EigenEvent::Factorizing { n, nnz: a.compute_nnz() });
+    progress(EigenEvent::Factorizing {
+        n,
+        nnz: a.compute_nnz(),
+    });
     let chol = SparseCholesky::factor(&a).map_err(|_| FeError::NotPositiveDefinite {
         what: format!("K - sigma M with sigma = {sigma:e}"),
-        hint: ": the shift must lie below the lowest eigenvalue and M must be positive definite".into(),
+        hint: ": the shift must lie below the lowest eigenvalue and M must be positive definite"
+            .into(),
     })?;
-    progress(EigenEvent::Factorized { nnz_l: chol.nnz_l() });
+    progress(EigenEvent::Factorized {
+        nnz_l: chol.nnz_l(),
+    });
     let b = opts.block_size.max(1);
-    let cap = if opts.max_basis > 0 { opts.max_basis } else { (4 * nm).max(2 * nm + 10 * b) };
+    let cap = if opts.max_basis > 0 {
+        opts.max_basis
+    } else {
+        (4 * nm).max(2 * nm + 10 * b)
+    };
     let mut need = nm;
     let cap = cap.max(need + 3 * b);
     let mut lz = BlockLanczos::new(m, &chol, b, cap, 0x5eed_1234)?;
@@ -349,7 +397,13 @@ fn lanczos_at_shift(
     let mut sturm_failures = 0usize;
     loop {
         let wanted = need.min(n);
-        let mut cb = |basis, converged| progress(EigenEvent::Iteration { basis, converged, wanted });
+        let mut cb = |basis, converged| {
+            progress(EigenEvent::Iteration {
+                basis,
+                converged,
+                wanted,
+            })
+        };
         let (pairs, done) = lz.run(wanted, wanted + b, tol_int, max_steps, &mut cb)?;
         let lam_ritz: Vec<f64> = pairs.theta.iter().map(|t| sigma + 1.0 / t).collect();
         if !done {
@@ -375,14 +429,22 @@ fn lanczos_at_shift(
         }
         if rmax > 1e3 * opts.tol {
             return Ok(Err((
-                FeError::EigenNotConverged(format!("max residual {rmax:e} exceeds tolerance {:e}", opts.tol)),
+                FeError::EigenNotConverged(format!(
+                    "max residual {rmax:e} exceeds tolerance {:e}",
+                    opts.tol
+                )),
                 None,
             )));
         }
         let mut sturm = None;
         if opts.sturm_check && nm < n {
             // cut at the first relative gap at or after the wanted count
-            let scale = |i: usize| lam_ritz[i].abs().max(lam_ritz[i - 1].abs()).max(sigma.abs());
+            let scale = |i: usize| {
+                lam_ritz[i]
+                    .abs()
+                    .max(lam_ritz[i - 1].abs())
+                    .max(sigma.abs())
+            };
             let cut = (nm..lam_ritz.len().min(nconv + 1))
                 .find(|&j| lam_ritz[j] - lam_ritz[j - 1] > gap_rel * scale(j));
             let Some(j) = cut else {
@@ -429,6 +491,11 @@ fn lanczos_at_shift(
             sturm = Some((j, found));
         }
         let (omega2, residuals, vectors) = sort_pairs(lam, res, &x);
-        return Ok(Ok(EigenSolution { omega2, vectors, residuals, sturm }));
+        return Ok(Ok(EigenSolution {
+            omega2,
+            vectors,
+            residuals,
+            sturm,
+        }));
     }
 }

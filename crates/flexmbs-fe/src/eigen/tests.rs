@@ -1,4 +1,5 @@
 //! Tests of the eigen solvers against closed-form spectra and the dense solver.
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 
 use super::*;
 use faer::sparse::{SparseColMat, Triplet};
@@ -34,9 +35,11 @@ fn grid_model(nx: usize, lumped: bool) -> (SparseMatrix, SparseMatrix) {
                 for di in 0..3usize {
                     for dj in 0..3usize {
                         for dl in 0..3usize {
-                            let (Some(i2), Some(j2), Some(l2)) =
-                                ((i + di).checked_sub(1), (j + dj).checked_sub(1), (l + dl).checked_sub(1))
-                            else {
+                            let (Some(i2), Some(j2), Some(l2)) = (
+                                (i + di).checked_sub(1),
+                                (j + dj).checked_sub(1),
+                                (l + dl).checked_sub(1),
+                            ) else {
                                 continue;
                             };
                             if i2 >= nx || j2 >= nx || l2 >= nx {
@@ -53,7 +56,11 @@ fn grid_model(nx: usize, lumped: bool) -> (SparseMatrix, SparseMatrix) {
                                 }
                                 for b in 0..3 {
                                     if kk != 0.0 {
-                                        kt.push(Triplet::new(3 * p + a, 3 * q + b, kk * bmat[a][b]));
+                                        kt.push(Triplet::new(
+                                            3 * p + a,
+                                            3 * q + b,
+                                            kk * bmat[a][b],
+                                        ));
                                     }
                                 }
                             }
@@ -73,7 +80,11 @@ fn grid_exact(nx: usize, lumped: bool, count: usize) -> Vec<f64> {
     let mu: Vec<f64> = (1..=nx)
         .map(|j| {
             let t = j as f64 * PI / (nx as f64 + 1.0);
-            let w = if lumped { 1.0 } else { (4.0 + 2.0 * t.cos()) / 6.0 };
+            let w = if lumped {
+                1.0
+            } else {
+                (4.0 + 2.0 * t.cos()) / 6.0
+            };
             (2.0 - 2.0 * t.cos()) / w
         })
         .collect();
@@ -111,9 +122,11 @@ fn spring_lattice(nx: usize, mass: impl Fn(usize) -> f64) -> (SparseMatrix, Spar
                     if off == [1, 1, 1] {
                         continue;
                     }
-                    let (Some(i2), Some(j2), Some(l2)) =
-                        ((i + off[0]).checked_sub(1), (j + off[1]).checked_sub(1), (l + off[2]).checked_sub(1))
-                    else {
+                    let (Some(i2), Some(j2), Some(l2)) = (
+                        (i + off[0]).checked_sub(1),
+                        (j + off[1]).checked_sub(1),
+                        (l + off[2]).checked_sub(1),
+                    ) else {
                         continue;
                     };
                     if i2 >= nx || j2 >= nx || l2 >= nx {
@@ -143,7 +156,11 @@ fn rel_err(a: f64, b: f64, scale: f64) -> f64 {
 }
 
 fn lanczos_opts(n_modes: usize) -> EigenOptions {
-    EigenOptions { n_modes, method: EigenMethod::Lanczos, ..Default::default() }
+    EigenOptions {
+        n_modes,
+        method: EigenMethod::Lanczos,
+        ..Default::default()
+    }
 }
 
 /// `||X^T M X - I||_max`.
@@ -172,8 +189,17 @@ fn lanczos_matches_dense_on_grid_with_multiplicities() {
     }
     let sol = lowest_modes(&k, &m, &lanczos_opts(20), &mut |_| {}).unwrap();
     for i in 0..20 {
-        assert!(rel_err(sol.omega2[i], ld[i], ld[i]) < 1e-9, "mode {i}: {} vs {}", sol.omega2[i], ld[i]);
-        assert!(sol.residuals[i] < 1e-9, "residual {i}: {}", sol.residuals[i]);
+        assert!(
+            rel_err(sol.omega2[i], ld[i], ld[i]) < 1e-9,
+            "mode {i}: {} vs {}",
+            sol.omega2[i],
+            ld[i]
+        );
+        assert!(
+            sol.residuals[i] < 1e-9,
+            "residual {i}: {}",
+            sol.residuals[i]
+        );
     }
     let (exp, found) = sol.sturm.unwrap();
     assert_eq!(exp, found);
@@ -199,8 +225,12 @@ fn lanczos_grid_3000_matches_closed_form_lumped_and_consistent() {
         }
         assert!(sol.sturm.is_some_and(|(a, b)| a == b && a >= 20));
         assert!(m_orthonormality(&m, &sol.vectors) < 1e-10);
-        assert!(events.iter().any(|e| matches!(e, EigenEvent::Factorized { .. })));
-        assert!(events.iter().any(|e| matches!(e, EigenEvent::Iteration { .. })));
+        assert!(events
+            .iter()
+            .any(|e| matches!(e, EigenEvent::Factorized { .. })));
+        assert!(events
+            .iter()
+            .any(|e| matches!(e, EigenEvent::Iteration { .. })));
     }
 }
 
@@ -220,22 +250,39 @@ fn sturm_check_catches_block_one_misses() {
     assert!(done);
     let lam: Vec<f64> = pairs.theta.iter().map(|t| sigma + 1.0 / t).collect();
     let cut = 0.5 * (lam[11] + lam[12]);
-    let below = exact.iter().filter(|&&e| e < cut).count() + 0;
-    let inertia = ldlt_inertia(&shifted(&k, &m, cut).unwrap()).unwrap().unwrap();
-    assert!(inertia.negative > 12, "block-1 Lanczos found all copies?! {lam:?}");
+    let below = exact.iter().filter(|&&e| e < cut).count();
+    let inertia = ldlt_inertia(&shifted(&k, &m, cut).unwrap())
+        .unwrap()
+        .unwrap();
+    assert!(
+        inertia.negative > 12,
+        "block-1 Lanczos found all copies?! {lam:?}"
+    );
     assert!(inertia.negative >= below);
     // driver with block size 1 recovers
     let mut mismatch = false;
-    let opts = EigenOptions { block_size: 1, max_basis: 80, ..lanczos_opts(12) };
+    let opts = EigenOptions {
+        block_size: 1,
+        max_basis: 80,
+        ..lanczos_opts(12)
+    };
     let sol = lowest_modes(&k, &m, &opts, &mut |e| {
         if let EigenEvent::SturmCheck { expected, found } = e {
             mismatch |= expected != found;
         }
     })
     .unwrap();
-    assert!(mismatch, "the Sturm check should have flagged missed copies");
+    assert!(
+        mismatch,
+        "the Sturm check should have flagged missed copies"
+    );
     for i in 0..12 {
-        assert!(rel_err(sol.omega2[i], exact[i], exact[i]) < 1e-9, "mode {i}: {} vs {}", sol.omega2[i], exact[i]);
+        assert!(
+            rel_err(sol.omega2[i], exact[i], exact[i]) < 1e-9,
+            "mode {i}: {} vs {}",
+            sol.omega2[i],
+            exact[i]
+        );
     }
 }
 
@@ -245,27 +292,54 @@ fn sturm_check_catches_block_one_misses() {
 #[test]
 fn free_free_spring_lattice_has_six_rigid_modes() {
     for uniform in [true, false] {
-        let (k, m) = spring_lattice(5, |p| if uniform { 2.0 } else { 1.0 + 0.37 * (p % 5) as f64 });
+        let (k, m) = spring_lattice(5, |p| {
+            if uniform {
+                2.0
+            } else {
+                1.0 + 0.37 * (p % 5) as f64
+            }
+        });
         let (ld, _) = dense_generalized(k.to_dense().as_ref(), m.to_dense().as_ref()).unwrap();
         let sol = lowest_modes(&k, &m, &lanczos_opts(26), &mut |_| {}).unwrap();
         let l7 = ld[6];
         assert!(l7 > 1e-3, "lattice must be rigid: lambda_7 = {l7}");
         for i in 0..6 {
-            assert!(sol.omega2[i].abs() < 1e-8 * l7, "rigid mode {i}: {}", sol.omega2[i]);
+            assert!(
+                sol.omega2[i].abs() < 1e-8 * l7,
+                "rigid mode {i}: {}",
+                sol.omega2[i]
+            );
             assert!(ld[i].abs() < 1e-8 * l7);
         }
         for i in 6..26 {
-            assert!(rel_err(sol.omega2[i], ld[i], ld[i]) < 1e-9, "mode {i}: {} vs {}", sol.omega2[i], ld[i]);
+            assert!(
+                rel_err(sol.omega2[i], ld[i], ld[i]) < 1e-9,
+                "mode {i}: {} vs {}",
+                sol.omega2[i],
+                ld[i]
+            );
         }
         assert!(m_orthonormality(&m, &sol.vectors) < 1e-10);
         assert!(sol.sturm.is_some_and(|(a, b)| a == b));
         // dense path through the same driver
-        let dense = lowest_modes(&k, &m, &EigenOptions { method: EigenMethod::Dense, ..lanczos_opts(26) }, &mut |_| {})
-            .unwrap();
+        let dense = lowest_modes(
+            &k,
+            &m,
+            &EigenOptions {
+                method: EigenMethod::Dense,
+                ..lanczos_opts(26)
+            },
+            &mut |_| {},
+        )
+        .unwrap();
         for i in 6..26 {
             assert!(rel_err(dense.omega2[i], ld[i], ld[i]) < 1e-12);
         }
-        assert!(dense.residuals.iter().all(|&r| r < 1e-9), "{:?}", dense.residuals);
+        assert!(
+            dense.residuals.iter().all(|&r| r < 1e-9),
+            "{:?}",
+            dense.residuals
+        );
     }
 }
 
@@ -300,8 +374,19 @@ fn sparse_cholesky_solves_multi_rhs() {
         assert!((r[(i, 0)] - 1.0).abs() < 1e-15);
     }
     // indefinite -> error
-    let indef = sparse(2, &[Triplet::new(0, 0, 1.0), Triplet::new(0, 1, 2.0), Triplet::new(1, 0, 2.0), Triplet::new(1, 1, 1.0)]);
-    assert!(matches!(SparseCholesky::factor(&indef), Err(FeError::NotPositiveDefinite { .. })));
+    let indef = sparse(
+        2,
+        &[
+            Triplet::new(0, 0, 1.0),
+            Triplet::new(0, 1, 2.0),
+            Triplet::new(1, 0, 2.0),
+            Triplet::new(1, 1, 1.0),
+        ],
+    );
+    assert!(matches!(
+        SparseCholesky::factor(&indef),
+        Err(FeError::NotPositiveDefinite { .. })
+    ));
 }
 
 /// Bad input is reported as an error, never a panic.
@@ -309,37 +394,72 @@ fn sparse_cholesky_solves_multi_rhs() {
 fn bad_input_is_an_error() {
     let (k, m) = grid_model(3, true);
     let n = k.nrows();
-    let mut t: Vec<_> = k.triplet_iter().map(|t| Triplet::new(t.row, t.col, *t.val)).collect();
+    let mut t: Vec<_> = k
+        .triplet_iter()
+        .map(|t| Triplet::new(t.row, t.col, *t.val))
+        .collect();
     t.push(Triplet::new(0, 5, 1.0));
     let k_ns = sparse(n, &t);
-    assert!(matches!(lowest_modes(&k_ns, &m, &lanczos_opts(3), &mut |_| {}), Err(FeError::Invalid(_))));
+    assert!(matches!(
+        lowest_modes(&k_ns, &m, &lanczos_opts(3), &mut |_| {}),
+        Err(FeError::Invalid(_))
+    ));
     let (k2, _) = grid_model(2, true);
-    assert!(matches!(lowest_modes(&k2, &m, &lanczos_opts(3), &mut |_| {}), Err(FeError::Invalid(_))));
-    assert!(matches!(lowest_modes(&k, &m, &lanczos_opts(n + 1), &mut |_| {}), Err(FeError::Invalid(_))));
+    assert!(matches!(
+        lowest_modes(&k2, &m, &lanczos_opts(3), &mut |_| {}),
+        Err(FeError::Invalid(_))
+    ));
+    assert!(matches!(
+        lowest_modes(&k, &m, &lanczos_opts(n + 1), &mut |_| {}),
+        Err(FeError::Invalid(_))
+    ));
     // M with a negative diagonal entry
-    let mut tm: Vec<_> = m.triplet_iter().map(|t| Triplet::new(t.row, t.col, *t.val)).collect();
+    let mut tm: Vec<_> = m
+        .triplet_iter()
+        .map(|t| Triplet::new(t.row, t.col, *t.val))
+        .collect();
     tm.push(Triplet::new(4, 4, -3.0));
     let m_neg = sparse(n, &tm);
     for method in [EigenMethod::Lanczos, EigenMethod::Dense] {
-        let o = EigenOptions { method, ..lanczos_opts(3) };
-        assert!(matches!(lowest_modes(&k, &m_neg, &o, &mut |_| {}), Err(FeError::NotPositiveDefinite { .. })));
+        let o = EigenOptions {
+            method,
+            ..lanczos_opts(3)
+        };
+        assert!(matches!(
+            lowest_modes(&k, &m_neg, &o, &mut |_| {}),
+            Err(FeError::NotPositiveDefinite { .. })
+        ));
     }
     // M indefinite with positive diagonal: 2x2 blocks [[1, 2], [2, 1]]
     let tm: Vec<_> = (0..n / 2)
         .flat_map(|b| {
             let (p, q) = (2 * b, 2 * b + 1);
-            [Triplet::new(p, p, 1.0), Triplet::new(q, q, 1.0), Triplet::new(p, q, 2.0), Triplet::new(q, p, 2.0)]
+            [
+                Triplet::new(p, p, 1.0),
+                Triplet::new(q, q, 1.0),
+                Triplet::new(p, q, 2.0),
+                Triplet::new(q, p, 2.0),
+            ]
         })
         .chain((n / 2 * 2..n).map(|i| Triplet::new(i, i, 1.0)))
         .collect();
     let m_ind = sparse(n, &tm);
     for method in [EigenMethod::Lanczos, EigenMethod::Dense] {
-        let o = EigenOptions { method, ..lanczos_opts(3) };
+        let o = EigenOptions {
+            method,
+            ..lanczos_opts(3)
+        };
         assert!(lowest_modes(&k, &m_ind, &o, &mut |_| {}).is_err());
     }
     // user shift above the lowest eigenvalue: K - sigma M indefinite
-    let o = EigenOptions { shift: Some(100.0), ..lanczos_opts(3) };
-    assert!(matches!(lowest_modes(&k, &m, &o, &mut |_| {}), Err(FeError::NotPositiveDefinite { .. })));
+    let o = EigenOptions {
+        shift: Some(100.0),
+        ..lanczos_opts(3)
+    };
+    assert!(matches!(
+        lowest_modes(&k, &m, &o, &mut |_| {}),
+        Err(FeError::NotPositiveDefinite { .. })
+    ));
 }
 
 /// One-off timing on the crate-stack §2.1 matrix with nx = 22 (n = 31,944):
@@ -349,7 +469,12 @@ fn bad_input_is_an_error() {
 fn eigen_timing_31944() {
     let t0 = std::time::Instant::now();
     let (k, m) = grid_model(22, false);
-    println!("assembly {:?}, n = {}, nnz = {}", t0.elapsed(), k.nrows(), k.compute_nnz());
+    println!(
+        "assembly {:?}, n = {}, nnz = {}",
+        t0.elapsed(),
+        k.nrows(),
+        k.compute_nnz()
+    );
     let t1 = std::time::Instant::now();
     let mut last = std::time::Instant::now();
     let sol = lowest_modes(&k, &m, &lanczos_opts(20), &mut |e| {
@@ -359,8 +484,13 @@ fn eigen_timing_31944() {
     .unwrap();
     println!("lowest_modes total {:?}", t1.elapsed());
     let exact = grid_exact(22, false, 20);
-    let err = (0..20).map(|i| rel_err(sol.omega2[i], exact[i], exact[i])).fold(0.0, f64::max);
+    let err = (0..20)
+        .map(|i| rel_err(sol.omega2[i], exact[i], exact[i]))
+        .fold(0.0, f64::max);
     let rmax = sol.residuals.iter().fold(0.0f64, |a, &b| a.max(b));
-    println!("max rel. eigenvalue error {err:e}, max residual {rmax:e}, sturm {:?}", sol.sturm);
+    println!(
+        "max rel. eigenvalue error {err:e}, max residual {rmax:e}, sturm {:?}",
+        sol.sturm
+    );
     assert!(err < 1e-9);
 }
