@@ -100,6 +100,25 @@ impl<'a> BlockLanczos<'a> {
         Ok(s)
     }
 
+    /// Raises the maximum basis size to at least `cap` (at most `n`), keeping the basis.
+    pub fn ensure_capacity(&mut self, cap: usize) {
+        let cap = cap.min(self.n);
+        if cap <= self.cap {
+            return;
+        }
+        let mut v = Mat::zeros(self.n, cap);
+        v.as_mut()
+            .subcols_mut(0, self.used)
+            .copy_from(self.v.subcols(0, self.used));
+        let mut h = Mat::zeros(cap, cap);
+        h.as_mut()
+            .submatrix_mut(0, 0, self.used, self.used)
+            .copy_from(self.h.submatrix(0, 0, self.used, self.used));
+        self.v = v;
+        self.h = h;
+        self.cap = cap;
+    }
+
     /// Requests `count` extra random directions in the next block (used when a
     /// Sturm count shows that eigenvalues are missing).
     pub fn inject_random(&mut self, count: usize) {

@@ -397,6 +397,7 @@ fn lanczos_at_shift(
     let mut sturm_failures = 0usize;
     loop {
         let wanted = need.min(n);
+        lz.ensure_capacity(cap.max(wanted + 3 * b));
         let mut cb = |basis, converged| {
             progress(EigenEvent::Iteration {
                 basis,

@@ -389,6 +389,29 @@ fn sparse_cholesky_solves_multi_rhs() {
     ));
 }
 
+/// METIS ordering is used (not the AMD fallback) for the grid matrix, is a valid
+/// permutation, and gives less fill than faer's AMD (crate-stack.md §2.2).
+#[test]
+fn metis_ordering_is_valid_and_reduces_fill() {
+    use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymmetricOrdering};
+    let (k, _) = grid_model(12, false);
+    let p = super::cholesky::metis_nested_dissection(&k).expect("METIS must succeed");
+    let (fwd, inv) = p.as_ref().arrays();
+    assert_eq!(fwd.len(), k.nrows());
+    assert!((0..fwd.len()).all(|i| inv[fwd[i]] == i));
+    let metis = SparseCholesky::factor(&k).unwrap().nnz_l();
+    let amd = factorize_symbolic_cholesky(
+        k.symbolic(),
+        faer::Side::Lower,
+        SymmetricOrdering::Amd,
+        Default::default(),
+    )
+    .unwrap()
+    .len_val();
+    println!("nnz(L): METIS {metis}, AMD {amd}");
+    assert!(metis < amd, "METIS {metis} vs AMD {amd}");
+}
+
 /// Bad input is reported as an error, never a panic.
 #[test]
 fn bad_input_is_an_error() {
