@@ -21,7 +21,7 @@ use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::{Accum, Mat, Par};
 
 pub use cholesky::{ldlt_inertia, Inertia, SparseCholesky};
-pub use dense::dense_generalized;
+pub use dense::{dense_generalized, dense_shift_invert};
 
 use crate::{FeError, SparseMatrix};
 use lanczos::BlockLanczos;
@@ -326,9 +326,15 @@ pub fn lowest_modes(
         EigenMethod::Auto => n <= opts.dense_limit,
     };
     if dense {
-        let (lam, x) = dense_generalized(k.to_dense().as_ref(), m.to_dense().as_ref())?;
-        let mut x = x.subcols(0, nm).to_owned();
         let sigma = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
+        let (lam, x) = dense_shift_invert(k.to_dense().as_ref(), m.to_dense().as_ref(), sigma)?;
+        if lam.len() < nm {
+            return Err(FeError::Invalid(format!(
+                "{nm} modes requested but the mass matrix has rank {}",
+                lam.len()
+            )));
+        }
+        let mut x = x.subcols(0, nm).to_owned();
         let (_, res) = rayleigh_and_residuals(k, m, &mut x, sigma);
         return Ok(EigenSolution {
             omega2: lam[..nm].to_vec(),
