@@ -1,3 +1,5 @@
 //! File formats of flexmbs: the seed 4-file body format, CalculiX decks and exports,
 //! reduced-body files and VTK output.
 #![warn(missing_docs)]
+
+pub mod body_file;
