@@ -134,6 +134,29 @@ fn kind_code(kind: ElementKind) -> u8 {
     KIND_NAMES.iter().position(|(k, _)| *k == kind).unwrap_or(0) as u8
 }
 
+/// Rows per chunk of a checksummed float dataset: about 1 MiB per chunk at 50 columns.
+const CHUNK_ROWS: u64 = 2048;
+
+/// Stores a float array of the given shape (row-major data) chunked along its first axis with a
+/// Fletcher-32 checksum per chunk (HDF5 filter 3), so that a damaged file is detected when read,
+/// not silently used.
+fn checksummed(b: &mut hdf5_pure::DatasetBuilder, data: &[f64], shape: &[u64]) {
+    b.with_f64_data(data).with_shape(shape);
+    if !data.is_empty() {
+        let mut chunk = shape.to_vec();
+        chunk[0] = chunk[0].min(CHUNK_ROWS);
+        b.with_chunks(&chunk).with_fletcher32();
+    }
+}
+
+/// Stores an index vector chunked with a Fletcher-32 checksum (as [`checksummed`]).
+fn checksummed_u64(b: &mut hdf5_pure::DatasetBuilder, data: &[u64]) {
+    b.with_u64_data(data);
+    if !data.is_empty() {
+        b.with_chunks(&[(data.len() as u64).min(CHUNK_ROWS * 64)]).with_fletcher32();
+    }
+}
+
 /// Serializes a checked body into the bytes of an HDF5 file.
 pub(crate) fn encode_body(path: &Path, b: &ReducedBody) -> Result<Vec<u8>, BodyFileError> {
     let n = b.num_nodes() as u64;
@@ -161,34 +184,34 @@ pub(crate) fn encode_body(path: &Path, b: &ReducedBody) -> Result<Vec<u8>, BodyF
 
     let mut nodes = fb.create_group("nodes");
     let pos: Vec<f64> = b.nodes.iter().flatten().copied().collect();
-    nodes.create_dataset("position").with_f64_data(&pos).with_shape(&[n, 3]);
-    nodes.create_dataset("id").with_u64_data(&b.node_ids);
+    checksummed(nodes.create_dataset("position"), &pos, &[n, 3]);
+    checksummed_u64(nodes.create_dataset("id"), &b.node_ids);
     if let Some(m) = &b.node_masses {
-        nodes.create_dataset("mass").with_f64_data(m);
+        checksummed(nodes.create_dataset("mass"), m, &[n]);
     }
-    nodes.create_dataset("interface").with_u64_data(&as_u64(&b.interface_nodes));
-    nodes.create_dataset("fixed").with_u64_data(&as_u64(&b.fixed_nodes));
+    checksummed_u64(nodes.create_dataset("interface"), &as_u64(&b.interface_nodes));
+    checksummed_u64(nodes.create_dataset("fixed"), &as_u64(&b.fixed_nodes));
     fb.add_group(nodes.finish());
 
     let mut modes = fb.create_group("modes");
-    modes.create_dataset("translation").with_f64_data(&row_major(&b.modes_t)).with_shape(&[3 * n, nf]);
+    checksummed(modes.create_dataset("translation"), &row_major(&b.modes_t), &[3 * n, nf]);
     if let Some(r) = &b.modes_r {
-        modes.create_dataset("rotation").with_f64_data(&row_major(r)).with_shape(&[3 * n, nf]);
+        checksummed(modes.create_dataset("rotation"), &row_major(r), &[3 * n, nf]);
     }
-    modes.create_dataset("frequency_hz").with_f64_data(&b.frequencies_hz);
+    checksummed(modes.create_dataset("frequency_hz"), &b.frequencies_hz, &[nf]);
     let idx: Vec<u64> = b.labels.iter().map(|l| l.index as u64).collect();
-    modes.create_dataset("label_index").with_u64_data(&idx);
+    checksummed_u64(modes.create_dataset("label_index"), &idx);
     let lf: Vec<f64> = b.labels.iter().map(|l| l.frequency_hz).collect();
-    modes.create_dataset("label_frequency_hz").with_f64_data(&lf);
+    checksummed(modes.create_dataset("label_frequency_hz"), &lf, &[nf]);
     let dom: Vec<&str> = b.labels.iter().map(|l| l.dominant.as_str()).collect();
     modes.create_dataset("label_dominant").with_vlen_strings(&dom);
     let emf: Vec<f64> = b.labels.iter().flat_map(|l| l.effective_mass_fraction).collect();
-    modes.create_dataset("effective_mass_fraction").with_f64_data(&emf).with_shape(&[nf, 3]);
+    checksummed(modes.create_dataset("effective_mass_fraction"), &emf, &[nf, 3]);
     fb.add_group(modes.finish());
 
     let mut red = fb.create_group("reduced");
-    red.create_dataset("stiffness").with_f64_data(&row_major(&b.k_red)).with_shape(&[nf, nf]);
-    red.create_dataset("mass").with_f64_data(&row_major(&b.m_red)).with_shape(&[nf, nf]);
+    checksummed(red.create_dataset("stiffness"), &row_major(&b.k_red), &[nf, nf]);
+    checksummed(red.create_dataset("mass"), &row_major(&b.m_red), &[nf, nf]);
     fb.add_group(red.finish());
 
     let mut cells = fb.create_group("cells");
@@ -202,8 +225,8 @@ pub(crate) fn encode_body(path: &Path, b: &ReducedBody) -> Result<Vec<u8>, BodyF
         conn.extend(c.nodes.iter().map(|&i| i as u64));
         offsets.push(conn.len() as u64);
     }
-    cells.create_dataset("offsets").with_u64_data(&offsets);
-    cells.create_dataset("connectivity").with_u64_data(&conn);
+    checksummed_u64(cells.create_dataset("offsets"), &offsets);
+    checksummed_u64(cells.create_dataset("connectivity"), &conn);
     fb.add_group(cells.finish());
 
     fb.finish().map_err(|e| hdf5_error(path, "/", e))
