@@ -3,3 +3,4 @@
 #![warn(missing_docs)]
 
 pub mod body_file;
+pub mod vtk;
