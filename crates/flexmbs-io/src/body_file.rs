@@ -130,17 +130,26 @@ pub fn write_body(path: &Path, body: &ReducedBody) -> Result<(), BodyFileError> 
     h5::check_body(path, body)?;
     let bytes = h5::encode_body(path, body)?;
     let tmp = temporary_sibling(path);
-    std::fs::write(&tmp, &bytes).map_err(|source| BodyFileError::Io { path: tmp.clone(), source })?;
+    std::fs::write(&tmp, &bytes).map_err(|source| BodyFileError::Io {
+        path: tmp.clone(),
+        source,
+    })?;
     std::fs::rename(&tmp, path).map_err(|source| {
         let _ = std::fs::remove_file(&tmp);
-        BodyFileError::Io { path: path.to_path_buf(), source }
+        BodyFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     })
 }
 
 /// Reads a reduced-body file written by [`write_body`] (or by any HDF5 writer following the
 /// documented layout, e.g. h5py).
 pub fn read_body(path: &Path) -> Result<ReducedBody, BodyFileError> {
-    let bytes = std::fs::read(path).map_err(|source| BodyFileError::Io { path: path.to_path_buf(), source })?;
+    let bytes = std::fs::read(path).map_err(|source| BodyFileError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
     decode_body(path, bytes)
 }
 
@@ -150,7 +159,9 @@ pub fn read_body(path: &Path) -> Result<ReducedBody, BodyFileError> {
 /// bug there, not a property of the file: it is caught and reported as [`BodyFileError::Hdf5`]
 /// so that a damaged file can never bring down a simulation.
 pub fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, BodyFileError> {
-    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| h5::decode_body(path, bytes)));
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        h5::decode_body(path, bytes)
+    }));
     match outcome {
         Ok(result) => result,
         Err(payload) => {
@@ -170,6 +181,9 @@ pub fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, BodyFileE
 
 /// `dir/.name.tmp-<pid>`: a temporary file next to `path` (same file system, so rename is atomic).
 fn temporary_sibling(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "body".into());
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "body".into());
     path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
 }

@@ -74,7 +74,15 @@ pub fn write_vtu(
     point_data: &[Field],
     cell_data: &[Field],
 ) -> Result<(), VtkError> {
-    write_vtu_with(path, points, cells, point_data, cell_data, &[], VtuEncoding::Base64)
+    write_vtu_with(
+        path,
+        points,
+        cells,
+        point_data,
+        cell_data,
+        &[],
+        VtuEncoding::Base64,
+    )
 }
 
 /// Writes an unstructured grid: `points`, `cells` (node indices into `points`, Abaqus order),
@@ -89,16 +97,30 @@ pub fn write_vtu_with(
     field_data: &[Field],
     encoding: VtuEncoding,
 ) -> Result<(), VtkError> {
-    let invalid = |message: String| VtkError::Invalid { path: path.to_path_buf(), message };
+    let invalid = |message: String| VtkError::Invalid {
+        path: path.to_path_buf(),
+        message,
+    };
     for (ci, c) in cells.iter().enumerate() {
         if c.nodes.len() != c.kind.num_nodes() {
-            return Err(invalid(format!("cell {ci} ({:?}) has {} nodes, expected {}", c.kind, c.nodes.len(), c.kind.num_nodes())));
+            return Err(invalid(format!(
+                "cell {ci} ({:?}) has {} nodes, expected {}",
+                c.kind,
+                c.nodes.len(),
+                c.kind.num_nodes()
+            )));
         }
         if let Some(&n) = c.nodes.iter().find(|&&n| n >= points.len()) {
-            return Err(invalid(format!("cell {ci} refers to point {n}, but there are {} points", points.len())));
+            return Err(invalid(format!(
+                "cell {ci} refers to point {n}, but there are {} points",
+                points.len()
+            )));
         }
     }
-    for (what, fields, count) in [("point", point_data, points.len()), ("cell", cell_data, cells.len())] {
+    for (what, fields, count) in [
+        ("point", point_data, points.len()),
+        ("cell", cell_data, cells.len()),
+    ] {
         for &(name, ncomp, values) in fields {
             check_field_name(name).map_err(&invalid)?;
             if ncomp == 0 || values.len() != ncomp * count {
@@ -120,16 +142,31 @@ pub fn write_vtu_with(
     if !field_data.is_empty() {
         x.push_str("<FieldData>\n");
         for &(name, _, values) in field_data {
-            data_array(&mut x, encoding, name, 1, &F64s(values), &format!(" NumberOfTuples=\"{}\"", values.len()));
+            data_array(
+                &mut x,
+                encoding,
+                name,
+                1,
+                &F64s(values),
+                &format!(" NumberOfTuples=\"{}\"", values.len()),
+            );
         }
         x.push_str("</FieldData>\n");
     }
-    let _ = writeln!(x, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", points.len(), cells.len());
+    let _ = writeln!(
+        x,
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        points.len(),
+        cells.len()
+    );
     x.push_str("<Points>\n");
     let flat: Vec<f64> = points.iter().flatten().copied().collect();
     data_array(&mut x, encoding, "Points", 3, &F64s(&flat), "");
     x.push_str("</Points>\n<Cells>\n");
-    let conn: Vec<i64> = cells.iter().flat_map(|c| c.nodes.iter().map(|&n| n as i64)).collect();
+    let conn: Vec<i64> = cells
+        .iter()
+        .flat_map(|c| c.nodes.iter().map(|&n| n as i64))
+        .collect();
     let offsets: Vec<i64> = cells
         .iter()
         .scan(0i64, |o, c| {
@@ -150,7 +187,10 @@ pub fn write_vtu_with(
         let _ = writeln!(x, "</{tag}>");
     }
     x.push_str("</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    std::fs::write(path, x).map_err(|source| VtkError::Io { path: path.to_path_buf(), source })
+    std::fs::write(path, x).map_err(|source| VtkError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// Writes a ParaView data collection (`.pvd`): one data set per `(time, file)`; file names are
@@ -161,12 +201,22 @@ pub fn write_pvd(path: &Path, entries: &[(f64, &str)]) -> Result<(), VtkError> {
     );
     for &(t, file) in entries {
         if !t.is_finite() {
-            return Err(VtkError::Invalid { path: path.to_path_buf(), message: format!("time {t} of '{file}' is not finite") });
+            return Err(VtkError::Invalid {
+                path: path.to_path_buf(),
+                message: format!("time {t} of '{file}' is not finite"),
+            });
         }
-        let _ = writeln!(x, "<DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"{}\"/>", xml_escape(file));
+        let _ = writeln!(
+            x,
+            "<DataSet timestep=\"{t}\" group=\"\" part=\"0\" file=\"{}\"/>",
+            xml_escape(file)
+        );
     }
     x.push_str("</Collection>\n</VTKFile>\n");
-    std::fs::write(path, x).map_err(|source| VtkError::Io { path: path.to_path_buf(), source })
+    std::fs::write(path, x).map_err(|source| VtkError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// Options of [`write_mode_shapes_with`].
@@ -198,8 +248,19 @@ pub fn default_mode_scale(body: &ReducedBody) -> f64 {
 }
 
 /// Mode shapes for ParaView with 24 animation frames per mode; see [`write_mode_shapes_with`].
-pub fn write_mode_shapes(dir: &Path, body: &ReducedBody, scale: f64) -> Result<Vec<PathBuf>, VtkError> {
-    write_mode_shapes_with(dir, body, &ModeShapeOptions { scale, frames_per_mode: 24 })
+pub fn write_mode_shapes(
+    dir: &Path,
+    body: &ReducedBody,
+    scale: f64,
+) -> Result<Vec<PathBuf>, VtkError> {
+    write_mode_shapes_with(
+        dir,
+        body,
+        &ModeShapeOptions {
+            scale,
+            frames_per_mode: 24,
+        },
+    )
 }
 
 /// Writes the mode shapes of `body` into `dir` (created if needed) and returns the files written:
@@ -212,32 +273,63 @@ pub fn write_mode_shapes(dir: &Path, body: &ReducedBody, scale: f64) -> Result<V
 ///   animated over one period, deformed points `x0 + sin(2 pi j / F) u_k` and the point field
 ///   `displacement`; the time value of frame `j` of mode `k` is `k - 1 + j / F`, so mode `k`
 ///   plays between times `k - 1` and `k`.
-pub fn write_mode_shapes_with(dir: &Path, body: &ReducedBody, opts: &ModeShapeOptions) -> Result<Vec<PathBuf>, VtkError> {
+pub fn write_mode_shapes_with(
+    dir: &Path,
+    body: &ReducedBody,
+    opts: &ModeShapeOptions,
+) -> Result<Vec<PathBuf>, VtkError> {
     let n = body.num_nodes();
     let nf = body.num_modes();
     if !(opts.scale.is_finite() && opts.scale > 0.0) {
-        return Err(VtkError::Invalid { path: dir.to_path_buf(), message: format!("mode scale {} must be > 0", opts.scale) });
+        return Err(VtkError::Invalid {
+            path: dir.to_path_buf(),
+            message: format!("mode scale {} must be > 0", opts.scale),
+        });
     }
     if body.modes_t.nrows() != 3 * n {
-        let message = format!("mode shapes have {} rows, expected 3 x {n} nodes", body.modes_t.nrows());
-        return Err(VtkError::Invalid { path: dir.to_path_buf(), message });
+        let message = format!(
+            "mode shapes have {} rows, expected 3 x {n} nodes",
+            body.modes_t.nrows()
+        );
+        return Err(VtkError::Invalid {
+            path: dir.to_path_buf(),
+            message,
+        });
     }
-    std::fs::create_dir_all(dir).map_err(|source| VtkError::Io { path: dir.to_path_buf(), source })?;
+    std::fs::create_dir_all(dir).map_err(|source| VtkError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
     let width = nf.to_string().len().max(2);
     let (shapes, factors) = scaled_mode_shapes(body, opts.scale);
     let names: Vec<String> = (1..=nf).map(|k| format!("mode_{k:0width$}")).collect();
     let ids: Vec<f64> = body.node_ids.iter().map(|&i| i as f64).collect();
-    let mut point_data: Vec<Field> = names.iter().zip(&shapes).map(|(name, s)| (name.as_str(), 3, s.as_slice())).collect();
+    let mut point_data: Vec<Field> = names
+        .iter()
+        .zip(&shapes)
+        .map(|(name, s)| (name.as_str(), 3, s.as_slice()))
+        .collect();
     if ids.len() == n {
         point_data.push(("node_id", 1, &ids));
     }
     if let Some(m) = body.node_masses.as_ref().filter(|m| m.len() == n) {
         point_data.push(("mass", 1, m));
     }
-    let field_data: Vec<Field> = vec![("frequency_hz", 1, &body.frequencies_hz), ("mode_scale_factor", 1, &factors)];
+    let field_data: Vec<Field> = vec![
+        ("frequency_hz", 1, &body.frequencies_hz),
+        ("mode_scale_factor", 1, &factors),
+    ];
     let mut written = Vec::new();
     let path = dir.join("modes.vtu");
-    write_vtu_with(&path, &body.nodes, &body.cells, &point_data, &[], &field_data, VtuEncoding::Base64)?;
+    write_vtu_with(
+        &path,
+        &body.nodes,
+        &body.cells,
+        &point_data,
+        &[],
+        &field_data,
+        VtuEncoding::Base64,
+    )?;
     written.push(path);
 
     let frames = opts.frames_per_mode;
@@ -245,13 +337,21 @@ pub fn write_mode_shapes_with(dir: &Path, body: &ReducedBody, opts: &ModeShapeOp
         return Ok(written);
     }
     let fdir = dir.join("frames");
-    std::fs::create_dir_all(&fdir).map_err(|source| VtkError::Io { path: fdir.clone(), source })?;
+    std::fs::create_dir_all(&fdir).map_err(|source| VtkError::Io {
+        path: fdir.clone(),
+        source,
+    })?;
     let mut entries = Vec::with_capacity(nf * frames);
     for (k, shape) in shapes.iter().enumerate() {
         for j in 0..frames {
             let phase = (2.0 * std::f64::consts::PI * j as f64 / frames as f64).sin();
             let u: Vec<f64> = shape.iter().map(|v| phase * v).collect();
-            let pts: Vec<[f64; 3]> = body.nodes.iter().enumerate().map(|(i, p)| [p[0] + u[3 * i], p[1] + u[3 * i + 1], p[2] + u[3 * i + 2]]).collect();
+            let pts: Vec<[f64; 3]> = body
+                .nodes
+                .iter()
+                .enumerate()
+                .map(|(i, p)| [p[0] + u[3 * i], p[1] + u[3 * i + 1], p[2] + u[3 * i + 2]])
+                .collect();
             let rel = format!("frames/mode_{:0width$}_{j:03}.vtu", k + 1);
             let path = dir.join(&rel);
             write_vtu(&path, &pts, &body.cells, &[("displacement", 3, &u)], &[])?;
@@ -274,8 +374,15 @@ fn scaled_mode_shapes(body: &ReducedBody, scale: f64) -> (Vec<Vec<f64>>, Vec<f64
     let mut factors = Vec::with_capacity(body.num_modes());
     for k in 0..body.num_modes() {
         let col: Vec<f64> = (0..3 * n).map(|r| body.modes_t[(r, k)]).collect();
-        let peak = col.chunks_exact(3).map(|u| (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt()).fold(0.0, f64::max);
-        let f = if peak > 0.0 && peak.is_finite() { scale / peak } else { 0.0 };
+        let peak = col
+            .chunks_exact(3)
+            .map(|u| (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt())
+            .fold(0.0, f64::max);
+        let f = if peak > 0.0 && peak.is_finite() {
+            scale / peak
+        } else {
+            0.0
+        };
         shapes.push(col.iter().map(|v| v * f).collect());
         factors.push(f);
     }
@@ -284,13 +391,19 @@ fn scaled_mode_shapes(body: &ReducedBody, scale: f64) -> (Vec<Vec<f64>>, Vec<f64
 
 fn check_field_name(name: &str) -> Result<(), String> {
     if name.is_empty() || name.chars().any(|c| c.is_control()) {
-        return Err(format!("field name {name:?} is empty or contains control characters"));
+        return Err(format!(
+            "field name {name:?} is empty or contains control characters"
+        ));
     }
     Ok(())
 }
 
 fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&apos;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+        .replace('\'', "&apos;")
 }
 
 /// A typed array that can be written as VTK data.
@@ -334,7 +447,14 @@ vtk_array!(I64s, "Int64");
 vtk_array!(U8s, "UInt8");
 
 /// Appends one `<DataArray>` element.
-fn data_array(x: &mut String, enc: VtuEncoding, name: &str, ncomp: usize, a: &dyn VtkArray, extra: &str) {
+fn data_array(
+    x: &mut String,
+    enc: VtuEncoding,
+    name: &str,
+    ncomp: usize,
+    a: &dyn VtkArray,
+    extra: &str,
+) {
     let format = match enc {
         VtuEncoding::Base64 => "binary",
         VtuEncoding::Ascii => "ascii",
@@ -367,8 +487,16 @@ pub fn base64(bytes: &[u8]) -> String {
         let v = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
         s.push(A[(v >> 18) as usize & 63] as char);
         s.push(A[(v >> 12) as usize & 63] as char);
-        s.push(if c.len() > 1 { A[(v >> 6) as usize & 63] as char } else { '=' });
-        s.push(if c.len() > 2 { A[v as usize & 63] as char } else { '=' });
+        s.push(if c.len() > 1 {
+            A[(v >> 6) as usize & 63] as char
+        } else {
+            '='
+        });
+        s.push(if c.len() > 2 {
+            A[v as usize & 63] as char
+        } else {
+            '='
+        });
     }
     s
 }
@@ -380,7 +508,15 @@ mod tests {
     /// RFC 4648 section 10 test vectors.
     #[test]
     fn base64_rfc4648_vectors() {
-        let cases = [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foob", "Zm9vYg=="), ("fooba", "Zm9vYmE="), ("foobar", "Zm9vYmFy")];
+        let cases = [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ];
         for (i, o) in cases {
             assert_eq!(base64(i.as_bytes()), o);
         }

@@ -26,7 +26,10 @@ fn edit(path: &Path, f: impl FnOnce(&File)) {
 fn missing_file_is_an_io_error_naming_it() {
     let err = read_body(Path::new("/nonexistent/dir/x.fmb.h5")).unwrap_err();
     assert!(matches!(err, BodyFileError::Io { .. }));
-    assert!(err.to_string().starts_with("/nonexistent/dir/x.fmb.h5: "), "{err}");
+    assert!(
+        err.to_string().starts_with("/nonexistent/dir/x.fmb.h5: "),
+        "{err}"
+    );
 }
 
 #[test]
@@ -58,9 +61,17 @@ fn foreign_hdf5_file_is_not_a_body_file() {
 #[test]
 fn future_format_version_is_refused() {
     let (_d, path) = written("err-version");
-    edit(&path, |f| f.root().set_attr("format_version", AttrValue::I64(2)).unwrap());
+    edit(&path, |f| {
+        f.root()
+            .set_attr("format_version", AttrValue::I64(2))
+            .unwrap()
+    });
     match read_body(&path) {
-        Err(BodyFileError::UnsupportedVersion { found: 2, supported: 1, .. }) => {}
+        Err(BodyFileError::UnsupportedVersion {
+            found: 2,
+            supported: 1,
+            ..
+        }) => {}
         other => panic!("expected UnsupportedVersion, got {other:?}"),
     }
 }
@@ -70,7 +81,9 @@ fn missing_dataset_is_named() {
     let (_d, path) = written("err-missing");
     edit(&path, |f| f.root().delete("modes/translation").unwrap());
     match read_body(&path) {
-        Err(BodyFileError::MissingDataset { dataset, .. }) => assert_eq!(dataset, "modes/translation"),
+        Err(BodyFileError::MissingDataset { dataset, .. }) => {
+            assert_eq!(dataset, "modes/translation")
+        }
         other => panic!("expected MissingDataset, got {other:?}"),
     }
 }
@@ -89,7 +102,10 @@ fn wrong_shape_is_located() {
     match read_body(&path) {
         Err(e @ BodyFileError::WrongShape { .. }) => {
             let s = e.to_string();
-            assert!(s.contains("'reduced/stiffness' has shape [3, 4], expected [N_f, N_f] = [3, 3]"), "{s}");
+            assert!(
+                s.contains("'reduced/stiffness' has shape [3, 4], expected [N_f, N_f] = [3, 3]"),
+                "{s}"
+            );
         }
         other => panic!("expected WrongShape, got {other:?}"),
     }
@@ -108,13 +124,21 @@ fn index_out_of_range_is_located() {
     });
     let err = read_body(&path).unwrap_err();
     assert!(matches!(err, BodyFileError::Invalid { .. }), "{err:?}");
-    assert!(err.to_string().contains("'nodes/fixed': index 20 out of range (N = 20)"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("'nodes/fixed': index 20 out of range (N = 20)"),
+        "{err}"
+    );
 }
 
 #[test]
 fn bad_attribute_is_located() {
     let (_d, path) = written("err-attr");
-    edit(&path, |f| f.root().set_attr("units", AttrValue::VarLenString("furlong".into())).unwrap());
+    edit(&path, |f| {
+        f.root()
+            .set_attr("units", AttrValue::VarLenString("furlong".into()))
+            .unwrap()
+    });
     let err = read_body(&path).unwrap_err();
     assert!(err.to_string().contains("attribute '/@units'"), "{err}");
 }
@@ -135,7 +159,10 @@ fn truncated_files_are_errors_not_panics() {
             Err(e) => guarded += usize::from(e.to_string().contains("panicked")),
         }
     }
-    assert_eq!(guarded, 0, "{guarded} truncations made the HDF5 decoder panic");
+    assert_eq!(
+        guarded, 0,
+        "{guarded} truncations made the HDF5 decoder panic"
+    );
 }
 
 /// Corrupting single bytes anywhere gives an error or, where the byte is unused, the unchanged
@@ -171,5 +198,8 @@ fn corrupted_bytes_never_panic() {
     );
     assert_eq!(errors + accepted, 400);
     assert!(errors > 0);
-    assert!(silent.is_empty(), "silently accepted corruption at byte offsets {silent:?}");
+    assert!(
+        silent.is_empty(),
+        "silently accepted corruption at byte offsets {silent:?}"
+    );
 }

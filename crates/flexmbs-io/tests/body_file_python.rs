@@ -49,7 +49,10 @@ print(bits(t[3*7+1, 2]), bits(f['nodes/position'][4, 1]), bits(f['reduced/stiffn
 "#;
     let out = run_python(code, &[path.to_str().unwrap()]);
     let v: Vec<&str> = out.split_whitespace().collect();
-    assert_eq!(v[0].parse::<u64>().unwrap(), body.modes_t[(3 * 7 + 1, 2)].to_bits());
+    assert_eq!(
+        v[0].parse::<u64>().unwrap(),
+        body.modes_t[(3 * 7 + 1, 2)].to_bits()
+    );
     assert_eq!(v[1].parse::<u64>().unwrap(), body.nodes[4][1].to_bits());
     assert_eq!(v[2].parse::<u64>().unwrap(), body.k_red[(1, 0)].to_bits());
     assert_eq!(v[3].parse::<u64>().unwrap(), body.node_ids[29]);
@@ -60,7 +63,10 @@ print(bits(t[3*7+1, 2]), bits(f['nodes/position'][4, 1]), bits(f['reduced/stiffn
 /// its own object headers and heaps); our reader gets back exactly the same body.
 #[test]
 fn file_rewritten_by_h5py_reads_back_identically() {
-    if !python_has(&["h5py", "numpy"], "file_rewritten_by_h5py_reads_back_identically") {
+    if !python_has(
+        &["h5py", "numpy"],
+        "file_rewritten_by_h5py_reads_back_identically",
+    ) {
         return;
     }
     let dir = temp_dir("py-copy");
@@ -85,7 +91,10 @@ with h5py.File(sys.argv[1], 'r') as a, h5py.File(sys.argv[2], 'w') as b:
 /// str attributes) following docs/formats/reduced-body.md is read correctly.
 #[test]
 fn reads_file_written_from_scratch_by_h5py() {
-    if !python_has(&["h5py", "numpy"], "reads_file_written_from_scratch_by_h5py") {
+    if !python_has(
+        &["h5py", "numpy"],
+        "reads_file_written_from_scratch_by_h5py",
+    ) {
         return;
     }
     let dir = temp_dir("py-write");
@@ -143,7 +152,9 @@ with h5py.File(sys.argv[1], 'a') as f:
 "#;
     run_python(code32, &[path.to_str().unwrap()]);
     match read_body(&path) {
-        Err(BodyFileError::WrongType { dataset, expected, .. }) => {
+        Err(BodyFileError::WrongType {
+            dataset, expected, ..
+        }) => {
             assert_eq!(dataset, "modes/translation");
             assert_eq!(expected, "f64");
         }
@@ -166,14 +177,30 @@ fn h5dump_and_h5ls_read_written_file() {
         }
     };
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "h5dump failed: {}", String::from_utf8_lossy(&out.stderr));
-    assert!(out.stderr.is_empty(), "h5dump warnings: {}", String::from_utf8_lossy(&out.stderr));
-    for needle in ["DATASET \"translation\"", "DATASPACE  SIMPLE { ( 60, 2 ) / ( 60, 2 ) }", "\"flexmbs.reduced_body\"", "H5T_STD_U64LE"] {
+    assert!(
+        out.status.success(),
+        "h5dump failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "h5dump warnings: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for needle in [
+        "DATASET \"translation\"",
+        "DATASPACE  SIMPLE { ( 60, 2 ) / ( 60, 2 ) }",
+        "\"flexmbs.reduced_body\"",
+        "H5T_STD_U64LE",
+    ] {
         assert!(text.contains(needle), "h5dump output lacks {needle:?}");
     }
     let ls = Command::new("h5ls").arg("-r").arg(&path).output().unwrap();
     assert!(ls.status.success());
     let ls = String::from_utf8_lossy(&ls.stdout);
-    let line = ls.lines().find(|l| l.starts_with("/modes/translation ")).unwrap_or("");
+    let line = ls
+        .lines()
+        .find(|l| l.starts_with("/modes/translation "))
+        .unwrap_or("");
     assert!(line.ends_with("Dataset {60, 2}"), "{ls}");
 }

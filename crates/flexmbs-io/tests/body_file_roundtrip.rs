@@ -9,23 +9,47 @@ use flexmbs_io::body_file::{read_body, write_body, BodyFileError};
 use std::time::Instant;
 
 fn mat_bits(m: &Mat<f64>) -> Vec<u64> {
-    (0..m.ncols()).flat_map(|c| (0..m.nrows()).map(move |r| (r, c))).map(|(r, c)| m[(r, c)].to_bits()).collect()
+    (0..m.ncols())
+        .flat_map(|c| (0..m.nrows()).map(move |r| (r, c)))
+        .map(|(r, c)| m[(r, c)].to_bits())
+        .collect()
 }
 
 /// Bitwise equality of every float (distinguishes -0.0 from 0.0 and compares NaN payloads).
 fn assert_bits_equal(a: &ReducedBody, b: &ReducedBody) {
-    let nb = |x: &ReducedBody| x.nodes.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let nb = |x: &ReducedBody| {
+        x.nodes
+            .iter()
+            .flatten()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>()
+    };
     assert_eq!(nb(a), nb(b));
     assert_eq!(mat_bits(&a.modes_t), mat_bits(&b.modes_t));
-    assert_eq!(a.modes_r.as_ref().map(mat_bits), b.modes_r.as_ref().map(mat_bits));
+    assert_eq!(
+        a.modes_r.as_ref().map(mat_bits),
+        b.modes_r.as_ref().map(mat_bits)
+    );
     assert_eq!(mat_bits(&a.k_red), mat_bits(&b.k_red));
     assert_eq!(mat_bits(&a.m_red), mat_bits(&b.m_red));
-    let fb = |x: &ReducedBody| x.frequencies_hz.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let fb = |x: &ReducedBody| {
+        x.frequencies_hz
+            .iter()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>()
+    };
     assert_eq!(fb(a), fb(b));
     let lb = |x: &ReducedBody| {
         x.labels
             .iter()
-            .flat_map(|l| [l.frequency_hz, l.effective_mass_fraction[0], l.effective_mass_fraction[1], l.effective_mass_fraction[2]])
+            .flat_map(|l| {
+                [
+                    l.frequency_hz,
+                    l.effective_mass_fraction[0],
+                    l.effective_mass_fraction[1],
+                    l.effective_mass_fraction[2],
+                ]
+            })
             .map(f64::to_bits)
             .collect::<Vec<_>>()
     };
@@ -48,7 +72,10 @@ fn full_body_round_trip_is_bit_identical() {
     assert_bits_equal(&back, &body);
     assert_eq!(back.modes_t[(0, 0)].to_bits(), (-0.0f64).to_bits());
     // No temporary file is left behind.
-    let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(names.len(), 1, "{names:?}");
 }
 
@@ -110,9 +137,14 @@ fn inconsistent_body_is_rejected_before_writing() {
     let mut body = sample_body(20, 3, 1);
     body.modes_t = Mat::zeros(59, 3);
     match write_body(&path, &body) {
-        Err(BodyFileError::Invalid { object, message, .. }) => {
+        Err(BodyFileError::Invalid {
+            object, message, ..
+        }) => {
             assert_eq!(object, "modes/translation");
-            assert!(message.contains("59 x 3") && message.contains("60 x 3"), "{message}");
+            assert!(
+                message.contains("59 x 3") && message.contains("60 x 3"),
+                "{message}"
+            );
         }
         other => panic!("expected Invalid, got {other:?}"),
     }
@@ -120,10 +152,16 @@ fn inconsistent_body_is_rejected_before_writing() {
     let mut body = sample_body(20, 3, 1);
     body.cells[0].nodes[3] = 20;
     let err = write_body(&path, &body).unwrap_err();
-    assert!(err.to_string().contains("node index 20 out of range"), "{err}");
+    assert!(
+        err.to_string().contains("node index 20 out of range"),
+        "{err}"
+    );
     let mut body = sample_body(20, 3, 1);
     body.labels.pop();
-    assert!(matches!(write_body(&path, &body), Err(BodyFileError::Invalid { .. })));
+    assert!(matches!(
+        write_body(&path, &body),
+        Err(BodyFileError::Invalid { .. })
+    ));
     assert!(!path.exists());
 }
 
@@ -149,7 +187,10 @@ fn large_body_write_read_timing() {
     assert_eq!(back, body);
     // Payload: 2 x 36000 x 50 doubles + nodes; the file must not be much larger than that.
     let payload = (2 * 36_000 * 50 + 12_000 * 5) * 8;
-    assert!(size as f64 / (payload as f64) < 1.05, "file {size} B for payload {payload} B");
+    assert!(
+        size as f64 / (payload as f64) < 1.05,
+        "file {size} B for payload {payload} B"
+    );
     // Generous bound against pathological slowness (measured ~0.1-0.3 s, see docs/decisions-bodyfile.md).
     assert!(tw.as_secs_f64() + tr.as_secs_f64() < 20.0);
 }

@@ -9,7 +9,11 @@ use flexmbs_fe::reduction::Cell;
 use flexmbs_io::vtk::{write_mode_shapes_with, write_vtu_with, ModeShapeOptions, VtuEncoding};
 
 fn mid(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, (a[2] + b[2]) / 2.0]
+    [
+        (a[0] + b[0]) / 2.0,
+        (a[1] + b[1]) / 2.0,
+        (a[2] + b[2]) / 2.0,
+    ]
 }
 
 /// One element of each kind on the box [0,2]x[0,3]x[0,1], nodes in Abaqus order: mid-edge nodes
@@ -17,16 +21,41 @@ fn mid(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// 14:(6,7) 15:(7,8) 16:(8,5) 17:(1,5) 18:(2,6) 19:(3,7) 20:(4,8); C3D10: 5:(1,2) 6:(2,3) 7:(3,1)
 /// 8:(1,4) 9:(2,4) 10:(3,4)), independent of VTK's tables.
 fn reference_elements() -> (Vec<[f64; 3]>, Vec<Cell>) {
-    let c = [[0., 0., 0.], [2., 0., 0.], [2., 3., 0.], [0., 3., 0.], [0., 0., 1.], [2., 0., 1.], [2., 3., 1.], [0., 3., 1.]];
+    let c = [
+        [0., 0., 0.],
+        [2., 0., 0.],
+        [2., 3., 0.],
+        [0., 3., 0.],
+        [0., 0., 1.],
+        [2., 0., 1.],
+        [2., 3., 1.],
+        [0., 3., 1.],
+    ];
     let mut pts = Vec::new();
     let mut cells = Vec::new();
     let mut add = |kind, p: Vec<[f64; 3]>| {
         let base = pts.len();
-        cells.push(Cell { kind, nodes: (base..base + p.len()).collect() });
+        cells.push(Cell {
+            kind,
+            nodes: (base..base + p.len()).collect(),
+        });
         pts.extend(p);
     };
     add(ElementKind::Hex8, c.to_vec());
-    let edges20 = [(1, 2), (2, 3), (3, 4), (4, 1), (5, 6), (6, 7), (7, 8), (8, 5), (1, 5), (2, 6), (3, 7), (4, 8)];
+    let edges20 = [
+        (1, 2),
+        (2, 3),
+        (3, 4),
+        (4, 1),
+        (5, 6),
+        (6, 7),
+        (7, 8),
+        (8, 5),
+        (1, 5),
+        (2, 6),
+        (3, 7),
+        (4, 8),
+    ];
     let mut h20 = c.to_vec();
     h20.extend(edges20.iter().map(|&(a, b)| mid(c[a - 1], c[b - 1])));
     add(ElementKind::Hex20R, h20);
@@ -89,7 +118,9 @@ fn vtk_reads_fields_exactly() {
     let dir = temp_dir("vtk-fields");
     let (pts, cells) = reference_elements();
     let temp: Vec<f64> = (0..pts.len()).map(|i| 0.1 * i as f64 - 1.0).collect();
-    let disp: Vec<f64> = (0..3 * pts.len()).map(|i| (i as f64).sin() * 1e-3).collect();
+    let disp: Vec<f64> = (0..3 * pts.len())
+        .map(|i| (i as f64).sin() * 1e-3)
+        .collect();
     let cid: Vec<f64> = vec![10.0, 20.0, 30.0, 40.0];
     let freq = [1.5, 2.5, 1e6];
     let code = r#"
@@ -101,7 +132,13 @@ t, d, c, f = pd.GetArray('temperature'), pd.GetArray('displacement'), cd.GetArra
 assert t.GetNumberOfComponents() == 1 and d.GetNumberOfComponents() == 3 and d.GetNumberOfTuples() == 40
 print(repr(t.GetRange()), repr(d.GetRange(1)), repr(d.GetComponent(7, 2)), repr(c.GetRange()), [f.GetValue(i) for i in range(f.GetNumberOfTuples())])
 "#;
-    let want_d = disp.iter().skip(1).step_by(3).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+    let want_d = disp
+        .iter()
+        .skip(1)
+        .step_by(3)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
     for enc in [VtuEncoding::Base64, VtuEncoding::Ascii] {
         let path = dir.join(format!("fields_{enc:?}.vtu"));
         write_vtu_with(
@@ -118,7 +155,16 @@ print(repr(t.GetRange()), repr(d.GetRange(1)), repr(d.GetComponent(7, 2)), repr(
         // Python's repr is the shortest round-trip text, as Rust's Display: exact comparison.
         let want = format!(
             "({:?}, {:?}) ({:?}, {:?}) {:?} ({:?}, {:?}) [{:?}, {:?}, {:?}]",
-            temp[0], temp[39], want_d.0, want_d.1, disp[3 * 7 + 2], 10.0, 40.0, freq[0], freq[1], freq[2]
+            temp[0],
+            temp[39],
+            want_d.0,
+            want_d.1,
+            disp[3 * 7 + 2],
+            10.0,
+            40.0,
+            freq[0],
+            freq[1],
+            freq[2]
         );
         assert_eq!(out.trim(), want, "{enc:?}");
     }
@@ -133,7 +179,15 @@ fn mode_shapes_read_by_vtk() {
     }
     let dir = temp_dir("vtk-modes");
     let body = sample_body(24, 3, 17);
-    let files = write_mode_shapes_with(&dir, &body, &ModeShapeOptions { scale: 0.25, frames_per_mode: 8 }).unwrap();
+    let files = write_mode_shapes_with(
+        &dir,
+        &body,
+        &ModeShapeOptions {
+            scale: 0.25,
+            frames_per_mode: 8,
+        },
+    )
+    .unwrap();
     assert_eq!(files.len(), 1 + 3 * 8 + 1);
     let code = r#"
 import sys, os, math, vtk, xml.etree.ElementTree as ET
@@ -167,7 +221,11 @@ assert err < 1e-12, err
 print('ok')
 "#;
     let out = run_python(code, &[dir.to_str().unwrap()]);
-    let want: Vec<String> = body.frequencies_hz.iter().map(|f| format!("{f:?}")).collect();
+    let want: Vec<String> = body
+        .frequencies_hz
+        .iter()
+        .map(|f| format!("{f:?}"))
+        .collect();
     assert_eq!(out.lines().next().unwrap(), want.join(" "));
     assert_eq!(out.lines().nth(1), Some("ok"));
 }

@@ -60,11 +60,19 @@ const KIND_NAMES: [(ElementKind, &str); 6] = [
 ];
 
 fn invalid(path: &Path, object: &str, message: String) -> BodyFileError {
-    BodyFileError::Invalid { path: path.to_path_buf(), object: object.to_string(), message }
+    BodyFileError::Invalid {
+        path: path.to_path_buf(),
+        object: object.to_string(),
+        message,
+    }
 }
 
 fn hdf5_error(path: &Path, object: &str, e: impl std::fmt::Display) -> BodyFileError {
-    BodyFileError::Hdf5 { path: path.to_path_buf(), object: object.to_string(), message: e.to_string() }
+    BodyFileError::Hdf5 {
+        path: path.to_path_buf(),
+        object: object.to_string(),
+        message: e.to_string(),
+    }
 }
 
 /// Consistency of a body: the invariants the file layout and a multibody model rely on.
@@ -73,17 +81,29 @@ pub(crate) fn check_body(path: &Path, b: &ReducedBody) -> Result<(), BodyFileErr
     let nf = b.num_modes();
     let rows = |name: &str, m: &Mat<f64>, r: usize, c: usize| {
         if m.nrows() != r || m.ncols() != c {
-            Err(invalid(path, name, format!("is {} x {}, expected {r} x {c}", m.nrows(), m.ncols())))
+            Err(invalid(
+                path,
+                name,
+                format!("is {} x {}, expected {r} x {c}", m.nrows(), m.ncols()),
+            ))
         } else {
             Ok(())
         }
     };
     if b.node_ids.len() != n {
-        return Err(invalid(path, ds::ID, format!("{} labels for {n} nodes", b.node_ids.len())));
+        return Err(invalid(
+            path,
+            ds::ID,
+            format!("{} labels for {n} nodes", b.node_ids.len()),
+        ));
     }
     if let Some(m) = &b.node_masses {
         if m.len() != n {
-            return Err(invalid(path, ds::MASS, format!("{} masses for {n} nodes", m.len())));
+            return Err(invalid(
+                path,
+                ds::MASS,
+                format!("{} masses for {n} nodes", m.len()),
+            ));
         }
     }
     rows(ds::TRANSLATION, &b.modes_t, 3 * n, nf)?;
@@ -93,23 +113,47 @@ pub(crate) fn check_body(path: &Path, b: &ReducedBody) -> Result<(), BodyFileErr
     rows(ds::STIFFNESS, &b.k_red, nf, nf)?;
     rows(ds::MASS_RED, &b.m_red, nf, nf)?;
     if b.frequencies_hz.len() != nf {
-        return Err(invalid(path, ds::FREQUENCY, format!("{} frequencies for {nf} modes", b.frequencies_hz.len())));
+        return Err(invalid(
+            path,
+            ds::FREQUENCY,
+            format!("{} frequencies for {nf} modes", b.frequencies_hz.len()),
+        ));
     }
     if b.labels.len() != nf {
-        return Err(invalid(path, ds::LABEL_INDEX, format!("{} labels for {nf} modes", b.labels.len())));
+        return Err(invalid(
+            path,
+            ds::LABEL_INDEX,
+            format!("{} labels for {nf} modes", b.labels.len()),
+        ));
     }
-    for (name, set) in [(ds::INTERFACE, &b.interface_nodes), (ds::FIXED, &b.fixed_nodes)] {
+    for (name, set) in [
+        (ds::INTERFACE, &b.interface_nodes),
+        (ds::FIXED, &b.fixed_nodes),
+    ] {
         if let Some(&i) = set.iter().find(|&&i| i >= n) {
-            return Err(invalid(path, name, format!("node index {i} out of range (N = {n})")));
+            return Err(invalid(
+                path,
+                name,
+                format!("node index {i} out of range (N = {n})"),
+            ));
         }
     }
     for (ci, c) in b.cells.iter().enumerate() {
         if c.nodes.len() != c.kind.num_nodes() {
-            let msg = format!("cell {ci} ({:?}) has {} nodes, expected {}", c.kind, c.nodes.len(), c.kind.num_nodes());
+            let msg = format!(
+                "cell {ci} ({:?}) has {} nodes, expected {}",
+                c.kind,
+                c.nodes.len(),
+                c.kind.num_nodes()
+            );
             return Err(invalid(path, ds::CELL_CONNECTIVITY, msg));
         }
         if let Some(&i) = c.nodes.iter().find(|&&i| i >= n) {
-            return Err(invalid(path, ds::CELL_CONNECTIVITY, format!("cell {ci}: node index {i} out of range (N = {n})")));
+            return Err(invalid(
+                path,
+                ds::CELL_CONNECTIVITY,
+                format!("cell {ci}: node index {i} out of range (N = {n})"),
+            ));
         }
     }
     Ok(())
@@ -153,7 +197,8 @@ fn checksummed(b: &mut hdf5_pure::DatasetBuilder, data: &[f64], shape: &[u64]) {
 fn checksummed_u64(b: &mut hdf5_pure::DatasetBuilder, data: &[u64]) {
     b.with_u64_data(data);
     if !data.is_empty() {
-        b.with_chunks(&[(data.len() as u64).min(CHUNK_ROWS * 64)]).with_fletcher32();
+        b.with_chunks(&[(data.len() as u64).min(CHUNK_ROWS * 64)])
+            .with_fletcher32();
     }
 }
 
@@ -177,8 +222,14 @@ pub(crate) fn encode_body(path: &Path, b: &ReducedBody) -> Result<Vec<u8>, BodyF
     fb.set_attr("num_modes", AttrValue::I64(nf as i64));
 
     let mut prov = fb.create_group("provenance");
-    prov.set_attr("source", AttrValue::VarLenString(b.provenance.source.clone()));
-    prov.set_attr("program", AttrValue::VarLenString(b.provenance.program.clone()));
+    prov.set_attr(
+        "source",
+        AttrValue::VarLenString(b.provenance.source.clone()),
+    );
+    prov.set_attr(
+        "program",
+        AttrValue::VarLenString(b.provenance.program.clone()),
+    );
     prov.set_attr("notes", AttrValue::VarLenString(b.provenance.notes.clone()));
     fb.add_group(prov.finish());
 
@@ -189,35 +240,67 @@ pub(crate) fn encode_body(path: &Path, b: &ReducedBody) -> Result<Vec<u8>, BodyF
     if let Some(m) = &b.node_masses {
         checksummed(nodes.create_dataset("mass"), m, &[n]);
     }
-    checksummed_u64(nodes.create_dataset("interface"), &as_u64(&b.interface_nodes));
+    checksummed_u64(
+        nodes.create_dataset("interface"),
+        &as_u64(&b.interface_nodes),
+    );
     checksummed_u64(nodes.create_dataset("fixed"), &as_u64(&b.fixed_nodes));
     fb.add_group(nodes.finish());
 
     let mut modes = fb.create_group("modes");
-    checksummed(modes.create_dataset("translation"), &row_major(&b.modes_t), &[3 * n, nf]);
+    checksummed(
+        modes.create_dataset("translation"),
+        &row_major(&b.modes_t),
+        &[3 * n, nf],
+    );
     if let Some(r) = &b.modes_r {
-        checksummed(modes.create_dataset("rotation"), &row_major(r), &[3 * n, nf]);
+        checksummed(
+            modes.create_dataset("rotation"),
+            &row_major(r),
+            &[3 * n, nf],
+        );
     }
-    checksummed(modes.create_dataset("frequency_hz"), &b.frequencies_hz, &[nf]);
+    checksummed(
+        modes.create_dataset("frequency_hz"),
+        &b.frequencies_hz,
+        &[nf],
+    );
     let idx: Vec<u64> = b.labels.iter().map(|l| l.index as u64).collect();
     checksummed_u64(modes.create_dataset("label_index"), &idx);
     let lf: Vec<f64> = b.labels.iter().map(|l| l.frequency_hz).collect();
     checksummed(modes.create_dataset("label_frequency_hz"), &lf, &[nf]);
     let dom: Vec<&str> = b.labels.iter().map(|l| l.dominant.as_str()).collect();
-    modes.create_dataset("label_dominant").with_vlen_strings(&dom);
-    let emf: Vec<f64> = b.labels.iter().flat_map(|l| l.effective_mass_fraction).collect();
-    checksummed(modes.create_dataset("effective_mass_fraction"), &emf, &[nf, 3]);
+    modes
+        .create_dataset("label_dominant")
+        .with_vlen_strings(&dom);
+    let emf: Vec<f64> = b
+        .labels
+        .iter()
+        .flat_map(|l| l.effective_mass_fraction)
+        .collect();
+    checksummed(
+        modes.create_dataset("effective_mass_fraction"),
+        &emf,
+        &[nf, 3],
+    );
     fb.add_group(modes.finish());
 
     let mut red = fb.create_group("reduced");
-    checksummed(red.create_dataset("stiffness"), &row_major(&b.k_red), &[nf, nf]);
+    checksummed(
+        red.create_dataset("stiffness"),
+        &row_major(&b.k_red),
+        &[nf, nf],
+    );
     checksummed(red.create_dataset("mass"), &row_major(&b.m_red), &[nf, nf]);
     fb.add_group(red.finish());
 
     let mut cells = fb.create_group("cells");
     let codes: Vec<u8> = b.cells.iter().map(|c| kind_code(c.kind)).collect();
     let names: Vec<String> = KIND_NAMES.iter().map(|(_, s)| s.to_string()).collect();
-    cells.create_dataset("kind").with_u8_data(&codes).set_attr("names", AttrValue::VarLenStringArray(names));
+    cells
+        .create_dataset("kind")
+        .with_u8_data(&codes)
+        .set_attr("names", AttrValue::VarLenStringArray(names));
     let mut offsets = Vec::with_capacity(b.cells.len() + 1);
     offsets.push(0u64);
     let mut conn = Vec::new();
@@ -250,15 +333,31 @@ impl Reader<'_> {
 
     fn required(&self, name: &str) -> Result<Dataset, BodyFileError> {
         self.optional(name)?
-            .ok_or_else(|| BodyFileError::MissingDataset { path: self.path.to_path_buf(), dataset: name.to_string() })
+            .ok_or_else(|| BodyFileError::MissingDataset {
+                path: self.path.to_path_buf(),
+                dataset: name.to_string(),
+            })
     }
 
     /// Checks the shape of a dataset against `expected` (`None` = any extent).
-    fn shape(&self, name: &str, d: &Dataset, expected: &[Option<u64>], what: &str) -> Result<Vec<u64>, BodyFileError> {
+    fn shape(
+        &self,
+        name: &str,
+        d: &Dataset,
+        expected: &[Option<u64>],
+        what: &str,
+    ) -> Result<Vec<u64>, BodyFileError> {
         let shape = d.shape().map_err(|e| hdf5_error(self.path, name, e))?;
-        let ok = shape.len() == expected.len() && shape.iter().zip(expected).all(|(s, e)| e.is_none_or(|e| *s == e));
+        let ok = shape.len() == expected.len()
+            && shape
+                .iter()
+                .zip(expected)
+                .all(|(s, e)| e.is_none_or(|e| *s == e));
         if !ok {
-            let exp: Vec<String> = expected.iter().map(|e| e.map_or("*".to_string(), |v| v.to_string())).collect();
+            let exp: Vec<String> = expected
+                .iter()
+                .map(|e| e.map_or("*".to_string(), |v| v.to_string()))
+                .collect();
             return Err(BodyFileError::WrongShape {
                 path: self.path.to_path_buf(),
                 dataset: name.to_string(),
@@ -283,7 +382,13 @@ impl Reader<'_> {
     }
 
     /// A float64 dataset of the given shape, flattened row-major.
-    fn f64s(&self, name: &str, d: &Dataset, expected: &[Option<u64>], what: &str) -> Result<Vec<f64>, BodyFileError> {
+    fn f64s(
+        &self,
+        name: &str,
+        d: &Dataset,
+        expected: &[Option<u64>],
+        what: &str,
+    ) -> Result<Vec<f64>, BodyFileError> {
         self.shape(name, d, expected, what)?;
         match self.dtype(name, d)? {
             DType::F64 => d.read_f64().map_err(|e| hdf5_error(self.path, name, e)),
@@ -292,10 +397,18 @@ impl Reader<'_> {
     }
 
     /// A non-negative integer dataset (any integer width; h5py writes int64 by default).
-    fn u64s(&self, name: &str, d: &Dataset, expected: &[Option<u64>], what: &str) -> Result<Vec<u64>, BodyFileError> {
+    fn u64s(
+        &self,
+        name: &str,
+        d: &Dataset,
+        expected: &[Option<u64>],
+        what: &str,
+    ) -> Result<Vec<u64>, BodyFileError> {
         self.shape(name, d, expected, what)?;
         match self.dtype(name, d)? {
-            DType::U8 | DType::U16 | DType::U32 | DType::U64 => d.read_u64().map_err(|e| hdf5_error(self.path, name, e)),
+            DType::U8 | DType::U16 | DType::U32 | DType::U64 => {
+                d.read_u64().map_err(|e| hdf5_error(self.path, name, e))
+            }
             DType::I8 | DType::I16 | DType::I32 | DType::I64 => {
                 let v = d.read_i64().map_err(|e| hdf5_error(self.path, name, e))?;
                 if let Some(bad) = v.iter().find(|&&x| x < 0) {
@@ -308,22 +421,48 @@ impl Reader<'_> {
     }
 
     /// Indices `< n` as usize.
-    fn indices(&self, name: &str, expected: &[Option<u64>], what: &str, n: usize) -> Result<Vec<usize>, BodyFileError> {
+    fn indices(
+        &self,
+        name: &str,
+        expected: &[Option<u64>],
+        what: &str,
+        n: usize,
+    ) -> Result<Vec<usize>, BodyFileError> {
         let d = self.required(name)?;
         let v = self.u64s(name, &d, expected, what)?;
         if let Some(bad) = v.iter().find(|&&i| i >= n as u64) {
-            return Err(invalid(self.path, name, format!("index {bad} out of range (N = {n})")));
+            return Err(invalid(
+                self.path,
+                name,
+                format!("index {bad} out of range (N = {n})"),
+            ));
         }
         Ok(v.into_iter().map(|i| i as usize).collect())
     }
 
-    fn matrix(&self, name: &str, d: &Dataset, rows: usize, cols: usize, what: &str) -> Result<Mat<f64>, BodyFileError> {
+    fn matrix(
+        &self,
+        name: &str,
+        d: &Dataset,
+        rows: usize,
+        cols: usize,
+        what: &str,
+    ) -> Result<Mat<f64>, BodyFileError> {
         let v = self.f64s(name, d, &[Some(rows as u64), Some(cols as u64)], what)?;
         Ok(Mat::from_fn(rows, cols, |r, c| v[r * cols + c]))
     }
 
-    fn attrs(&self, group: &str) -> Result<std::collections::HashMap<String, AttrValue>, BodyFileError> {
-        let g = if group == "/" { self.file.root() } else { self.file.group(group).map_err(|e| hdf5_error(self.path, group, e))? };
+    fn attrs(
+        &self,
+        group: &str,
+    ) -> Result<std::collections::HashMap<String, AttrValue>, BodyFileError> {
+        let g = if group == "/" {
+            self.file.root()
+        } else {
+            self.file
+                .group(group)
+                .map_err(|e| hdf5_error(self.path, group, e))?
+        };
         g.attrs().map_err(|e| hdf5_error(self.path, group, e))
     }
 
@@ -337,12 +476,27 @@ impl Reader<'_> {
     }
 }
 
-fn attr_str(r: &Reader, a: &std::collections::HashMap<String, AttrValue>, group: &str, name: &str) -> Result<String, BodyFileError> {
-    a.get(name).and_then(|v| v.as_str()).map(str::to_string).ok_or_else(|| r.bad_attr(group, name, "string"))
+fn attr_str(
+    r: &Reader,
+    a: &std::collections::HashMap<String, AttrValue>,
+    group: &str,
+    name: &str,
+) -> Result<String, BodyFileError> {
+    a.get(name)
+        .and_then(|v| v.as_str())
+        .map(str::to_string)
+        .ok_or_else(|| r.bad_attr(group, name, "string"))
 }
 
-fn attr_int(r: &Reader, a: &std::collections::HashMap<String, AttrValue>, group: &str, name: &str) -> Result<i64, BodyFileError> {
-    a.get(name).and_then(|v| v.as_i64()).ok_or_else(|| r.bad_attr(group, name, "integer"))
+fn attr_int(
+    r: &Reader,
+    a: &std::collections::HashMap<String, AttrValue>,
+    group: &str,
+    name: &str,
+) -> Result<i64, BodyFileError> {
+    a.get(name)
+        .and_then(|v| v.as_i64())
+        .ok_or_else(|| r.bad_attr(group, name, "integer"))
 }
 
 /// Parses the bytes of a reduced-body file.
@@ -367,7 +521,11 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, Bo
     }
     let version = attr_int(&r, &root, "/", "format_version")?;
     if version != FORMAT_VERSION {
-        return Err(BodyFileError::UnsupportedVersion { path: path.to_path_buf(), found: version, supported: FORMAT_VERSION });
+        return Err(BodyFileError::UnsupportedVersion {
+            path: path.to_path_buf(),
+            found: version,
+            supported: FORMAT_VERSION,
+        });
     }
     let name = attr_str(&r, &root, "/", "name")?;
     let units = match attr_str(&r, &root, "/", "units")?.as_str() {
@@ -380,7 +538,8 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, Bo
         "free_free" => ReductionKind::FreeFree,
         "craig_bampton" => {
             let m = attr_int(&r, &root, "/", "internal_modes")?;
-            let internal_modes = usize::try_from(m).map_err(|_| r.bad_attr("/", "internal_modes", "integer >= 0"))?;
+            let internal_modes = usize::try_from(m)
+                .map_err(|_| r.bad_attr("/", "internal_modes", "integer >= 0"))?;
             ReductionKind::CraigBampton { internal_modes }
         }
         _ => return Err(r.bad_attr("/", "reduction", "'modal', 'free_free' or 'craig_bampton'")),
@@ -409,7 +568,12 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, Bo
 
     // Modes: N_f is fixed by modes/translation.
     let d = r.required(ds::TRANSLATION)?;
-    let shape = r.shape(ds::TRANSLATION, &d, &[Some(3 * n as u64), None], &format!("[3 N, N_f] = [{}, *]", 3 * n))?;
+    let shape = r.shape(
+        ds::TRANSLATION,
+        &d,
+        &[Some(3 * n as u64), None],
+        &format!("[3 N, N_f] = [{}, *]", 3 * n),
+    )?;
     let nf = shape[1] as usize;
     let mn = format!("[3 N, N_f] = [{}, {nf}]", 3 * n);
     let modes_t = r.matrix(ds::TRANSLATION, &d, 3 * n, nf, &mn)?;
@@ -421,12 +585,24 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, Bo
     let w1 = format!("[N_f] = [{nf}]");
     let frequencies_hz = r.f64s(ds::FREQUENCY, &r.required(ds::FREQUENCY)?, &f1, &w1)?;
     let index = r.u64s(ds::LABEL_INDEX, &r.required(ds::LABEL_INDEX)?, &f1, &w1)?;
-    let lf = r.f64s(ds::LABEL_FREQUENCY, &r.required(ds::LABEL_FREQUENCY)?, &f1, &w1)?;
+    let lf = r.f64s(
+        ds::LABEL_FREQUENCY,
+        &r.required(ds::LABEL_FREQUENCY)?,
+        &f1,
+        &w1,
+    )?;
     let d = r.required(ds::LABEL_DOMINANT)?;
     r.shape(ds::LABEL_DOMINANT, &d, &f1, &w1)?;
-    let dominant = d.read_string().map_err(|e| hdf5_error(path, ds::LABEL_DOMINANT, e))?;
+    let dominant = d
+        .read_string()
+        .map_err(|e| hdf5_error(path, ds::LABEL_DOMINANT, e))?;
     let d = r.required(ds::EFFECTIVE_MASS)?;
-    let emf = r.f64s(ds::EFFECTIVE_MASS, &d, &[Some(nf as u64), Some(3)], &format!("[N_f, 3] = [{nf}, 3]"))?;
+    let emf = r.f64s(
+        ds::EFFECTIVE_MASS,
+        &d,
+        &[Some(nf as u64), Some(3)],
+        &format!("[N_f, 3] = [{nf}, 3]"),
+    )?;
     let labels = (0..nf)
         .map(|k| ModeLabel {
             index: index[k] as usize,
@@ -467,24 +643,44 @@ fn read_cells(r: &Reader, n: usize) -> Result<Vec<Cell>, BodyFileError> {
     let d = r.required(ds::CELL_KIND)?;
     let codes = r.u64s(ds::CELL_KIND, &d, &[None], "[N_c]")?;
     let nc = codes.len();
-    let offsets = r.indices(ds::CELL_OFFSETS, &[Some(nc as u64 + 1)], &format!("[N_c + 1] = [{}]", nc + 1), usize::MAX)?;
+    let offsets = r.indices(
+        ds::CELL_OFFSETS,
+        &[Some(nc as u64 + 1)],
+        &format!("[N_c + 1] = [{}]", nc + 1),
+        usize::MAX,
+    )?;
     let conn = r.indices(ds::CELL_CONNECTIVITY, &[None], "[*]", n)?;
     // The attribute `names` maps codes to kinds; the writer's table is the default.
-    let attrs = d.attrs().map_err(|e| hdf5_error(r.path, ds::CELL_KIND, e))?;
+    let attrs = d
+        .attrs()
+        .map_err(|e| hdf5_error(r.path, ds::CELL_KIND, e))?;
     let names: Vec<String> = match attrs.get("names") {
-        Some(v) => v.as_strings().ok_or_else(|| r.bad_attr(ds::CELL_KIND, "names", "string array"))?.to_vec(),
+        Some(v) => v
+            .as_strings()
+            .ok_or_else(|| r.bad_attr(ds::CELL_KIND, "names", "string array"))?
+            .to_vec(),
         None => KIND_NAMES.iter().map(|(_, s)| s.to_string()).collect(),
     };
     let mut table = Vec::with_capacity(names.len());
     for name in &names {
         let kind = KIND_NAMES.iter().find(|(_, s)| s == name).map(|(k, _)| *k);
-        table.push(kind.ok_or_else(|| invalid(r.path, ds::CELL_KIND, format!("unknown element kind name '{name}'")))?);
+        table.push(kind.ok_or_else(|| {
+            invalid(
+                r.path,
+                ds::CELL_KIND,
+                format!("unknown element kind name '{name}'"),
+            )
+        })?);
     }
     let mut cells = Vec::with_capacity(nc);
     for (ci, &code) in codes.iter().enumerate() {
-        let kind = *table
-            .get(code as usize)
-            .ok_or_else(|| invalid(r.path, ds::CELL_KIND, format!("cell {ci}: kind code {code} not in {names:?}")))?;
+        let kind = *table.get(code as usize).ok_or_else(|| {
+            invalid(
+                r.path,
+                ds::CELL_KIND,
+                format!("cell {ci}: kind code {code} not in {names:?}"),
+            )
+        })?;
         let (a, b) = (offsets[ci], offsets[ci + 1]);
         if a > b || b > conn.len() {
             return Err(invalid(
@@ -493,10 +689,18 @@ fn read_cells(r: &Reader, n: usize) -> Result<Vec<Cell>, BodyFileError> {
                 format!("cell {ci}: offsets {a}..{b} not increasing within the connectivity of length {}", conn.len()),
             ));
         }
-        cells.push(Cell { kind, nodes: conn[a..b].to_vec() });
+        cells.push(Cell {
+            kind,
+            nodes: conn[a..b].to_vec(),
+        });
     }
-    if offsets.first().is_some_and(|&o| o != 0) || offsets.last().is_some_and(|&o| o != conn.len()) {
-        return Err(invalid(r.path, ds::CELL_OFFSETS, format!("must start at 0 and end at {}", conn.len())));
+    if offsets.first().is_some_and(|&o| o != 0) || offsets.last().is_some_and(|&o| o != conn.len())
+    {
+        return Err(invalid(
+            r.path,
+            ds::CELL_OFFSETS,
+            format!("must start at 0 and end at {}", conn.len()),
+        ));
     }
     Ok(cells)
 }

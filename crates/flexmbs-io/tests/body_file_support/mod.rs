@@ -30,30 +30,66 @@ impl Rng {
 pub fn sample_body(n: usize, nf: usize, seed: u64) -> ReducedBody {
     assert!(n >= 20);
     let mut rng = Rng::new(seed);
-    let nodes: Vec<[f64; 3]> = (0..n).map(|_| [rng.next(), rng.next() * 1e3, rng.next() * 1e-3]).collect();
+    let nodes: Vec<[f64; 3]> = (0..n)
+        .map(|_| [rng.next(), rng.next() * 1e3, rng.next() * 1e-3])
+        .collect();
     let node_ids: Vec<u64> = (0..n as u64).map(|i| 1000 + 7 * i).collect();
     let masses: Vec<f64> = (0..n).map(|_| rng.next().abs() + 1e-9).collect();
     let modes_t = Mat::from_fn(3 * n, nf, |_, _| rng.next());
-    let modes_r = Mat::from_fn(3 * n, nf, |i, _| if i % 3 == 0 { 0.0 } else { rng.next() * 1e-2 });
-    let k_red = Mat::from_fn(nf, nf, |i, j| if i == j { 1e6 * (i + 1) as f64 } else { rng.next() });
+    let modes_r = Mat::from_fn(
+        3 * n,
+        nf,
+        |i, _| if i % 3 == 0 { 0.0 } else { rng.next() * 1e-2 },
+    );
+    let k_red = Mat::from_fn(nf, nf, |i, j| {
+        if i == j {
+            1e6 * (i + 1) as f64
+        } else {
+            rng.next()
+        }
+    });
     let m_red = Mat::from_fn(nf, nf, |i, j| if i == j { 1.0 } else { 1e-3 * rng.next() });
-    let frequencies_hz: Vec<f64> = (0..nf).map(|k| 10.0 * (k + 1) as f64 + rng.next()).collect();
+    let frequencies_hz: Vec<f64> = (0..nf)
+        .map(|k| 10.0 * (k + 1) as f64 + rng.next())
+        .collect();
     let dominant = ["ux", "uy", "uz", "rx", "ry", "rz"];
     let labels = (0..nf)
         .map(|k| ModeLabel {
             index: k + 1,
             frequency_hz: frequencies_hz[k],
             dominant: dominant[k % 6].to_string(),
-            effective_mass_fraction: [rng.next().abs() / nf as f64, rng.next().abs() / nf as f64, 0.0],
+            effective_mass_fraction: [
+                rng.next().abs() / nf as f64,
+                rng.next().abs() / nf as f64,
+                0.0,
+            ],
         })
         .collect();
     let cells = vec![
-        Cell { kind: ElementKind::Hex8, nodes: (0..8).collect() },
-        Cell { kind: ElementKind::Hex8I, nodes: (1..9).collect() },
-        Cell { kind: ElementKind::Hex20, nodes: (0..20).collect() },
-        Cell { kind: ElementKind::Hex20R, nodes: (0..20).rev().collect() },
-        Cell { kind: ElementKind::Tet10, nodes: (5..15).collect() },
-        Cell { kind: ElementKind::Beam2, nodes: vec![n - 2, n - 1] },
+        Cell {
+            kind: ElementKind::Hex8,
+            nodes: (0..8).collect(),
+        },
+        Cell {
+            kind: ElementKind::Hex8I,
+            nodes: (1..9).collect(),
+        },
+        Cell {
+            kind: ElementKind::Hex20,
+            nodes: (0..20).collect(),
+        },
+        Cell {
+            kind: ElementKind::Hex20R,
+            nodes: (0..20).rev().collect(),
+        },
+        Cell {
+            kind: ElementKind::Tet10,
+            nodes: (5..15).collect(),
+        },
+        Cell {
+            kind: ElementKind::Beam2,
+            nodes: vec![n - 2, n - 1],
+        },
     ];
     ReducedBody {
         name: "crank arm".into(),
@@ -69,7 +105,9 @@ pub fn sample_body(n: usize, nf: usize, seed: u64) -> ReducedBody {
         labels,
         interface_nodes: vec![0, 3, n - 1],
         fixed_nodes: vec![2],
-        kind: ReductionKind::CraigBampton { internal_modes: nf.saturating_sub(18) },
+        kind: ReductionKind::CraigBampton {
+            internal_modes: nf.saturating_sub(18),
+        },
         cells,
         provenance: Provenance {
             source: "built-in beam 1 m x 20 mm".into(),
@@ -89,14 +127,21 @@ pub fn temp_dir(tag: &str) -> PathBuf {
 
 /// Whether `python3` can import all `modules`; prints the reason when not.
 pub fn python_has(modules: &[&str], test: &str) -> bool {
-    let code = modules.iter().map(|m| format!("import {m}")).collect::<Vec<_>>().join("; ");
+    let code = modules
+        .iter()
+        .map(|m| format!("import {m}"))
+        .collect::<Vec<_>>()
+        .join("; ");
     match Command::new("python3").args(["-c", &code]).output() {
         Ok(o) if o.status.success() => true,
         Ok(o) => {
             eprintln!(
                 "SKIPPED {test}: python3 cannot import {modules:?} (pip install {}): {}",
                 modules.join(" "),
-                String::from_utf8_lossy(&o.stderr).lines().last().unwrap_or("")
+                String::from_utf8_lossy(&o.stderr)
+                    .lines()
+                    .last()
+                    .unwrap_or("")
             );
             false
         }
@@ -109,7 +154,12 @@ pub fn python_has(modules: &[&str], test: &str) -> bool {
 
 /// Runs `python3 -c code args...` and returns stdout; panics with stderr if it fails.
 pub fn run_python(code: &str, args: &[&str]) -> String {
-    let out = Command::new("python3").arg("-c").arg(code).args(args).output().expect("python3 runs");
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(code)
+        .args(args)
+        .output()
+        .expect("python3 runs");
     assert!(
         out.status.success(),
         "python failed:\n--- stdout\n{}\n--- stderr\n{}",
