@@ -227,6 +227,9 @@ pub struct ModeShapeOptions {
     pub scale: f64,
     /// Frames per mode of the animation (one period of a sine); 0 writes no animation.
     pub frames_per_mode: usize,
+    /// Number of leading modes animated (each frame is a full mesh: about 1 MB per frame at
+    /// 12000 nodes, so all 50 modes x 24 frames would be 1.2 GB).
+    pub animated_modes: usize,
 }
 
 /// A visible default for [`ModeShapeOptions::scale`]: 10 % of the diagonal of the bounding box.
@@ -247,20 +250,19 @@ pub fn default_mode_scale(body: &ReducedBody) -> f64 {
     }
 }
 
-/// Mode shapes for ParaView with 24 animation frames per mode; see [`write_mode_shapes_with`].
+/// Mode shapes for ParaView: `modes.vtu` with all modes and an animation of the first 10 modes
+/// with 24 frames each; see [`write_mode_shapes_with`].
 pub fn write_mode_shapes(
     dir: &Path,
     body: &ReducedBody,
     scale: f64,
 ) -> Result<Vec<PathBuf>, VtkError> {
-    write_mode_shapes_with(
-        dir,
-        body,
-        &ModeShapeOptions {
-            scale,
-            frames_per_mode: 24,
-        },
-    )
+    let opts = ModeShapeOptions {
+        scale,
+        frames_per_mode: 24,
+        animated_modes: 10,
+    };
+    write_mode_shapes_with(dir, body, &opts)
 }
 
 /// Writes the mode shapes of `body` into `dir` (created if needed) and returns the files written:
@@ -269,8 +271,8 @@ pub fn write_mode_shapes(
 ///   basis vector (translation, scaled to a peak of `scale`), `node_id`, `mass` (if present), and
 ///   field data `frequency_hz` and `mode_scale_factor` (the factor applied to the stored shape).
 ///   In ParaView: colour by a `mode_k`, apply *Warp By Vector* with it (factor 1 = `scale`).
-/// - `modes_animation.pvd` with `frames/mode_KK_FFF.vtu` (if `frames_per_mode > 0`): each mode
-///   animated over one period, deformed points `x0 + sin(2 pi j / F) u_k` and the point field
+/// - `modes_animation.pvd` with `frames/mode_KK_FFF.vtu` (if `frames_per_mode > 0`): each of the
+///   first `animated_modes` modes animated over one period, deformed points `x0 + sin(2 pi j / F) u_k` and the point field
 ///   `displacement`; the time value of frame `j` of mode `k` is `k - 1 + j / F`, so mode `k`
 ///   plays between times `k - 1` and `k`.
 pub fn write_mode_shapes_with(
@@ -333,7 +335,7 @@ pub fn write_mode_shapes_with(
     written.push(path);
 
     let frames = opts.frames_per_mode;
-    if frames == 0 || nf == 0 {
+    if frames == 0 || nf == 0 || opts.animated_modes == 0 {
         return Ok(written);
     }
     let fdir = dir.join("frames");
@@ -342,7 +344,7 @@ pub fn write_mode_shapes_with(
         source,
     })?;
     let mut entries = Vec::with_capacity(nf * frames);
-    for (k, shape) in shapes.iter().enumerate() {
+    for (k, shape) in shapes.iter().enumerate().take(opts.animated_modes) {
         for j in 0..frames {
             let phase = (2.0 * std::f64::consts::PI * j as f64 / frames as f64).sin();
             let u: Vec<f64> = shape.iter().map(|v| phase * v).collect();
