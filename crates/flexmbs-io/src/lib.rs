@@ -7,3 +7,5 @@ pub mod model;
 pub mod pipeline;
 pub mod plot;
 pub mod report;
+pub mod body_file;
+pub mod vtk;

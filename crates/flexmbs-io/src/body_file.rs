@@ -1,0 +1,189 @@
+//! The versioned reduced-body file: one HDF5 file per [`ReducedBody`].
+//!
+//! The file is written and read with the pure-Rust `hdf5-pure` crate (no libhdf5 is linked) and
+//! is an ordinary HDF5 file that `h5py`, `h5dump` and any other HDF5 tool can open. The layout
+//! (groups, datasets, shapes, attributes) is documented in `docs/formats/reduced-body.md`; its
+//! version is the root attribute `format_version` ([`FORMAT_VERSION`]).
+//!
+//! Reading validates everything a multibody model relies on (shapes consistent with the node and
+//! mode counts, indices in range, cell node counts matching their kinds) and reports the first
+//! problem as a [`BodyFileError`] naming the file and the dataset; it never panics, also not on a
+//! truncated or corrupted file.
+
+mod h5;
+
+use flexmbs_fe::reduction::ReducedBody;
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// Value of the root attribute `format` that marks a flexmbs reduced-body file.
+pub const FORMAT_NAME: &str = "flexmbs.reduced_body";
+
+/// Version of the on-disk layout written by [`write_body`]; [`read_body`] reads this version.
+pub const FORMAT_VERSION: i64 = 1;
+
+/// Recommended file name extension of a reduced-body file.
+pub const FILE_EXTENSION: &str = "fmb.h5";
+
+/// Errors of writing or reading a reduced-body file. Every variant names the file.
+#[derive(Debug, Error)]
+pub enum BodyFileError {
+    /// The file could not be read or written at the operating-system level.
+    #[error("{path}: {source}")]
+    Io {
+        /// File concerned.
+        path: PathBuf,
+        /// Underlying error.
+        source: std::io::Error,
+    },
+    /// The HDF5 layer rejected the file (not HDF5, truncated, corrupted) or an object in it.
+    #[error("{path}: HDF5 error at '{object}': {message}")]
+    Hdf5 {
+        /// File concerned.
+        path: PathBuf,
+        /// HDF5 object (dataset, group, attribute or `/` for the file) being accessed.
+        object: String,
+        /// Message of the HDF5 layer.
+        message: String,
+    },
+    /// The file is HDF5 but not a flexmbs reduced-body file (the root attribute `format` is
+    /// missing or different).
+    #[error("{path}: not a flexmbs reduced-body file ({reason})")]
+    NotABodyFile {
+        /// File concerned.
+        path: PathBuf,
+        /// What was found instead.
+        reason: String,
+    },
+    /// The file was written with a layout version this program does not read.
+    #[error("{path}: unsupported format_version {found} (this program reads version {supported})")]
+    UnsupportedVersion {
+        /// File concerned.
+        path: PathBuf,
+        /// Version found in the file.
+        found: i64,
+        /// Version this program reads.
+        supported: i64,
+    },
+    /// A required dataset is missing.
+    #[error("{path}: missing dataset '{dataset}'")]
+    MissingDataset {
+        /// File concerned.
+        path: PathBuf,
+        /// Full dataset path inside the file.
+        dataset: String,
+    },
+    /// A required attribute is missing or has the wrong type.
+    #[error("{path}: missing or ill-typed attribute '{attribute}' ({expected} expected)")]
+    BadAttribute {
+        /// File concerned.
+        path: PathBuf,
+        /// Object path and attribute name, e.g. `/@units`.
+        attribute: String,
+        /// Expected type or value.
+        expected: String,
+    },
+    /// A dataset has a shape inconsistent with the rest of the body.
+    #[error("{path}: dataset '{dataset}' has shape {found:?}, expected {expected}")]
+    WrongShape {
+        /// File concerned.
+        path: PathBuf,
+        /// Full dataset path inside the file.
+        dataset: String,
+        /// Expected shape, e.g. `[N, 3] = [12, 3]`.
+        expected: String,
+        /// Shape found.
+        found: Vec<u64>,
+    },
+    /// A dataset has an element type that cannot hold its data without loss.
+    #[error("{path}: dataset '{dataset}' has element type {found}, expected {expected}")]
+    WrongType {
+        /// File concerned.
+        path: PathBuf,
+        /// Full dataset path inside the file.
+        dataset: String,
+        /// Expected element type.
+        expected: String,
+        /// Element type found.
+        found: String,
+    },
+    /// The data are inconsistent (index out of range, unknown element kind, inconsistent body
+    /// handed to the writer).
+    #[error("{path}: invalid data in '{object}': {message}")]
+    Invalid {
+        /// File concerned.
+        path: PathBuf,
+        /// Dataset, attribute or body field concerned.
+        object: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Writes `body` to the reduced-body file `path` (HDF5, layout version [`FORMAT_VERSION`]).
+///
+/// The body is checked for consistency first (mode shape rows `3 N`, square reduced matrices of
+/// size `N_f`, one frequency and one label per mode, indices in range); an inconsistent body is
+/// an [`BodyFileError::Invalid`] and nothing is written. The file is written to a temporary
+/// sibling and renamed, so an existing file is replaced only by a complete one.
+pub fn write_body(path: &Path, body: &ReducedBody) -> Result<(), BodyFileError> {
+    h5::check_body(path, body)?;
+    let bytes = h5::encode_body(path, body)?;
+    let tmp = temporary_sibling(path);
+    std::fs::write(&tmp, &bytes).map_err(|source| BodyFileError::Io {
+        path: tmp.clone(),
+        source,
+    })?;
+    std::fs::rename(&tmp, path).map_err(|source| {
+        let _ = std::fs::remove_file(&tmp);
+        BodyFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
+}
+
+/// Reads a reduced-body file written by [`write_body`] (or by any HDF5 writer following the
+/// documented layout, e.g. h5py).
+pub fn read_body(path: &Path) -> Result<ReducedBody, BodyFileError> {
+    let bytes = std::fs::read(path).map_err(|source| BodyFileError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    decode_body(path, bytes)
+}
+
+/// Decodes the bytes of a reduced-body file; `path` only labels errors.
+///
+/// The HDF5 layer is trusted not to panic on malformed input, but a panic inside it would be a
+/// bug there, not a property of the file: it is caught and reported as [`BodyFileError::Hdf5`]
+/// so that a damaged file can never bring down a simulation.
+pub fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, BodyFileError> {
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        h5::decode_body(path, bytes)
+    }));
+    match outcome {
+        Ok(result) => result,
+        Err(payload) => {
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_string());
+            Err(BodyFileError::Hdf5 {
+                path: path.to_path_buf(),
+                object: "/".into(),
+                message: format!("corrupted file (HDF5 decoder panicked: {message})"),
+            })
+        }
+    }
+}
+
+/// `dir/.name.tmp-<pid>`: a temporary file next to `path` (same file system, so rename is atomic).
+fn temporary_sibling(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "body".into());
+    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+}

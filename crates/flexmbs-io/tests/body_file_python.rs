@@ -1,0 +1,206 @@
+//! Interoperability of the reduced-body file with the reference HDF5 library: h5py (libhdf5)
+//! reads what we write, and we read what h5py writes. Skipped with a printed reason when python3,
+//! h5py or numpy are missing (CI: `pip install h5py numpy`). `h5dump` (Debian `hdf5-tools`) is
+//! checked when installed.
+
+mod body_file_support;
+
+use body_file_support::{python_has, run_python, sample_body, temp_dir};
+use flexmbs_fe::reduction::ReductionKind;
+use flexmbs_fe::UnitSystem;
+use flexmbs_io::body_file::{read_body, write_body, BodyFileError};
+use std::process::Command;
+
+/// h5py opens the file, sees the documented layout, shapes, attributes and exact values.
+#[test]
+fn h5py_reads_written_file() {
+    if !python_has(&["h5py", "numpy"], "h5py_reads_written_file") {
+        return;
+    }
+    let dir = temp_dir("py-read");
+    let body = sample_body(30, 5, 11);
+    let path = dir.join("arm.fmb.h5");
+    write_body(&path, &body).unwrap();
+    let code = r#"
+import sys, h5py, numpy as np
+f = h5py.File(sys.argv[1], 'r')
+a = f.attrs
+assert a['format'] == 'flexmbs.reduced_body', a['format']
+assert int(a['format_version']) == 1
+assert a['units'] == 'SI(mm)' and a['name'] == 'crank arm' and a['reduction'] == 'craig_bampton'
+assert f['provenance'].attrs['notes'].endswith('(µm mesh)')
+t = f['modes/translation']
+assert t.dtype == np.float64 and t.shape == (90, 5), (t.dtype, t.shape)
+assert f['modes/rotation'].shape == (90, 5)
+assert f['nodes/position'].shape == (30, 3) and f['nodes/id'].dtype == np.uint64
+assert f['reduced/stiffness'].shape == (5, 5) and f['reduced/mass'].shape == (5, 5)
+assert f['modes/effective_mass_fraction'].shape == (5, 3)
+dom = [s.decode() if isinstance(s, bytes) else s for s in f['modes/label_dominant'][()]]
+assert dom == ['ux', 'uy', 'uz', 'rx', 'ry'], dom
+names = list(f['cells/kind'].attrs['names'])
+kinds = [names[k] for k in f['cells/kind'][()]]
+assert kinds == ['Hex8', 'Hex8I', 'Hex20', 'Hex20R', 'Tet10', 'Beam2'], kinds
+off = f['cells/offsets'][()]
+assert list(off) == [0, 8, 16, 36, 56, 66, 68], off
+# Node 7, y translation (row 3*7+1) of mode 3 (column 2): exact bits.
+bits = lambda x: int(np.float64(x).view(np.uint64))
+print(bits(t[3*7+1, 2]), bits(f['nodes/position'][4, 1]), bits(f['reduced/stiffness'][1, 0]),
+      int(f['nodes/id'][29]), f['nodes/fixed'][()].tolist(), f['nodes/interface'][()].tolist())
+"#;
+    let out = run_python(code, &[path.to_str().unwrap()]);
+    let v: Vec<&str> = out.split_whitespace().collect();
+    assert_eq!(
+        v[0].parse::<u64>().unwrap(),
+        body.modes_t[(3 * 7 + 1, 2)].to_bits()
+    );
+    assert_eq!(v[1].parse::<u64>().unwrap(), body.nodes[4][1].to_bits());
+    assert_eq!(v[2].parse::<u64>().unwrap(), body.k_red[(1, 0)].to_bits());
+    assert_eq!(v[3].parse::<u64>().unwrap(), body.node_ids[29]);
+    assert_eq!(out.split_once('[').unwrap().1.trim(), "2] [0, 3, 29]");
+}
+
+/// libhdf5 rewrites every object of our file (h5py `copy`, which goes through H5Ocopy and writes
+/// its own object headers and heaps); our reader gets back exactly the same body.
+#[test]
+fn file_rewritten_by_h5py_reads_back_identically() {
+    if !python_has(
+        &["h5py", "numpy"],
+        "file_rewritten_by_h5py_reads_back_identically",
+    ) {
+        return;
+    }
+    let dir = temp_dir("py-copy");
+    let body = sample_body(50, 6, 21);
+    let src = dir.join("src.fmb.h5");
+    let dst = dir.join("dst.fmb.h5");
+    write_body(&src, &body).unwrap();
+    let code = r#"
+import sys, h5py
+with h5py.File(sys.argv[1], 'r') as a, h5py.File(sys.argv[2], 'w') as b:
+    for k in a:
+        a.copy(k, b)
+    for k, v in a.attrs.items():
+        b.attrs[k] = v
+"#;
+    run_python(code, &[src.to_str().unwrap(), dst.to_str().unwrap()]);
+    assert_ne!(std::fs::read(&src).unwrap(), std::fs::read(&dst).unwrap());
+    assert_eq!(read_body(&dst).unwrap(), body);
+}
+
+/// A body written from scratch by a Python user with plain NumPy types (int64 indices, Python
+/// str attributes) following docs/formats/reduced-body.md is read correctly.
+#[test]
+fn reads_file_written_from_scratch_by_h5py() {
+    if !python_has(
+        &["h5py", "numpy"],
+        "reads_file_written_from_scratch_by_h5py",
+    ) {
+        return;
+    }
+    let dir = temp_dir("py-write");
+    let path = dir.join("py.fmb.h5");
+    let code = r#"
+import sys, h5py, numpy as np
+n, nf = 4, 2
+with h5py.File(sys.argv[1], 'w') as f:
+    f.attrs.update(format='flexmbs.reduced_body', format_version=1, name='plate', units='SI',
+                   reduction='modal', internal_modes=0)
+    p = f.create_group('provenance'); p.attrs.update(source='python', program='h5py', notes='')
+    f['nodes/position'] = np.arange(12, dtype=float).reshape(n, 3) / 10
+    f['nodes/id'] = np.array([10, 20, 30, 40])            # int64
+    f['nodes/interface'] = np.zeros(0, dtype=np.int64)
+    f['nodes/fixed'] = np.array([0])
+    f['modes/translation'] = np.arange(3*n*nf, dtype=float).reshape(3*n, nf)
+    f['modes/frequency_hz'] = [12.5, 40.0]
+    f['modes/label_index'] = [1, 2]
+    f['modes/label_frequency_hz'] = [12.5, 40.0]
+    f['modes/label_dominant'] = ['uz', 'rx']
+    f['modes/effective_mass_fraction'] = np.array([[0.0, 0.0, 0.6], [0.1, 0.0, 0.0]])
+    f['reduced/stiffness'] = np.diag((2*np.pi*np.array([12.5, 40.0]))**2)
+    f['reduced/mass'] = np.eye(2)
+    f['cells/kind'] = np.array([0], dtype=np.uint8)
+    f['cells/kind'].attrs['names'] = ['Hex8']
+    f['cells/offsets'] = [0, 8]
+    f['cells/connectivity'] = [0, 1, 2, 3, 0, 1, 2, 3]
+"#;
+    run_python(code, &[path.to_str().unwrap()]);
+    let b = read_body(&path).unwrap();
+    assert_eq!(b.name, "plate");
+    assert_eq!(b.units, UnitSystem::Si);
+    assert_eq!(b.kind, ReductionKind::Modal);
+    assert_eq!(b.node_ids, vec![10, 20, 30, 40]);
+    assert_eq!(b.nodes[3], [0.9, 1.0, 1.1]);
+    assert_eq!(b.fixed_nodes, vec![0]);
+    assert!(b.interface_nodes.is_empty() && b.node_masses.is_none() && b.modes_r.is_none());
+    assert_eq!((b.modes_t.nrows(), b.modes_t.ncols()), (12, 2));
+    assert_eq!(b.modes_t[(5, 1)], 11.0); // row-major arange: row 5, col 1 = 5*2+1
+    let w = 2.0 * std::f64::consts::PI * 40.0;
+    assert_eq!(b.k_red[(1, 1)], w * w);
+    assert_eq!(b.k_red[(0, 1)], 0.0);
+    assert_eq!(b.labels[1].dominant, "rx");
+    assert_eq!(b.labels[0].effective_mass_fraction, [0.0, 0.0, 0.6]);
+    assert_eq!(b.cells.len(), 1);
+    assert_eq!(b.cells[0].nodes, vec![0, 1, 2, 3, 0, 1, 2, 3]);
+
+    // The same file with a float32 mode matrix is refused with a located type error.
+    let code32 = r#"
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1], 'a') as f:
+    t = f['modes/translation'][()]
+    del f['modes/translation']
+    f['modes/translation'] = t.astype(np.float32)
+"#;
+    run_python(code32, &[path.to_str().unwrap()]);
+    match read_body(&path) {
+        Err(BodyFileError::WrongType {
+            dataset, expected, ..
+        }) => {
+            assert_eq!(dataset, "modes/translation");
+            assert_eq!(expected, "f64");
+        }
+        other => panic!("expected WrongType, got {other:?}"),
+    }
+}
+
+/// The reference command-line tools list and dump the file without complaint.
+#[test]
+fn h5dump_and_h5ls_read_written_file() {
+    let dir = temp_dir("h5dump");
+    let body = sample_body(20, 2, 5);
+    let path = dir.join("arm.fmb.h5");
+    write_body(&path, &body).unwrap();
+    let out = match Command::new("h5dump").arg(&path).output() {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("SKIPPED h5dump_and_h5ls_read_written_file: h5dump not runnable ({e}); apt-get install hdf5-tools");
+            return;
+        }
+    };
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "h5dump failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "h5dump warnings: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for needle in [
+        "DATASET \"translation\"",
+        "DATASPACE  SIMPLE { ( 60, 2 ) / ( 60, 2 ) }",
+        "\"flexmbs.reduced_body\"",
+        "H5T_STD_U64LE",
+    ] {
+        assert!(text.contains(needle), "h5dump output lacks {needle:?}");
+    }
+    let ls = Command::new("h5ls").arg("-r").arg(&path).output().unwrap();
+    assert!(ls.status.success());
+    let ls = String::from_utf8_lossy(&ls.stdout);
+    let line = ls
+        .lines()
+        .find(|l| l.starts_with("/modes/translation "))
+        .unwrap_or("");
+    assert!(line.ends_with("Dataset {60, 2}"), "{ls}");
+}

@@ -1,0 +1,170 @@
+//! Shared helpers of the reduced-body file tests: a deterministic sample body and a Python runner.
+#![allow(dead_code)]
+
+use faer::Mat;
+use flexmbs_fe::mesh::ElementKind;
+use flexmbs_fe::reduction::{Cell, ModeLabel, Provenance, ReducedBody, ReductionKind};
+use flexmbs_fe::UnitSystem;
+use std::path::PathBuf;
+use std::process::Command;
+
+/// Deterministic pseudo-random numbers in [-1, 1) with full 52-bit mantissas (xorshift64*), so a
+/// lossy path (f32, text) would be caught by a bit comparison.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.max(1))
+    }
+    pub fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let r = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        (r >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// A Craig-Bampton-like body with `n` nodes and `nf` modes, node masses, rotations, every cell
+/// kind, interface and fixed nodes, and a non-ASCII provenance note.
+pub fn sample_body(n: usize, nf: usize, seed: u64) -> ReducedBody {
+    assert!(n >= 20);
+    let mut rng = Rng::new(seed);
+    let nodes: Vec<[f64; 3]> = (0..n)
+        .map(|_| [rng.next(), rng.next() * 1e3, rng.next() * 1e-3])
+        .collect();
+    let node_ids: Vec<u64> = (0..n as u64).map(|i| 1000 + 7 * i).collect();
+    let masses: Vec<f64> = (0..n).map(|_| rng.next().abs() + 1e-9).collect();
+    let modes_t = Mat::from_fn(3 * n, nf, |_, _| rng.next());
+    let modes_r = Mat::from_fn(
+        3 * n,
+        nf,
+        |i, _| if i % 3 == 0 { 0.0 } else { rng.next() * 1e-2 },
+    );
+    let k_red = Mat::from_fn(nf, nf, |i, j| {
+        if i == j {
+            1e6 * (i + 1) as f64
+        } else {
+            rng.next()
+        }
+    });
+    let m_red = Mat::from_fn(nf, nf, |i, j| if i == j { 1.0 } else { 1e-3 * rng.next() });
+    let frequencies_hz: Vec<f64> = (0..nf)
+        .map(|k| 10.0 * (k + 1) as f64 + rng.next())
+        .collect();
+    let dominant = ["ux", "uy", "uz", "rx", "ry", "rz"];
+    let labels = (0..nf)
+        .map(|k| ModeLabel {
+            index: k + 1,
+            frequency_hz: frequencies_hz[k],
+            dominant: dominant[k % 6].to_string(),
+            effective_mass_fraction: [
+                rng.next().abs() / nf as f64,
+                rng.next().abs() / nf as f64,
+                0.0,
+            ],
+        })
+        .collect();
+    let cells = vec![
+        Cell {
+            kind: ElementKind::Hex8,
+            nodes: (0..8).collect(),
+        },
+        Cell {
+            kind: ElementKind::Hex8I,
+            nodes: (1..9).collect(),
+        },
+        Cell {
+            kind: ElementKind::Hex20,
+            nodes: (0..20).collect(),
+        },
+        Cell {
+            kind: ElementKind::Hex20R,
+            nodes: (0..20).rev().collect(),
+        },
+        Cell {
+            kind: ElementKind::Tet10,
+            nodes: (5..15).collect(),
+        },
+        Cell {
+            kind: ElementKind::Beam2,
+            nodes: vec![n - 2, n - 1],
+        },
+    ];
+    ReducedBody {
+        name: "crank arm".into(),
+        units: UnitSystem::SiMm,
+        nodes,
+        node_ids,
+        node_masses: Some(masses),
+        modes_t,
+        modes_r: Some(modes_r),
+        k_red,
+        m_red,
+        frequencies_hz,
+        labels,
+        interface_nodes: vec![0, 3, n - 1],
+        fixed_nodes: vec![2],
+        kind: ReductionKind::CraigBampton {
+            internal_modes: nf.saturating_sub(18),
+        },
+        cells,
+        provenance: Provenance {
+            source: "built-in beam 1 m x 20 mm".into(),
+            program: "flexmbs 0.1.0".into(),
+            notes: "Hex20, consistent mass, E = 210 GPa, ν = 0.3 (µm mesh)".into(),
+        },
+    }
+}
+
+/// A fresh temporary directory for one test.
+pub fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("flexmbs-bodyfile-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Whether `python3` can import all `modules`; prints the reason when not.
+pub fn python_has(modules: &[&str], test: &str) -> bool {
+    let code = modules
+        .iter()
+        .map(|m| format!("import {m}"))
+        .collect::<Vec<_>>()
+        .join("; ");
+    match Command::new("python3").args(["-c", &code]).output() {
+        Ok(o) if o.status.success() => true,
+        Ok(o) => {
+            eprintln!(
+                "SKIPPED {test}: python3 cannot import {modules:?} (pip install {}): {}",
+                modules.join(" "),
+                String::from_utf8_lossy(&o.stderr)
+                    .lines()
+                    .last()
+                    .unwrap_or("")
+            );
+            false
+        }
+        Err(e) => {
+            eprintln!("SKIPPED {test}: python3 not runnable: {e}");
+            false
+        }
+    }
+}
+
+/// Runs `python3 -c code args...` and returns stdout; panics with stderr if it fails.
+pub fn run_python(code: &str, args: &[&str]) -> String {
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(code)
+        .args(args)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "python failed:\n--- stdout\n{}\n--- stderr\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
