@@ -1,3 +1,9 @@
 //! File formats of flexmbs: the seed 4-file body format, CalculiX decks and exports,
 //! reduced-body files and VTK output.
 #![warn(missing_docs)]
+
+pub mod calculix;
+pub mod error;
+pub mod seed;
+
+pub use error::IoError;
