@@ -227,7 +227,7 @@ impl<'a> Reader<'a> {
                 "-1" => {
                     let label = self.int(ln, 3, 3 + w, "element label")?;
                     let t = self.int(ln, 3 + w, 8 + w, "element type")? as u32;
-                    need = frd_type_nodes(t as u32)
+                    need = frd_type_nodes(t)
                         .ok_or_else(|| self.err(ln, "an frd element type 1..12", t.to_string()))?;
                     cur_ln = ln;
                     out.push(FrdElement {

@@ -48,6 +48,9 @@ pub struct InpModel {
     pub warnings: Vec<String>,
 }
 
+/// A data line with its location (file index, 1-based line).
+type DataLine<'d> = ((usize, usize), &'d str);
+
 /// One physical line of the flattened deck.
 struct SrcLine {
     file: usize,
@@ -586,7 +589,7 @@ impl Parser {
         at: (usize, usize),
         data: &[((usize, usize), &'d str)],
         card: &str,
-    ) -> Result<(String, ((usize, usize), &'d str)), IoError> {
+    ) -> Result<(String, DataLine<'d>), IoError> {
         let mat = self
             .current_material
             .clone()
