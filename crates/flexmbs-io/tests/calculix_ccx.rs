@@ -9,8 +9,8 @@ use faer::Mat;
 use flexmbs_fe::{SparseMatrix, UnitSystem};
 use flexmbs_io::calculix::matrices::sparse_times_dense;
 use flexmbs_io::calculix::{
-    ccx_available, matrix_export_deck, read_ccx_matrices, read_dat_frequencies, read_frd, read_inp, run_ccx,
-    CcxMatrices,
+    ccx_available, matrix_export_deck, read_ccx_matrices, read_dat_frequencies, read_frd, read_inp,
+    run_ccx, CcxMatrices,
 };
 use flexmbs_io::IoError;
 use std::collections::{HashMap, HashSet};
@@ -59,9 +59,17 @@ fn matrix_export_rigid_body_checks_and_clamping() {
     std::fs::create_dir_all(deck.parent().unwrap()).unwrap();
     std::fs::write(&deck, matrix_export_deck(&data("ccx/beam_mesh.inp"))).unwrap();
     let run = run_ccx(&deck, &dir.join("run")).unwrap();
-    assert!(run.files.iter().any(|f| f.extension().is_some_and(|e| e == "sti")), "{:?}", run.files);
+    assert!(
+        run.files
+            .iter()
+            .any(|f| f.extension().is_some_and(|e| e == "sti")),
+        "{:?}",
+        run.files
+    );
     let free = read_ccx_matrices(&run.job).unwrap();
-    let mesh = read_inp(&data("ccx/beam_mesh.inp"), UnitSystem::Si).unwrap().mesh;
+    let mesh = read_inp(&data("ccx/beam_mesh.inp"), UnitSystem::Si)
+        .unwrap()
+        .mesh;
     assert_eq!(free.len(), 3 * 1221);
 
     // Rigid-body matrix from node coordinates (rotations about the origin on the beam axis).
@@ -75,17 +83,37 @@ fn matrix_export_rigid_body_checks_and_clamping() {
     let rho_v = 7850.0 * 1.0 * 0.02 * 0.02; // 3.14 kg
     let jxx = rho_v * (0.02f64.powi(2) + 0.02f64.powi(2)) / 12.0; // 2.0933e-4 kg m^2
     let jyy = rho_v * (1.0 / 3.0 + 0.02f64.powi(2) / 12.0); // about the clamped end
-    println!("mass {:.12} {:.12} {:.12}, J_xx {:.6e}, J_yy {:.6}", mr[(0, 0)], mr[(1, 1)], mr[(2, 2)], mr[(3, 3)], mr[(4, 4)]);
+    println!(
+        "mass {:.12} {:.12} {:.12}, J_xx {:.6e}, J_yy {:.6}",
+        mr[(0, 0)],
+        mr[(1, 1)],
+        mr[(2, 2)],
+        mr[(3, 3)],
+        mr[(4, 4)]
+    );
     for k in 0..3 {
-        assert!((mr[(k, k)] / rho_v - 1.0).abs() < 1e-6, "mass {}", mr[(k, k)]);
+        assert!(
+            (mr[(k, k)] / rho_v - 1.0).abs() < 1e-6,
+            "mass {}",
+            mr[(k, k)]
+        );
     }
     assert!((mr[(3, 3)] / jxx - 1.0).abs() < 1e-4, "J_xx {}", mr[(3, 3)]);
     assert!((mr[(4, 4)] / jyy - 1.0).abs() < 1e-6, "J_yy {}", mr[(4, 4)]);
     // Static moment: z translation couples with rotation about y by -m x_c, x_c = 0.5 m.
-    assert!((mr[(2, 4)] / (-rho_v * 0.5) - 1.0).abs() < 1e-6, "S {}", mr[(2, 4)]);
+    assert!(
+        (mr[(2, 4)] / (-rho_v * 0.5) - 1.0).abs() < 1e-6,
+        "S {}",
+        mr[(2, 4)]
+    );
 
     // Deleting the clamped DOFs from the free-free export gives the clamped export bit for bit.
-    let fix: HashSet<u64> = mesh.node_set("FIX").unwrap().iter().map(|&n| mesh.node_ids[n]).collect();
+    let fix: HashSet<u64> = mesh
+        .node_set("FIX")
+        .unwrap()
+        .iter()
+        .map(|&n| mesh.node_ids[n])
+        .collect();
     let reduced = free.remove_dofs(|n, _| !fix.contains(&n));
     let clamped = clamped_export(&dir.join("clamped"));
     assert_eq!(reduced.dofs, clamped.dofs);
@@ -109,7 +137,11 @@ fn frequency_run_dat_frd_and_matrices_agree() {
     let expect = [16.73174, 16.73174, 104.6634, 104.6634, 292.1994, 292.1994];
     assert_eq!(dat.len(), 6);
     for (m, f) in dat.iter().zip(expect) {
-        assert!((m.frequency_hz / f - 1.0).abs() < 1e-6, "{} vs {f}", m.frequency_hz);
+        assert!(
+            (m.frequency_hz / f - 1.0).abs() < 1e-6,
+            "{} vs {f}",
+            m.frequency_hz
+        );
     }
     let frd = read_frd(&run.file("frd")).unwrap();
     assert_eq!(frd.nodes.len(), 1221);
@@ -118,7 +150,11 @@ fn frequency_run_dat_frd_and_matrices_agree() {
     let model = read_inp(&data("ccx/beam_mesh.inp"), UnitSystem::Si).unwrap();
     let mesh = &model.mesh;
     assert_eq!(frd.elements.len(), mesh.elements.len());
-    for (fe, (e, label)) in frd.elements.iter().zip(mesh.elements.iter().zip(&model.element_labels)) {
+    for (fe, (e, label)) in frd
+        .elements
+        .iter()
+        .zip(mesh.elements.iter().zip(&model.element_labels))
+    {
         assert_eq!(fe.label, *label);
         let nodes: Vec<u64> = e.nodes.iter().map(|&n| mesh.node_ids[n]).collect();
         assert_eq!(fe.nodes, nodes);
@@ -126,8 +162,8 @@ fn frequency_run_dat_frd_and_matrices_agree() {
     // Coordinates agree to the 6 printed digits.
     for (label, x) in &frd.nodes {
         let i = mesh.node_ids.iter().position(|l| l == label).unwrap();
-        for k in 0..3 {
-            assert!((x[k] - mesh.nodes[i][k]).abs() < 1e-6 * 1.0f64.max(mesh.nodes[i][k].abs()));
+        for (a, b) in x.iter().zip(&mesh.nodes[i]) {
+            assert!((a - b).abs() < 1e-6 * 1.0f64.max(b.abs()));
         }
     }
     // Mass normalisation and Rayleigh quotient of the frd modes with the exported K, M.
@@ -142,7 +178,12 @@ fn frequency_run_dat_frd_and_matrices_agree() {
         let mphi = phi.transpose() * sparse_times_dense(&mats.m, &phi);
         let kphi = phi.transpose() * sparse_times_dense(&mats.k, &phi);
         let omega2 = (2.0 * std::f64::consts::PI * mode.frequency_hz).powi(2);
-        println!("mode {:?}: phi^T M phi = {:.7}, phi^T K phi / omega^2 = {:.7}", mode.mode, mphi[(0, 0)], kphi[(0, 0)] / omega2);
+        println!(
+            "mode {:?}: phi^T M phi = {:.7}, phi^T K phi / omega^2 = {:.7}",
+            mode.mode,
+            mphi[(0, 0)],
+            kphi[(0, 0)] / omega2
+        );
         // Modes are mass-normalised; the frd prints 6 digits, which K (weighting the short
         // wavelengths of the rounding error) turns into ~6.5e-5 on mode 1.
         assert!((mphi[(0, 0)] - 1.0).abs() < 1e-5);
@@ -162,7 +203,9 @@ fn failing_deck_is_reported() {
     std::fs::write(&deck, "*NODE\n1, 0, 0, 0\n*ELEMENT, TYPE=C3D8, ELSET=E\n1, 1, 2, 3, 4, 5, 6, 7, 8\n*STEP\n*STATIC\n*END STEP\n")
         .unwrap();
     match run_ccx(&deck, &dir.join("run")) {
-        Err(IoError::CcxFailed { message, status, .. }) => {
+        Err(IoError::CcxFailed {
+            message, status, ..
+        }) => {
             println!("ccx failed as expected: status {status:?}: {message}");
             assert!(!message.is_empty());
         }

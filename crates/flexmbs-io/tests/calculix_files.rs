@@ -19,24 +19,54 @@ fn reference_beam_deck() {
     assert_eq!(mesh.elements.len(), 160);
     assert!(mesh.elements.iter().all(|e| e.kind == ElementKind::Hex20R));
     // Element 1 spans two lines (continuation after 15 nodes).
-    let labels: Vec<u64> = mesh.elements[0].nodes.iter().map(|&n| mesh.node_ids[n]).collect();
-    assert_eq!(labels, [1, 3, 125, 123, 449, 451, 573, 571, 2, 83, 124, 82, 450, 531, 572, 530, 326, 327, 368, 367]);
-    assert_eq!(mesh.nodes[mesh.node_set("TIPC").unwrap()[0]], [1.0, 0.0, 0.0]);
+    let labels: Vec<u64> = mesh.elements[0]
+        .nodes
+        .iter()
+        .map(|&n| mesh.node_ids[n])
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            1, 3, 125, 123, 449, 451, 573, 571, 2, 83, 124, 82, 450, 531, 572, 530, 326, 327, 368,
+            367
+        ]
+    );
+    assert_eq!(
+        mesh.nodes[mesh.node_set("TIPC").unwrap()[0]],
+        [1.0, 0.0, 0.0]
+    );
     assert_eq!(mesh.node_set("FIX").unwrap().len(), 21);
-    assert!(mesh.node_set("FIX").unwrap().iter().all(|&n| mesh.nodes[n][0] == 0.0));
+    assert!(mesh
+        .node_set("FIX")
+        .unwrap()
+        .iter()
+        .all(|&n| mesh.nodes[n][0] == 0.0));
     assert_eq!(mesh.node_set("NALL").unwrap().len(), 1221);
     let mat = mesh.properties[0].material();
     assert_eq!((mat.e, mat.nu, mat.rho), (2.1e11, 0.3, 7850.0));
     // *BOUNDARY FIX, 1, 3: 21 nodes x 3 DOFs.
     assert_eq!(m.boundaries.len(), 63);
-    assert!(m.boundaries.iter().all(|b| (1..=3).contains(&b.dof) && b.value == 0.0));
+    assert!(m
+        .boundaries
+        .iter()
+        .all(|b| (1..=3).contains(&b.dof) && b.value == 0.0));
     // The frequency step keywords are skipped with warnings.
-    assert!(m.warnings.iter().any(|w| w.contains("*FREQUENCY")), "{:?}", m.warnings);
+    assert!(
+        m.warnings.iter().any(|w| w.contains("*FREQUENCY")),
+        "{:?}",
+        m.warnings
+    );
     assert_eq!(m.element_sets["EALL"].len(), 160);
     // Volume check from coordinates: bounding box 1 x 0.02 x 0.02.
-    let (lo, hi) = mesh.nodes.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), x| {
-        (std::array::from_fn(|k| lo[k].min(x[k])), std::array::from_fn(|k| hi[k].max(x[k])))
-    });
+    let (lo, hi) = mesh
+        .nodes
+        .iter()
+        .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), x| {
+            (
+                std::array::from_fn(|k| lo[k].min(x[k])),
+                std::array::from_fn(|k| hi[k].max(x[k])),
+            )
+        });
     assert_eq!((lo, hi), ([0.0, -0.01, -0.01], [1.0, 0.01, 0.01]));
 }
 
@@ -95,9 +125,16 @@ ENDS, 1, 2
     assert_eq!(mesh.properties.len(), 1);
     assert_eq!(mesh.properties[0].material().rho, 2.7e-9);
     assert_eq!(m.boundaries.len(), 6 * 2 + 6 + 1);
-    assert_eq!(m.boundaries.last().map(|b| (b.node, b.dof, b.value)), Some((6, 3, 0.5)));
+    assert_eq!(
+        m.boundaries.last().map(|b| (b.node, b.dof, b.value)),
+        Some((6, 3, 0.5))
+    );
     assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
-    assert!(m.warnings[0].starts_with("deck.inp:38: keyword *CLOAD"), "{:?}", m.warnings);
+    assert!(
+        m.warnings[0].starts_with("deck.inp:38: keyword *CLOAD"),
+        "{:?}",
+        m.warnings
+    );
 }
 
 #[test]
@@ -105,7 +142,12 @@ fn include_errors_are_located_in_the_included_file() {
     let dir = std::env::temp_dir().join(format!("flexmbs_inc_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("mesh.inp"), "*NODE\n1, 0, 0, 0\n1, 1, 0, 0\n").unwrap();
-    let e = parse_inp("** main\n*INCLUDE, INPUT=mesh.inp\n", &dir.join("main.inp"), UnitSystem::Si).unwrap_err();
+    let e = parse_inp(
+        "** main\n*INCLUDE, INPUT=mesh.inp\n",
+        &dir.join("main.inp"),
+        UnitSystem::Si,
+    )
+    .unwrap_err();
     assert_eq!(e.file().unwrap(), dir.join("mesh.inp"));
     assert_eq!(e.line(), Some(3));
     std::fs::remove_dir_all(&dir).ok();
@@ -133,7 +175,10 @@ fn small_matrix_export() {
 fn frequency_table_and_frd() {
     let d = read_dat_frequencies(&data("good/beam_freq.dat")).unwrap();
     let f: Vec<f64> = d.iter().map(|m| m.frequency_hz).collect();
-    assert_eq!(f, [16.73174, 16.73174, 104.6634, 104.6634, 292.1994, 292.1994]);
+    assert_eq!(
+        f,
+        [16.73174, 16.73174, 104.6634, 104.6634, 292.1994, 292.1994]
+    );
     for m in &d {
         // omega = 2 pi f and eigenvalue = omega^2, to the 7 printed digits.
         assert!((m.omega / (2.0 * std::f64::consts::PI) / m.frequency_hz - 1.0).abs() < 1e-6);
@@ -144,11 +189,31 @@ fn frequency_table_and_frd() {
     assert_eq!(r.nodes[1], (2, [0.0125, -0.01, -0.01]));
     assert_eq!(r.elements.len(), 1);
     // frd order (Abaqus 1-12, 17-20, 13-16) converted back to Abaqus order.
-    assert_eq!(r.elements[0].nodes, [1, 3, 125, 123, 449, 451, 573, 571, 2, 83, 124, 82, 450, 531, 572, 530, 326, 327, 368, 367]);
+    assert_eq!(
+        r.elements[0].nodes,
+        [
+            1, 3, 125, 123, 449, 451, 573, 571, 2, 83, 124, 82, 450, 531, 572, 530, 326, 327, 368,
+            367
+        ]
+    );
     assert_eq!(r.modes.len(), 2);
     assert_eq!(r.modes[0].mode, Some(1));
     assert_eq!(r.modes[0].frequency_hz, 16.73174120);
     assert_eq!(r.modes[1].frequency_hz, 16.73174126);
     let d2 = r.modes[0].disp.iter().find(|(n, _)| *n == 3).unwrap().1;
     assert_eq!(d2, [8.66585E-04, -5.49481E-07, 1.14201E-03]);
+}
+
+#[test]
+fn huge_index_does_not_allocate() {
+    let e = flexmbs_io::calculix::parse_ccx_matrix(
+        "1 1  1.0\n99999999999999 99999999999999  1.0\n",
+        Path::new("h.sti"),
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("diagonal entry (2, 2) missing: 2 of 99999999999999"),
+        "{e}"
+    );
 }

@@ -13,6 +13,7 @@ use flexmbs_io::seed::{
 use std::path::Path;
 
 #[test]
+#[allow(clippy::excessive_precision)] // literals copied from Listing 4.3
 fn reads_listing_layout_folder() {
     let b = read_seed_dir(&data("seed_ok")).expect("well-formed seed folder");
     assert_eq!(b.num_nodes(), 4);
@@ -43,7 +44,11 @@ fn reads_listing_layout_folder() {
     let expect = [[910.0, -500.0], [-500.0, 2000.0]];
     for i in 0..2 {
         for j in 0..2 {
-            assert!((kff[(i, j)] - expect[i][j]).abs() < 1e-9, "k_ff[{i}][{j}] = {}", kff[(i, j)]);
+            assert!(
+                (kff[(i, j)] - expect[i][j]).abs() < 1e-9,
+                "k_ff[{i}][{j}] = {}",
+                kff[(i, j)]
+            );
         }
     }
 }
@@ -68,7 +73,9 @@ fn random_body(rng: &mut XorShift, nn: usize, nf: usize) -> SeedBody {
             modes[(i, j)] = val(rng);
         }
     }
-    let masses = (0..nn).map(|_| 10f64.powi(rng.below(20) as i32 - 10) * (0.5 + rng.unit())).collect();
+    let masses = (0..nn)
+        .map(|_| 10f64.powi(rng.below(20) as i32 - 10) * (0.5 + rng.unit()))
+        .collect();
     let n = 3 * nn;
     let mut trip = Vec::new();
     for j in 0..n {
@@ -98,8 +105,14 @@ fn write_read_round_trip_is_bit_identical() {
         for (a, c) in b.u0.iter().zip(&r.u0) {
             assert_eq!(a.map(bits), c.map(bits));
         }
-        assert_eq!(b.masses.iter().map(|v| bits(*v)).collect::<Vec<_>>(), r.masses.iter().map(|v| bits(*v)).collect::<Vec<_>>());
-        assert_eq!((b.modes.nrows(), b.modes.ncols()), (r.modes.nrows(), r.modes.ncols()));
+        assert_eq!(
+            b.masses.iter().map(|v| bits(*v)).collect::<Vec<_>>(),
+            r.masses.iter().map(|v| bits(*v)).collect::<Vec<_>>()
+        );
+        assert_eq!(
+            (b.modes.nrows(), b.modes.ncols()),
+            (r.modes.nrows(), r.modes.ncols())
+        );
         for i in 0..b.modes.nrows() {
             for j in 0..b.modes.ncols() {
                 assert_eq!(bits(b.modes[(i, j)]), bits(r.modes[(i, j)]));
@@ -119,16 +132,29 @@ fn writer_uses_listing_layout() {
     let b = read_seed_dir(&data("seed_ok")).unwrap();
     let u0 = format_u0(&b.u0);
     let first = u0.lines().next().unwrap();
-    assert_eq!(first, "1.0500000000000000e+02\t1.0000000000000000e+01\t5.1300001100000001e+00\t% node: 1");
+    assert_eq!(
+        first,
+        "1.0500000000000000e+02\t1.0000000000000000e+01\t5.1300001100000001e+00\t% node: 1"
+    );
     let tmp = std::env::temp_dir().join(format!("flexmbs_seed_layout_{}", std::process::id()));
     write_seed_dir(&tmp, &b).unwrap();
     let modes = std::fs::read_to_string(tmp.join(SEED_FILES[1])).unwrap();
-    assert_eq!(modes.lines().nth(4).unwrap(), "0.0000000000000000e+00\t0.0000000000000000e+00\t% node: 2, DOF: 2");
+    assert_eq!(
+        modes.lines().nth(4).unwrap(),
+        "0.0000000000000000e+00\t0.0000000000000000e+00\t% node: 2, DOF: 2"
+    );
     let k = std::fs::read_to_string(tmp.join(SEED_FILES[3])).unwrap();
-    assert_eq!(k.lines().nth(1).unwrap(), "2,1, 1,1, -1.0000000000000000e+03");
+    assert_eq!(
+        k.lines().nth(1).unwrap(),
+        "2,1, 1,1, -1.0000000000000000e+03"
+    );
     // Same entries, same order as the hand-written listing file.
     let orig = std::fs::read_to_string(data("seed_ok/stiffnessMatrix.dat")).unwrap();
-    let idx = |s: &str| s.lines().map(|l| l.rsplit_once(", ").unwrap().0.to_string()).collect::<Vec<_>>();
+    let idx = |s: &str| {
+        s.lines()
+            .map(|l| l.rsplit_once(", ").unwrap().0.to_string())
+            .collect::<Vec<_>>()
+    };
     assert_eq!(idx(&k), idx(&orig));
     std::fs::remove_dir_all(&tmp).ok();
 }
@@ -153,8 +179,16 @@ fn stiffness_one_triangle_is_mirrored_and_mismatch_rejected() {
 fn cross_file_inconsistencies_are_reported_with_both_numbers() {
     let e = read_seed_dir(&data("bad/seed_mode_rows")).unwrap_err();
     let msg = e.to_string();
-    assert!(msg.contains("modeShapeMatrix.dat") && msg.contains("9 mode-shape rows") && msg.contains("= 12"), "{msg}");
+    assert!(
+        msg.contains("modeShapeMatrix.dat")
+            && msg.contains("9 mode-shape rows")
+            && msg.contains("= 12"),
+        "{msg}"
+    );
     let e = read_seed_dir(&data("bad/seed_mass_count")).unwrap_err();
     let msg = e.to_string();
-    assert!(msg.contains("mij.dat") && msg.contains("3 masses") && msg.contains("4 nodes"), "{msg}");
+    assert!(
+        msg.contains("mij.dat") && msg.contains("3 masses") && msg.contains("4 nodes"),
+        "{msg}"
+    );
 }

@@ -89,12 +89,14 @@ pub fn parse_ccx_matrix(text: &str, file: &Path) -> Result<SparseMatrix, IoError
     let n = ent.iter().map(|e| e.0).max().unwrap_or(0) + 1;
     let ndiag = ent.iter().filter(|e| e.0 == e.1).count();
     if ndiag != n {
-        // Entries are unique and sorted: find the first column without its diagonal.
-        let mut have = vec![false; n];
-        for e in ent.iter().filter(|e| e.0 == e.1) {
-            have[e.0] = true;
-        }
-        let miss = have.iter().position(|h| !h).unwrap_or(0);
+        // Entries are unique and sorted by column: the k-th diagonal found must be (k, k).
+        // (No allocation of size n: n comes from the file and may be huge.)
+        let miss = ent
+            .iter()
+            .filter(|e| e.0 == e.1)
+            .enumerate()
+            .find(|(k, e)| e.0 != *k)
+            .map_or(ndiag, |(k, _)| k);
         return Err(IoError::inconsistent(
             file,
             format!(

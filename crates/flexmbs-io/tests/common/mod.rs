@@ -3,18 +3,32 @@
 #![allow(dead_code)]
 
 use flexmbs_fe::UnitSystem;
-use flexmbs_io::calculix::{parse_ccx_dofs, parse_ccx_matrix, parse_dat_frequencies, parse_frd, parse_inp_with};
+use flexmbs_io::calculix::{
+    parse_ccx_dofs, parse_ccx_matrix, parse_dat_frequencies, parse_frd, parse_inp_with,
+};
 use flexmbs_io::seed::{parse_masses, parse_mode_shapes, parse_stiffness, parse_u0};
 use flexmbs_io::IoError;
 use std::path::{Path, PathBuf};
 
 /// `tests/data/<rel>`.
 pub fn data(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
 }
 
 /// Parser kinds, named as the prefixes of the corpus files (`u0__...`).
-pub const KINDS: [&str; 9] = ["u0", "modes", "mass", "stiffness", "inp", "sti", "dof", "dat", "frd"];
+pub const KINDS: [&str; 9] = [
+    "u0",
+    "modes",
+    "mass",
+    "stiffness",
+    "inp",
+    "sti",
+    "dof",
+    "dat",
+    "frd",
+];
 
 /// Runs the `&str` parser of `kind` on `text`. `*INCLUDE` in decks resolves only to files
 /// beside `file` (read from disk), as in the library default.
@@ -25,7 +39,10 @@ pub fn parse_kind(kind: &str, text: &str, file: &Path) -> Result<(), IoError> {
         "mass" => parse_masses(text, file).map(|_| ()),
         "stiffness" => parse_stiffness(text, file, 4).map(|_| ()),
         "inp" => parse_inp_with(text, file, UnitSystem::Si, &mut |p: &Path| {
-            std::fs::read_to_string(p).map_err(|source| IoError::Io { file: p.to_path_buf(), source })
+            std::fs::read_to_string(p).map_err(|source| IoError::Io {
+                file: p.to_path_buf(),
+                source,
+            })
         })
         .map(|_| ()),
         "sti" => parse_ccx_matrix(text, file).map(|_| ()),
