@@ -9,3 +9,8 @@ pub mod plot;
 pub mod report;
 pub mod body_file;
 pub mod vtk;
+pub mod calculix;
+pub mod error;
+pub mod seed;
+
+pub use error::IoError;
