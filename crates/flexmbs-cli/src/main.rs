@@ -196,7 +196,7 @@ fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
     let base = model.parent().unwrap_or(Path::new("."));
     if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
         let dir = flexmbs_io::pipeline::resolve(base, dir);
-        return Ok(flexmbs_io::seed::read_seed_body(
+        return Ok(flexmbs_io::seed_body::read_seed_body(
             &dir, &spec.name, spec.units,
         )?);
     }

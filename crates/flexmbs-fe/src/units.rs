@@ -55,11 +55,11 @@ impl UnitSystem {
     pub fn energy_to_si(self) -> f64 {
         self.force_to_si() * self.length_to_si()
     }
-    /// Mass-normalised mode shape scaling: phi^T M phi = 1 in this system becomes
-    /// phi_si = phi / sqrt(mass_to_si) so that phi_si^T M_si phi_si = 1 (phi has units of length/sqrt(mass)
-    /// and lengths also scale: phi_si = phi * length_to_si / sqrt(mass_to_si)).
+    /// Scale of mass-normalised mode shapes: `Phi_si = Phi * mode_to_si()` keeps
+    /// `Phi_si^T M_si Phi_si = I` (a mass-normalised mode has units 1/sqrt(mass), independent of
+    /// length); the modal coordinate scales as `q_si = q * length_to_si / mode_to_si`.
     pub fn mode_to_si(self) -> f64 {
-        self.length_to_si() / self.mass_to_si().sqrt()
+        1.0 / self.mass_to_si().sqrt()
     }
     /// Short name as written in files.
     pub fn name(self) -> &'static str {

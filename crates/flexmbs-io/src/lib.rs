@@ -14,3 +14,4 @@ pub mod error;
 pub mod seed;
 
 pub use error::IoError;
+pub mod seed_body;
