@@ -264,10 +264,15 @@ mod tests {
         for _ in 0..50 {
             let th = rvec(&mut s, 1.4);
             let thd = rvec(&mut s, 2.0);
-            let a_dot = (cardan_matrix(&(th + h * thd)) - cardan_matrix(&(th - h * thd))) / (2.0 * h);
+            let a_dot =
+                (cardan_matrix(&(th + h * thd)) - cardan_matrix(&(th - h * thd))) / (2.0 * h);
             let w_fd = cardan_matrix(&th).transpose() * a_dot;
             let w = cardan_g_bar(&th) * thd;
-            assert!((w_fd - skew(&w)).abs().max() < 1e-7, "{}", (w_fd - skew(&w)).abs().max());
+            assert!(
+                (w_fd - skew(&w)).abs().max() < 1e-7,
+                "{}",
+                (w_fd - skew(&w)).abs().max()
+            );
             let gd_fd = (cardan_g_bar(&(th + h * thd)) - cardan_g_bar(&(th - h * thd))) / (2.0 * h);
             assert!((gd_fd - cardan_g_bar_dot(&th, &thd)).abs().max() < 1e-8);
             assert!((cardan_g_bar(&th).determinant() - th.y.cos()).abs() < 1e-14);
@@ -295,16 +300,24 @@ mod tests {
         let mut s = 3;
         let h = 1e-5;
         for _ in 0..50 {
-            let p = normalize_quaternion(&Vector4::new(rnd(&mut s), rnd(&mut s), rnd(&mut s), rnd(&mut s)))
-                .unwrap();
+            let p = normalize_quaternion(&Vector4::new(
+                rnd(&mut s),
+                rnd(&mut s),
+                rnd(&mut s),
+                rnd(&mut s),
+            ))
+            .unwrap();
             let a = quaternion_matrix(&p);
             assert!(orthonormality_error(&a) < 1e-14);
-            let uq = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(p[0], p[1], p[2], p[3]));
+            let uq = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                p[0], p[1], p[2], p[3],
+            ));
             assert!((a - uq.to_rotation_matrix().matrix()).abs().max() < 1e-14);
             let w = rvec(&mut s, 3.0);
             let pd = quaternion_rate(&p, &w);
             assert!(p.dot(&pd).abs() < 1e-15);
-            let a_dot = (quaternion_matrix(&(p + h * pd)) - quaternion_matrix(&(p - h * pd))) / (2.0 * h);
+            let a_dot =
+                (quaternion_matrix(&(p + h * pd)) - quaternion_matrix(&(p - h * pd))) / (2.0 * h);
             assert!((a.transpose() * a_dot - skew(&w)).abs().max() < 1e-7);
             let et = quaternion_e_transpose(&p);
             assert!((et * et.transpose() - Matrix3::identity()).abs().max() < 1e-14);

@@ -123,7 +123,11 @@ impl FfrBody {
             if expected == found {
                 Ok(())
             } else {
-                Err(FfrError::DimensionMismatch { what, expected, found })
+                Err(FfrError::DimensionMismatch {
+                    what,
+                    expected,
+                    found,
+                })
             }
         };
         check("rows of modes_t", 3 * n, modes_t.nrows())?;
@@ -158,7 +162,9 @@ impl FfrBody {
         let masses = body
             .node_masses
             .as_ref()
-            .ok_or_else(|| FfrError::MissingNodeMasses { name: body.name.clone() })?;
+            .ok_or_else(|| FfrError::MissingNodeMasses {
+                name: body.name.clone(),
+            })?;
         let inv = FfrInvariants::from_lumped(&body.nodes, masses, body.modes_t.as_ref())?;
         Self::new(
             inv,
@@ -198,22 +204,36 @@ impl FfrBody {
     pub fn set_modal_damping(&mut self, zeta: &[f64]) -> Result<(), FfrError> {
         let nf = self.nf();
         if zeta.len() != nf {
-            return Err(FfrError::DimensionMismatch { what: "modal damping ratios", expected: nf, found: zeta.len() });
+            return Err(FfrError::DimensionMismatch {
+                what: "modal damping ratios",
+                expected: nf,
+                found: zeta.len(),
+            });
         }
         for mat in [&self.invariants.m_ff, &self.k_ff] {
             for i in 0..nf {
                 for j in 0..nf {
-                    let scale = (mat[(i, i)].abs() * mat[(j, j)].abs()).sqrt().max(f64::MIN_POSITIVE);
+                    let scale = (mat[(i, i)].abs() * mat[(j, j)].abs())
+                        .sqrt()
+                        .max(f64::MIN_POSITIVE);
                     let relative = mat[(i, j)].abs() / scale;
                     if i != j && relative > 1e-8 {
-                        return Err(FfrError::NotDiagonal { row: i, col: j, relative });
+                        return Err(FfrError::NotDiagonal {
+                            row: i,
+                            col: j,
+                            relative,
+                        });
                     }
                 }
             }
         }
         self.d_ff = DMatrix::zeros(nf, nf);
-        for i in 0..nf {
-            self.d_ff[(i, i)] = 2.0 * zeta[i] * (self.k_ff[(i, i)] * self.invariants.m_ff[(i, i)]).max(0.0).sqrt();
+        for (i, z) in zeta.iter().enumerate() {
+            self.d_ff[(i, i)] = 2.0
+                * z
+                * (self.k_ff[(i, i)] * self.invariants.m_ff[(i, i)])
+                    .max(0.0)
+                    .sqrt();
         }
         Ok(())
     }
@@ -224,13 +244,25 @@ impl FfrBody {
         let nf = self.nf();
         let nr = self.rotation.num_coordinates();
         if q.len() != self.nq() {
-            return Err(FfrError::DimensionMismatch { what: "q", expected: self.nq(), found: q.len() });
+            return Err(FfrError::DimensionMismatch {
+                what: "q",
+                expected: self.nq(),
+                found: q.len(),
+            });
         }
         if u.len() != self.nu() {
-            return Err(FfrError::DimensionMismatch { what: "u", expected: self.nu(), found: u.len() });
+            return Err(FfrError::DimensionMismatch {
+                what: "u",
+                expected: self.nu(),
+                found: u.len(),
+            });
         }
         if s.qf.len() != nf {
-            return Err(FfrError::DimensionMismatch { what: "scratch modes", expected: nf, found: s.qf.len() });
+            return Err(FfrError::DimensionMismatch {
+                what: "scratch modes",
+                expected: nf,
+                found: s.qf.len(),
+            });
         }
         let w = Vector3::new(u[3], u[4], u[5]);
         match self.rotation {
@@ -245,7 +277,9 @@ impl FfrBody {
                 let p = Vector4::new(q[3], q[4], q[5], q[6]);
                 let norm = p.norm();
                 if !(norm.is_finite() && norm > 1e-12) {
-                    return Err(crate::rotation::RotationError::DegenerateQuaternion { norm }.into());
+                    return Err(
+                        crate::rotation::RotationError::DegenerateQuaternion { norm }.into(),
+                    );
                 }
                 s.a = quaternion_matrix(&p);
                 s.h = Matrix3::identity();
@@ -286,7 +320,7 @@ impl FfrBody {
         let ukl = 0.5 * (ukl + ukl.transpose());
         let tr = ukl.trace();
         s.i_tt = Matrix3::identity() * tr - ukl; // (2.59)
-        // Ī_θf rows (2.68): P_23 - P_32, P_31 - P_13, P_12 - P_21
+                                                 // Ī_θf rows (2.68): P_23 - P_32, P_31 - P_13, P_12 - P_21
         for a in 0..nf {
             s.i_tf[(0, a)] = s.p[(5, a)] - s.p[(7, a)];
             s.i_tf[(1, a)] = s.p[(6, a)] - s.p[(2, a)];
@@ -439,7 +473,8 @@ impl FfrBody {
             }
             RotationParam::Quaternion => {
                 let p = Vector4::new(q[3], q[4], q[5], q[6]);
-                let pd = 0.5 * quaternion_e_transpose(&p).transpose() * Vector3::new(u[3], u[4], u[5]);
+                let pd =
+                    0.5 * quaternion_e_transpose(&p).transpose() * Vector3::new(u[3], u[4], u[5]);
                 qdot[3..7].copy_from_slice(pd.as_slice());
                 qdot[7..].copy_from_slice(&u[6..]);
             }
@@ -467,7 +502,11 @@ impl FfrBody {
     ) -> Result<(), FfrError> {
         let nu = self.nu();
         if udot.len() != nu {
-            return Err(FfrError::DimensionMismatch { what: "udot", expected: nu, found: udot.len() });
+            return Err(FfrError::DimensionMismatch {
+                what: "udot",
+                expected: nu,
+                found: udot.len(),
+            });
         }
         self.update(q, u, s)?;
         let mut m = std::mem::replace(&mut s.m, DMatrix::zeros(0, 0));
@@ -497,7 +536,7 @@ pub(crate) fn cholesky_solve_in_place(m: &mut DMatrix<f64>, b: &mut [f64]) -> Re
         for k in 0..j {
             d -= m[(j, k)] * m[(j, k)];
         }
-        if !(d > 1e-14 * scale) {
+        if d.is_nan() || d <= 1e-14 * scale {
             return Err(FfrError::NotPositiveDefinite { pivot: j, value: d });
         }
         let d = d.sqrt();

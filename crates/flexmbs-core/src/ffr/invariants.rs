@@ -68,7 +68,9 @@ fn node_fields(u0: &[[f64; 3]], modes_t: faer::MatRef<'_, f64>) -> Result<DMatri
         f[(j, 0)] = 1.0;
         for k in 0..3 {
             if !x[k].is_finite() {
-                return Err(FfrError::NonFinite { what: "node position" });
+                return Err(FfrError::NonFinite {
+                    what: "node position",
+                });
             }
             f[(j, 1 + k)] = x[k];
             for a in 0..nf {
@@ -140,7 +142,9 @@ impl FfrInvariants {
                 let r = sym.row_idx()[idx];
                 let v = val[idx];
                 if !v.is_finite() {
-                    return Err(FfrError::NonFinite { what: "consistent mass entry" });
+                    return Err(FfrError::NonFinite {
+                        what: "consistent mass entry",
+                    });
                 }
                 max_abs = max_abs.max(v.abs());
                 if r % 3 == c % 3 {
@@ -181,8 +185,11 @@ impl FfrInvariants {
     fn from_gram(g: &DMatrix<f64>, nf: usize) -> Result<Self, FfrError> {
         let g = 0.5 * (g + g.transpose());
         let i1 = g[(0, 0)];
-        if !(i1 > 0.0) {
-            return Err(FfrError::InvalidMass { node: usize::MAX, mass: i1 });
+        if i1.is_nan() || i1 <= 0.0 {
+            return Err(FfrError::InvalidMass {
+                node: usize::MAX,
+                mass: i1,
+            });
         }
         let phi = |k: usize| 4 + k * nf;
         let i_bar = Vector3::new(g[(0, 1)], g[(0, 2)], g[(0, 3)]);

@@ -34,12 +34,19 @@ impl FfrBody {
         if node < self.num_nodes() {
             Ok(())
         } else {
-            Err(FfrError::NodeOutOfRange { node, nodes: self.num_nodes() })
+            Err(FfrError::NodeOutOfRange {
+                node,
+                nodes: self.num_nodes(),
+            })
         }
     }
 
     /// `Φ^p x` for the 3 rows of node `p` of `modes` (O(3 n_f)).
-    fn mode_rows_times(modes: &nalgebra::DMatrix<f64>, node: usize, x: &nalgebra::DVector<f64>) -> Vector3<f64> {
+    fn mode_rows_times(
+        modes: &nalgebra::DMatrix<f64>,
+        node: usize,
+        x: &nalgebra::DVector<f64>,
+    ) -> Vector3<f64> {
         let mut v = Vector3::zeros();
         for k in 0..3 {
             for a in 0..x.len() {
@@ -79,7 +86,15 @@ impl FfrBody {
             }
             None => (s.a, s.a * w, s.a * z),
         };
-        Ok(NodeKinematics { u_bar, r, v, a_bias, frame, omega, alpha_bias })
+        Ok(NodeKinematics {
+            u_bar,
+            r,
+            v,
+            a_bias,
+            frame,
+            omega,
+            alpha_bias,
+        })
     }
 
     /// Jacobian of translation of node `node`, `J_T = [I, -A ũ H, A Φ]` (2.70), into `jt`

@@ -17,6 +17,8 @@ mod kinematics;
 mod si;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_dynamics;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
@@ -61,7 +63,9 @@ pub enum FfrError {
         what: &'static str,
     },
     /// The consistent mass matrix has node blocks that are not `m_ij I_3`.
-    #[error("consistent mass matrix is not block-isotropic at ({row}, {col}): deviation {deviation:e}")]
+    #[error(
+        "consistent mass matrix is not block-isotropic at ({row}, {col}): deviation {deviation:e}"
+    )]
     NonIsotropicMass {
         /// Row (3 x node + direction).
         row: usize,

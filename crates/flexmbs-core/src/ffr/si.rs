@@ -32,14 +32,20 @@ pub fn reduced_body_to_si(body: &ReducedBody) -> ReducedBody {
             *v *= ms;
         }
     }
-    out.modes_t = faer::Mat::from_fn(body.modes_t.nrows(), body.modes_t.ncols(), |i, j| body.modes_t[(i, j)] * c);
+    out.modes_t = faer::Mat::from_fn(body.modes_t.nrows(), body.modes_t.ncols(), |i, j| {
+        body.modes_t[(i, j)] * c
+    });
     out.modes_r = body
         .modes_r
         .as_ref()
         .map(|r| faer::Mat::from_fn(r.nrows(), r.ncols(), |i, j| r[(i, j)] * c / l));
     let fm = c * c * ms;
     let fk = c * c * u.stiffness_to_si();
-    out.m_red = faer::Mat::from_fn(body.m_red.nrows(), body.m_red.ncols(), |i, j| body.m_red[(i, j)] * fm);
-    out.k_red = faer::Mat::from_fn(body.k_red.nrows(), body.k_red.ncols(), |i, j| body.k_red[(i, j)] * fk);
+    out.m_red = faer::Mat::from_fn(body.m_red.nrows(), body.m_red.ncols(), |i, j| {
+        body.m_red[(i, j)] * fm
+    });
+    out.k_red = faer::Mat::from_fn(body.k_red.nrows(), body.k_red.ncols(), |i, j| {
+        body.k_red[(i, j)] * fk
+    });
     out
 }

@@ -5,42 +5,61 @@ use super::*;
 use crate::rotation::{normalize_quaternion, skew};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector4};
 
-fn rnd(seed: &mut u64) -> f64 {
-    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+pub(super) fn rnd(seed: &mut u64) -> f64 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
 }
 
 /// Random test body data: node positions, masses, translational and rotational modes, stiffness.
-struct Data {
-    u0: Vec<[f64; 3]>,
-    masses: Vec<f64>,
-    modes_t: faer::Mat<f64>,
-    modes_r: faer::Mat<f64>,
-    k: faer::Mat<f64>,
+pub(super) struct Data {
+    pub(super) u0: Vec<[f64; 3]>,
+    pub(super) masses: Vec<f64>,
+    pub(super) modes_t: faer::Mat<f64>,
+    pub(super) modes_r: faer::Mat<f64>,
+    pub(super) k: faer::Mat<f64>,
 }
 
-fn random_data(seed: &mut u64, n: usize, nf: usize, mode_scale: f64) -> Data {
-    let u0 = (0..n).map(|_| [rnd(seed), 0.5 * rnd(seed) + 0.2, 0.3 * rnd(seed) - 0.1]).collect();
+pub(super) fn random_data(seed: &mut u64, n: usize, nf: usize, mode_scale: f64) -> Data {
+    let u0 = (0..n)
+        .map(|_| [rnd(seed), 0.5 * rnd(seed) + 0.2, 0.3 * rnd(seed) - 0.1])
+        .collect();
     let masses = (0..n).map(|_| 1.25 + 0.75 * rnd(seed)).collect();
     let modes_t = faer::Mat::from_fn(3 * n, nf, |_, _| mode_scale * rnd(seed));
     let modes_r = faer::Mat::from_fn(3 * n, nf, |_, _| mode_scale * rnd(seed));
-    let k = faer::Mat::from_fn(nf, nf, |i, j| if i == j { 50.0 * (i + 1) as f64 } else { 0.0 });
-    Data { u0, masses, modes_t, modes_r, k }
+    let k = faer::Mat::from_fn(
+        nf,
+        nf,
+        |i, j| if i == j { 50.0 * (i + 1) as f64 } else { 0.0 },
+    );
+    Data {
+        u0,
+        masses,
+        modes_t,
+        modes_r,
+        k,
+    }
 }
 
-fn body_of(d: &Data, rot: RotationParam, with_r: bool) -> FfrBody {
+pub(super) fn body_of(d: &Data, rot: RotationParam, with_r: bool) -> FfrBody {
     let inv = FfrInvariants::from_lumped(&d.u0, &d.masses, d.modes_t.as_ref()).unwrap();
-    let mr = if with_r { Some(d.modes_r.as_ref()) } else { None };
+    let mr = if with_r {
+        Some(d.modes_r.as_ref())
+    } else {
+        None
+    };
     FfrBody::new(inv, rot, &d.u0, d.modes_t.as_ref(), mr, d.k.as_ref()).unwrap()
 }
 
-fn random_state(seed: &mut u64, b: &FfrBody, qf_scale: f64) -> (Vec<f64>, Vec<f64>) {
+pub(super) fn random_state(seed: &mut u64, b: &FfrBody, qf_scale: f64) -> (Vec<f64>, Vec<f64>) {
     let nf = b.nf();
     let mut q = vec![rnd(seed), rnd(seed), rnd(seed)];
     match b.rotation {
         RotationParam::Cardan => q.extend([rnd(seed) * 3.0, rnd(seed) * 1.3, rnd(seed) * 3.0]),
         RotationParam::Quaternion => {
-            let p = normalize_quaternion(&Vector4::new(rnd(seed), rnd(seed), rnd(seed), rnd(seed))).unwrap();
+            let p = normalize_quaternion(&Vector4::new(rnd(seed), rnd(seed), rnd(seed), rnd(seed)))
+                .unwrap();
             q.extend(p.iter());
         }
     }
@@ -50,13 +69,13 @@ fn random_state(seed: &mut u64, b: &FfrBody, qf_scale: f64) -> (Vec<f64>, Vec<f6
 }
 
 /// `q + h T(q) u` (one explicit step along the motion).
-fn advance(b: &FfrBody, q: &[f64], u: &[f64], h: f64) -> Vec<f64> {
+pub(super) fn advance(b: &FfrBody, q: &[f64], u: &[f64], h: f64) -> Vec<f64> {
     let mut qd = vec![0.0; q.len()];
     b.coordinate_rates(q, u, &mut qd);
     q.iter().zip(&qd).map(|(a, d)| a + h * d).collect()
 }
 
-fn mass_matrix(b: &FfrBody, q: &[f64], u: &[f64]) -> DMatrix<f64> {
+pub(super) fn mass_matrix(b: &FfrBody, q: &[f64], u: &[f64]) -> DMatrix<f64> {
     let mut s = FfrScratch::new(b.nf());
     b.update(q, u, &mut s).unwrap();
     let mut m = DMatrix::zeros(b.nu(), b.nu());
@@ -64,22 +83,23 @@ fn mass_matrix(b: &FfrBody, q: &[f64], u: &[f64]) -> DMatrix<f64> {
     m
 }
 
-fn jt(b: &FfrBody, j: usize, q: &[f64], u: &[f64]) -> DMatrix<f64> {
+pub(super) fn jt(b: &FfrBody, j: usize, q: &[f64], u: &[f64]) -> DMatrix<f64> {
     let mut s = FfrScratch::new(b.nf());
     b.update(q, u, &mut s).unwrap();
     let mut m = DMatrix::zeros(3, b.nu());
-    b.node_jacobian_translation(j, &s, faer_view_mut(&mut m)).unwrap();
+    b.node_jacobian_translation(j, &s, faer_view_mut(&mut m))
+        .unwrap();
     m
 }
 
-fn node_pos(b: &FfrBody, j: usize, q: &[f64]) -> Vector3<f64> {
+pub(super) fn node_pos(b: &FfrBody, j: usize, q: &[f64]) -> Vector3<f64> {
     let mut s = FfrScratch::new(b.nf());
     let u = vec![0.0; b.nu()];
     b.update(q, &u, &mut s).unwrap();
     b.node_kinematics(j, q, &u, &s).unwrap().r
 }
 
-fn qv(b: &FfrBody, q: &[f64], u: &[f64]) -> DVector<f64> {
+pub(super) fn qv(b: &FfrBody, q: &[f64], u: &[f64]) -> DVector<f64> {
     let mut s = FfrScratch::new(b.nf());
     b.update(q, u, &mut s).unwrap();
     let mut out = DVector::zeros(b.nu());
@@ -112,9 +132,14 @@ fn mass_matrix_equals_node_sum() {
                     for i in 0..b.nu() {
                         let mut e = vec![0.0; b.nu()];
                         e[i] = 1.0;
-                        let fd = (node_pos(&b, j, &advance(&b, &q, &e, h)) - node_pos(&b, j, &advance(&b, &q, &e, -h)))
+                        let fd = (node_pos(&b, j, &advance(&b, &q, &e, h))
+                            - node_pos(&b, j, &advance(&b, &q, &e, -h)))
                             / (2.0 * h);
-                        assert!((fd - jj.column(i)).norm() < 1e-7, "J_T column {i}: {}", (fd - jj.column(i)).norm());
+                        assert!(
+                            (fd - jj.column(i)).norm() < 1e-7,
+                            "J_T column {i}: {}",
+                            (fd - jj.column(i)).norm()
+                        );
                     }
                 }
             }
@@ -166,7 +191,8 @@ fn quadratic_velocity_equals_lagrange_and_hamel_forms() {
             let (q, u) = random_state(&mut seed, &b, 0.5);
             let uv = DVector::from_column_slice(&u);
             let h = 1e-6;
-            let mdot = (mass_matrix(&b, &advance(&b, &q, &u, h), &u) - mass_matrix(&b, &advance(&b, &q, &u, -h), &u))
+            let mdot = (mass_matrix(&b, &advance(&b, &q, &u, h), &u)
+                - mass_matrix(&b, &advance(&b, &q, &u, -h), &u))
                 / (2.0 * h);
             let mut lag = -mdot * &uv;
             // gradient of T* = 1/2 u^T M u along the directions T(q) e_i
@@ -216,11 +242,17 @@ fn rigid_body_limit() {
         let mut s = FfrScratch::new(0);
         b.update(&q, &u, &mut s).unwrap();
         let mut expected = DMatrix::zeros(6, 6);
-        expected.view_mut((0, 0), (3, 3)).copy_from(&(mass * Matrix3::identity()));
+        expected
+            .view_mut((0, 0), (3, 3))
+            .copy_from(&(mass * Matrix3::identity()));
         let m_rw = -s.a * skew(&first) * s.h;
         expected.view_mut((0, 3), (3, 3)).copy_from(&m_rw);
-        expected.view_mut((3, 0), (3, 3)).copy_from(&m_rw.transpose());
-        expected.view_mut((3, 3), (3, 3)).copy_from(&(s.h.transpose() * j_o * s.h));
+        expected
+            .view_mut((3, 0), (3, 3))
+            .copy_from(&m_rw.transpose());
+        expected
+            .view_mut((3, 3), (3, 3))
+            .copy_from(&(s.h.transpose() * j_o * s.h));
         let m = mass_matrix(&b, &q, &u);
         assert!(rel(&m, &expected) < 1e-12, "{}", rel(&m, &expected));
         let w = s.omega;
@@ -228,10 +260,17 @@ fn rigid_body_limit() {
         let qw = -(s.h.transpose() * (w.cross(&(j_o * w)) + j_o * s.hdot_w));
         let got = qv(&b, &q, &u);
         let exp = DVector::from_iterator(6, qr.iter().chain(qw.iter()).copied());
-        assert!((&got - &exp).norm() <= 1e-12 * exp.norm(), "{}", (&got - &exp).norm());
+        assert!(
+            (&got - &exp).norm() <= 1e-12 * exp.norm(),
+            "{}",
+            (&got - &exp).norm()
+        );
         if rot == RotationParam::Quaternion {
             // Euler: -ω × J_O ω in the body frame
-            assert!((Vector3::new(got[3], got[4], got[5]) + w.cross(&(j_o * w))).norm() <= 1e-12 * got.norm());
+            assert!(
+                (Vector3::new(got[3], got[4], got[5]) + w.cross(&(j_o * w))).norm()
+                    <= 1e-12 * got.norm()
+            );
         }
     }
 }
@@ -255,7 +294,10 @@ fn kinetic_energy_equals_node_sum() {
         let mut s = FfrScratch::new(b.nf());
         b.update(&q, &u, &mut s).unwrap();
         let t = b.kinetic_energy(&mut s, &u);
-        assert!(((t - brute) / brute).abs() < 1e-7, "{rot:?}: {t} vs {brute}");
+        assert!(
+            ((t - brute) / brute).abs() < 1e-7,
+            "{rot:?}: {t} vs {brute}"
+        );
     }
 }
 
@@ -266,11 +308,17 @@ fn consistent_with_diagonal_mass_equals_lumped() {
     let mut seed = 41;
     let d = random_data(&mut seed, 9, 5, 0.3);
     let n = d.u0.len();
-    let trip: Vec<_> = (0..3 * n).map(|i| faer::sparse::Triplet::new(i, i, d.masses[i / 3])).collect();
+    let trip: Vec<_> = (0..3 * n)
+        .map(|i| faer::sparse::Triplet::new(i, i, d.masses[i / 3]))
+        .collect();
     let m = flexmbs_fe::SparseMatrix::try_new_from_triplets(3 * n, 3 * n, &trip).unwrap();
     let a = FfrInvariants::from_lumped(&d.u0, &d.masses, d.modes_t.as_ref()).unwrap();
     let c = FfrInvariants::from_consistent(&d.u0, &m, d.modes_t.as_ref()).unwrap();
-    assert!(a.max_abs_difference(&c) < 1e-13, "{:e}", a.max_abs_difference(&c));
+    assert!(
+        a.max_abs_difference(&c) < 1e-13,
+        "{:e}",
+        a.max_abs_difference(&c)
+    );
     let mut trip2 = trip.clone();
     trip2.push(faer::sparse::Triplet::new(0, 1, 0.1));
     let m2 = flexmbs_fe::SparseMatrix::try_new_from_triplets(3 * n, 3 * n, &trip2).unwrap();
@@ -285,9 +333,17 @@ fn consistent_with_diagonal_mass_equals_lumped() {
 /// s = sum of the vertices) to 1e-14; with linear "modes" Φ = x_k e_l, S_bar is the exact moment.
 #[test]
 fn consistent_tetrahedron_exact_moments() {
-    let x = [[0.1, 0.2, 0.0], [1.3, 0.1, 0.2], [0.2, 0.9, 0.1], [0.3, 0.4, 1.1]];
+    let x = [
+        [0.1, 0.2, 0.0],
+        [1.3, 0.1, 0.2],
+        [0.2, 0.9, 0.1],
+        [0.3, 0.4, 1.1],
+    ];
     let xv: Vec<Vector3<f64>> = x.iter().map(|p| Vector3::from(*p)).collect();
-    let vol = (xv[1] - xv[0]).cross(&(xv[2] - xv[0])).dot(&(xv[3] - xv[0])) / 6.0;
+    let vol = (xv[1] - xv[0])
+        .cross(&(xv[2] - xv[0]))
+        .dot(&(xv[3] - xv[0]))
+        / 6.0;
     let rho = 7.8;
     let mass = rho * vol;
     let mut trip = Vec::new();
@@ -304,7 +360,8 @@ fn consistent_tetrahedron_exact_moments() {
     let modes = faer::Mat::from_fn(12, 1, |r, _| if r % 3 == 1 { x[r / 3][0] } else { 0.0 });
     let inv = FfrInvariants::from_consistent(&x, &m, modes.as_ref()).unwrap();
     let s: Vector3<f64> = xv.iter().sum();
-    let second = mass / 20.0 * (xv.iter().map(|p| p * p.transpose()).sum::<Matrix3<f64>>() + s * s.transpose());
+    let second = mass / 20.0
+        * (xv.iter().map(|p| p * p.transpose()).sum::<Matrix3<f64>>() + s * s.transpose());
     assert!((inv.i1 - mass).abs() < 1e-14 * mass);
     assert!((inv.i_bar - mass * s / 4.0).norm() < 1e-14 * mass);
     assert!((inv.i_kl - second).abs().max() < 1e-14 * mass);
