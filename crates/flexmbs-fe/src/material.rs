@@ -26,32 +26,19 @@ impl Material {
 
     /// Structural steel in SI: E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3.
     pub fn steel() -> Self {
-        Self {
-            e: 210e9,
-            nu: 0.3,
-            rho: 7850.0,
-        }
+        Self { e: 210e9, nu: 0.3, rho: 7850.0 }
     }
 
     /// Checks E > 0, -1 < nu < 0.5, rho > 0, all finite.
     pub fn validate(&self) -> Result<(), FeError> {
         if !(self.e.is_finite() && self.e > 0.0) {
-            return Err(FeError::Invalid(format!(
-                "Young's modulus must be > 0, got {}",
-                self.e
-            )));
+            return Err(FeError::Invalid(format!("Young's modulus must be > 0, got {}", self.e)));
         }
         if !(self.nu.is_finite() && self.nu > -1.0 && self.nu < 0.5) {
-            return Err(FeError::Invalid(format!(
-                "Poisson's ratio must be in (-1, 0.5), got {}",
-                self.nu
-            )));
+            return Err(FeError::Invalid(format!("Poisson's ratio must be in (-1, 0.5), got {}", self.nu)));
         }
         if !(self.rho.is_finite() && self.rho > 0.0) {
-            return Err(FeError::Invalid(format!(
-                "density must be > 0, got {}",
-                self.rho
-            )));
+            return Err(FeError::Invalid(format!("density must be > 0, got {}", self.rho)));
         }
         Ok(())
     }
@@ -63,11 +50,7 @@ impl Material {
 
     /// The same material expressed in SI, from values given in `units`.
     pub fn to_si(&self, units: UnitSystem) -> Self {
-        Self {
-            e: self.e * units.stress_to_si(),
-            nu: self.nu,
-            rho: self.rho * units.density_to_si(),
-        }
+        Self { e: self.e * units.stress_to_si(), nu: self.nu, rho: self.rho * units.density_to_si() }
     }
 
     /// Isotropic elasticity matrix in Voigt order (xx, yy, zz, xy, yz, zx) with engineering shear strains.

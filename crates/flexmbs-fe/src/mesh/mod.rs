@@ -90,40 +90,19 @@ impl BeamSection {
         // J = a c^3 [1/3 - 0.21 (c/a)(1 - (c/a)^4/12)], accurate to < 0.5 %. For a square: 0.1406 a^4.
         let r = c / a;
         let j = a * c.powi(3) * (1.0 / 3.0 - 0.21 * r * (1.0 - r.powi(4) / 12.0));
-        Self {
-            area: b * h,
-            iy: b * h.powi(3) / 12.0,
-            iz: h * b.powi(3) / 12.0,
-            j,
-            ky: 5.0 / 6.0,
-            kz: 5.0 / 6.0,
-        }
+        Self { area: b * h, iy: b * h.powi(3) / 12.0, iz: h * b.powi(3) / 12.0, j, ky: 5.0 / 6.0, kz: 5.0 / 6.0 }
     }
     /// Solid circle of diameter `d`: J = I_p, shear factor 6(1+nu)/(7+6nu) at nu = 0.3 is 0.886; 0.9 used.
     pub fn circle(d: f64) -> Self {
         let r = d / 2.0;
         let i = std::f64::consts::PI * r.powi(4) / 4.0;
-        Self {
-            area: std::f64::consts::PI * r * r,
-            iy: i,
-            iz: i,
-            j: 2.0 * i,
-            ky: 0.9,
-            kz: 0.9,
-        }
+        Self { area: std::f64::consts::PI * r * r, iy: i, iz: i, j: 2.0 * i, ky: 0.9, kz: 0.9 }
     }
     /// Thin-or-thick circular tube of outer radius `ro` and wall `t`; shear factor 0.5 (thin tube).
     pub fn tube(ro: f64, t: f64) -> Self {
         let ri = ro - t;
         let i = std::f64::consts::PI * (ro.powi(4) - ri.powi(4)) / 4.0;
-        Self {
-            area: std::f64::consts::PI * (ro * ro - ri * ri),
-            iy: i,
-            iz: i,
-            j: 2.0 * i,
-            ky: 0.5,
-            kz: 0.5,
-        }
+        Self { area: std::f64::consts::PI * (ro * ro - ri * ri), iy: i, iz: i, j: 2.0 * i, ky: 0.5, kz: 0.5 }
     }
 }
 
@@ -206,10 +185,7 @@ impl Mesh {
 
     /// Looks up a node set by name.
     pub fn node_set(&self, name: &str) -> Result<&[NodeIdx], FeError> {
-        self.node_sets
-            .get(name)
-            .map(|v| v.as_slice())
-            .ok_or_else(|| FeError::MissingNodeSet(name.to_string()))
+        self.node_sets.get(name).map(|v| v.as_slice()).ok_or_else(|| FeError::MissingNodeSet(name.to_string()))
     }
 
     /// Degrees of freedom of each node: 6 if any beam element uses it, 3 if only solids do,
@@ -236,10 +212,7 @@ impl Mesh {
         }
         for (i, x) in self.nodes.iter().enumerate() {
             if x.iter().any(|v| !v.is_finite()) {
-                return Err(FeError::Invalid(format!(
-                    "node {} has a non-finite coordinate",
-                    self.node_ids[i]
-                )));
+                return Err(FeError::Invalid(format!("node {} has a non-finite coordinate", self.node_ids[i])));
             }
         }
         let mut seen = std::collections::HashSet::with_capacity(self.node_ids.len());
@@ -261,35 +234,24 @@ impl Mesh {
                 )));
             }
             if let Some(&n) = e.nodes.iter().find(|&&n| n >= self.nodes.len()) {
-                return Err(FeError::Invalid(format!(
-                    "element {ei} refers to node index {n} out of range"
-                )));
+                return Err(FeError::Invalid(format!("element {ei} refers to node index {n} out of range")));
             }
             match self.properties.get(e.property) {
                 None => {
-                    return Err(FeError::Invalid(format!(
-                        "element {ei} refers to missing property {}",
-                        e.property
-                    )))
+                    return Err(FeError::Invalid(format!("element {ei} refers to missing property {}", e.property)))
                 }
                 Some(Property::Beam { .. }) if e.kind.is_solid() => {
-                    return Err(FeError::Invalid(format!(
-                        "solid element {ei} has a beam property"
-                    )))
+                    return Err(FeError::Invalid(format!("solid element {ei} has a beam property")))
                 }
                 Some(Property::Solid { .. }) if !e.kind.is_solid() => {
-                    return Err(FeError::Invalid(format!(
-                        "beam element {ei} has a solid property"
-                    )))
+                    return Err(FeError::Invalid(format!("beam element {ei} has a solid property")))
                 }
                 _ => {}
             }
         }
         for (name, set) in &self.node_sets {
             if let Some(&n) = set.iter().find(|&&n| n >= self.nodes.len()) {
-                return Err(FeError::Invalid(format!(
-                    "node set '{name}' refers to node index {n} out of range"
-                )));
+                return Err(FeError::Invalid(format!("node set '{name}' refers to node index {n} out of range")));
             }
         }
         Ok(())
@@ -309,9 +271,7 @@ impl Mesh {
         for p in &mut m.properties {
             match p {
                 Property::Solid { material } => *material = material.to_si(u),
-                Property::Beam {
-                    material, section, ..
-                } => {
+                Property::Beam { material, section, .. } => {
                     *material = material.to_si(u);
                     section.area *= l * l;
                     section.iy *= l.powi(4);
