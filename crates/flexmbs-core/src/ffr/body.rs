@@ -446,8 +446,8 @@ impl FfrBody {
         }
     }
 
-    /// Kinetic energy `1/2 u^T M u` (2.43) of the evaluated state (needs the mass matrix in `s.m`,
-    /// e.g. after [`Self::accelerations`]; otherwise use [`Self::mass_matrix`] yourself).
+    /// Kinetic energy `1/2 u^T M u` (2.43) of the state evaluated by [`Self::update`] (assembles
+    /// M in the scratch buffer `s.m`; no allocation).
     pub fn kinetic_energy(&self, s: &mut FfrScratch, u: &[f64]) -> f64 {
         let nu = self.nu();
         let mut m = std::mem::replace(&mut s.m, DMatrix::zeros(0, 0));
