@@ -1,0 +1,207 @@
+//! Node kinematics of an FFR body: position (2.24), velocity (2.32), Jacobians of translation
+//! (2.70) and rotation (2.72) and the acceleration bias terms `J_dot u` needed by constraints;
+//! generalized forces of point forces and torques (2.76).
+//!
+//! All functions need [`FfrBody::update`] first and cost O(n_f) per node.
+
+use super::{FfrBody, FfrError, FfrScratch};
+use crate::rotation::skew;
+use faer::MatMut;
+use nalgebra::{Matrix3, Vector3};
+
+/// Kinematic state of one node (global components unless noted).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeKinematics {
+    /// Deformed local position `ū = u0 + Φ q_f` (2.23), body frame.
+    pub u_bar: Vector3<f64>,
+    /// Position `r = R + A ū` (2.24).
+    pub r: Vector3<f64>,
+    /// Velocity `r_dot = R_dot + A (ω̄ × ū + Φ q_f_dot)` (2.32).
+    pub v: Vector3<f64>,
+    /// Translational bias acceleration `J_dot_T u = A [ω̄×(ω̄×ū) + 2 ω̄×(Φ q_f_dot) + (H_dot w)×ū]`.
+    pub a_bias: Vector3<f64>,
+    /// Orientation of the node frame `A (I + skew(Φ_r q_f))` (small rotations; `A` without
+    /// rotational modes).
+    pub frame: Matrix3<f64>,
+    /// Angular velocity `A (ω̄ + Φ_r q_f_dot)` (2.71 with rotational modes).
+    pub omega: Vector3<f64>,
+    /// Rotational bias acceleration `J_dot_R u = A [ω̄ × (Φ_r q_f_dot) + H_dot w]`.
+    pub alpha_bias: Vector3<f64>,
+}
+
+impl FfrBody {
+    fn check_node(&self, node: usize) -> Result<(), FfrError> {
+        if node < self.num_nodes() {
+            Ok(())
+        } else {
+            Err(FfrError::NodeOutOfRange {
+                node,
+                nodes: self.num_nodes(),
+            })
+        }
+    }
+
+    /// `Φ^p x` for the 3 rows of node `p` of `modes` (O(3 n_f)).
+    fn mode_rows_times(
+        modes: &nalgebra::DMatrix<f64>,
+        node: usize,
+        x: &nalgebra::DVector<f64>,
+    ) -> Vector3<f64> {
+        let mut v = Vector3::zeros();
+        for k in 0..3 {
+            for a in 0..x.len() {
+                v[k] += modes[(3 * node + k, a)] * x[a];
+            }
+        }
+        v
+    }
+
+    /// Global position, frame, velocities and bias accelerations of node `node` for the state of
+    /// `s` (needs [`FfrBody::update`]), with `R` and `R_dot` from `q` and `u`.
+    pub fn node_kinematics(
+        &self,
+        node: usize,
+        q: &[f64],
+        u: &[f64],
+        s: &FfrScratch,
+    ) -> Result<NodeKinematics, FfrError> {
+        self.check_node(node)?;
+        let phi_q = Self::mode_rows_times(&self.modes_t, node, &s.qf);
+        let phi_qd = Self::mode_rows_times(&self.modes_t, node, &s.qfd);
+        let u_bar = self.u0[node] + phi_q;
+        let w = s.omega;
+        let z = s.hdot_w;
+        let r = Vector3::new(q[0], q[1], q[2]) + s.a * u_bar;
+        let v = Vector3::new(u[0], u[1], u[2]) + s.a * (w.cross(&u_bar) + phi_qd);
+        let a_bias = s.a * (w.cross(&w.cross(&u_bar)) + 2.0 * w.cross(&phi_qd) + z.cross(&u_bar));
+        let (frame, omega, alpha_bias) = match &self.modes_r {
+            Some(mr) => {
+                let th = Self::mode_rows_times(mr, node, &s.qf);
+                let thd = Self::mode_rows_times(mr, node, &s.qfd);
+                (
+                    s.a * (Matrix3::identity() + skew(&th)),
+                    s.a * (w + thd),
+                    s.a * (w.cross(&thd) + z),
+                )
+            }
+            None => (s.a, s.a * w, s.a * z),
+        };
+        Ok(NodeKinematics {
+            u_bar,
+            r,
+            v,
+            a_bias,
+            frame,
+            omega,
+            alpha_bias,
+        })
+    }
+
+    /// Jacobian of translation of node `node`, `J_T = [I, -A ũ H, A Φ]` (2.70), into `jt`
+    /// (3 x n_u).
+    pub fn node_jacobian_translation(
+        &self,
+        node: usize,
+        s: &FfrScratch,
+        mut jt: MatMut<'_, f64>,
+    ) -> Result<(), FfrError> {
+        self.check_node(node)?;
+        let u_bar = self.u0[node] + Self::mode_rows_times(&self.modes_t, node, &s.qf);
+        let b = -s.a * skew(&u_bar) * s.h;
+        for i in 0..3 {
+            for j in 0..3 {
+                jt[(i, j)] = if i == j { 1.0 } else { 0.0 };
+                jt[(i, 3 + j)] = b[(i, j)];
+            }
+            for a in 0..self.nf() {
+                let mut acc = 0.0;
+                for k in 0..3 {
+                    acc += s.a[(i, k)] * self.modes_t[(3 * node + k, a)];
+                }
+                jt[(i, 6 + a)] = acc;
+            }
+        }
+        Ok(())
+    }
+
+    /// Jacobian of rotation of node `node`, `J_R = [0, A H, A Φ_r]` ((2.72) extended by the
+    /// rotational modes, zero without them), into `jr` (3 x n_u).
+    pub fn node_jacobian_rotation(
+        &self,
+        node: usize,
+        s: &FfrScratch,
+        mut jr: MatMut<'_, f64>,
+    ) -> Result<(), FfrError> {
+        self.check_node(node)?;
+        let ah = s.a * s.h;
+        for i in 0..3 {
+            for j in 0..3 {
+                jr[(i, j)] = 0.0;
+                jr[(i, 3 + j)] = ah[(i, j)];
+            }
+            for a in 0..self.nf() {
+                let mut acc = 0.0;
+                if let Some(mr) = &self.modes_r {
+                    for k in 0..3 {
+                        acc += s.a[(i, k)] * mr[(3 * node + k, a)];
+                    }
+                }
+                jr[(i, 6 + a)] = acc;
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds the generalized force `J_T^T F` (2.76) of a global force `f` at node `node` to `out`.
+    pub fn add_node_force(
+        &self,
+        node: usize,
+        f: &Vector3<f64>,
+        s: &FfrScratch,
+        out: &mut [f64],
+    ) -> Result<(), FfrError> {
+        self.check_node(node)?;
+        let u_bar = self.u0[node] + Self::mode_rows_times(&self.modes_t, node, &s.qf);
+        let fb = s.a.transpose() * f;
+        // (-A ũ H)^T F = H^T ũ A^T F = H^T (ū × F_bar)
+        let tw = s.h.transpose() * u_bar.cross(&fb);
+        for i in 0..3 {
+            out[i] += f[i];
+            out[3 + i] += tw[i];
+        }
+        for a in 0..self.nf() {
+            let mut acc = 0.0;
+            for k in 0..3 {
+                acc += self.modes_t[(3 * node + k, a)] * fb[k];
+            }
+            out[6 + a] += acc;
+        }
+        Ok(())
+    }
+
+    /// Adds the generalized force `J_R^T τ` (2.76) of a global torque `tau` at node `node` to `out`.
+    pub fn add_node_torque(
+        &self,
+        node: usize,
+        tau: &Vector3<f64>,
+        s: &FfrScratch,
+        out: &mut [f64],
+    ) -> Result<(), FfrError> {
+        self.check_node(node)?;
+        let tb = s.a.transpose() * tau;
+        let tw = s.h.transpose() * tb;
+        for i in 0..3 {
+            out[3 + i] += tw[i];
+        }
+        if let Some(mr) = &self.modes_r {
+            for a in 0..self.nf() {
+                let mut acc = 0.0;
+                for k in 0..3 {
+                    acc += mr[(3 * node + k, a)] * tb[k];
+                }
+                out[6 + a] += acc;
+            }
+        }
+        Ok(())
+    }
+}

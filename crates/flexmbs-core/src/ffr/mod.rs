@@ -1,0 +1,106 @@
+//! Floating frame of reference (FFR) body: inertia shape integrals, mass matrix, quadratic velocity vector, Jacobians (seed 000 ch. 2.4).
+//!
+//! A self-contained, allocation-free-at-runtime library of FFR mathematics:
+//! - [`FfrInvariants`]: the constant inertia shape integrals (lumped or consistent mass);
+//! - [`FfrBody`]: mass matrix `M(q)`, quadratic velocity vector `Q_v(q, u)`, stiffness,
+//!   damping, node kinematics and Jacobians, generalized forces, accelerations;
+//! - [`FfrScratch`]: the per-body work buffers, created once.
+//!
+//! Coordinates: `q = [R (3), rotation (3 Cardan angles or 4 quaternion components), q_f (n_f)]`,
+//! velocities `u = [R_dot (3), w (3), q_f_dot (n_f)]` with `w = theta_dot` (Cardan, seed 000
+//! (2.26)) or `w = omega_bar` (quaternion, body-frame angular velocity). See
+//! `docs/notation-ffr.md` for the derivation and the corrected quadratic velocity vector (2.79).
+
+mod body;
+mod invariants;
+mod kinematics;
+mod si;
+#[cfg(test)]
+mod tests;
+#[cfg(test)]
+mod tests_dynamics;
+
+pub use body::{FfrBody, FfrScratch, RotationParam};
+pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
+pub use kinematics::NodeKinematics;
+pub use si::reduced_body_to_si;
+
+use crate::rotation::RotationError;
+use thiserror::Error;
+
+/// Errors of the FFR body computations.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum FfrError {
+    /// An input array has the wrong size.
+    #[error("dimension mismatch in {what}: expected {expected}, found {found}")]
+    DimensionMismatch {
+        /// What was checked.
+        what: &'static str,
+        /// Expected size.
+        expected: usize,
+        /// Actual size.
+        found: usize,
+    },
+    /// A node mass is negative or not finite, or the total mass is not positive
+    /// (`node == usize::MAX`).
+    #[error("invalid mass {mass} at node {node} (usize::MAX = total mass)")]
+    InvalidMass {
+        /// Node index.
+        node: usize,
+        /// The mass.
+        mass: f64,
+    },
+    /// The reduced body carries no lumped node masses.
+    #[error("reduced body '{name}' has no lumped node masses; use FfrInvariants::from_consistent")]
+    MissingNodeMasses {
+        /// Body name.
+        name: String,
+    },
+    /// A non-finite number in the input.
+    #[error("non-finite value in {what}")]
+    NonFinite {
+        /// Where.
+        what: &'static str,
+    },
+    /// The consistent mass matrix has node blocks that are not `m_ij I_3`.
+    #[error(
+        "consistent mass matrix is not block-isotropic at ({row}, {col}): deviation {deviation:e}"
+    )]
+    NonIsotropicMass {
+        /// Row (3 x node + direction).
+        row: usize,
+        /// Column.
+        col: usize,
+        /// Absolute deviation from isotropy.
+        deviation: f64,
+    },
+    /// A node index is out of range.
+    #[error("node {node} out of range (body has {nodes} nodes)")]
+    NodeOutOfRange {
+        /// Requested node.
+        node: usize,
+        /// Number of nodes.
+        nodes: usize,
+    },
+    /// The mass matrix is not positive definite (Cholesky pivot).
+    #[error("mass matrix not positive definite: pivot {pivot} = {value:e}")]
+    NotPositiveDefinite {
+        /// Pivot index.
+        pivot: usize,
+        /// Pivot value.
+        value: f64,
+    },
+    /// Modal damping ratios need diagonal reduced mass and stiffness matrices.
+    #[error("modal damping needs diagonal m_ff and k_ff: off-diagonal ({row}, {col}) relative size {relative:e}")]
+    NotDiagonal {
+        /// Row.
+        row: usize,
+        /// Column.
+        col: usize,
+        /// |off-diagonal| / sqrt(diag_i diag_j).
+        relative: f64,
+    },
+    /// Rotation parametrization error (Cardan singularity, zero quaternion).
+    #[error(transparent)]
+    Rotation(#[from] RotationError),
+}

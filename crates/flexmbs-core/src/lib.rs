@@ -1,0 +1,5 @@
+//! The flexmbs multibody engine.
+#![warn(missing_docs)]
+
+pub mod ffr;
+pub mod rotation;
