@@ -169,7 +169,7 @@ pub fn build_mesh(spec: &FeBodySpec, base: &Path) -> Result<Mesh, PipelineError>
         }
         MeshSpec::Calculix { deck, .. } => {
             let path = resolve(base, deck);
-            crate::calculix::inp::read_inp(&path, u)?.mesh
+            deck_mesh(&path, u)?
         }
         MeshSpec::Seed { .. } => {
             return Err(PipelineError::Model {
@@ -181,6 +181,47 @@ pub fn build_mesh(spec: &FeBodySpec, base: &Path) -> Result<Mesh, PipelineError>
     };
     Ok(mesh)
 }
+
+/// The mesh of a CalculiX deck, with the nodes fully fixed by its `*BOUNDARY` cards (all three
+/// translations, value 0) collected in the node set `DECK_BOUNDARY`. Partial or non-zero
+/// boundary conditions are refused: flexmbs fixes whole nodes.
+fn deck_mesh(path: &Path, units: flexmbs_fe::UnitSystem) -> Result<Mesh, PipelineError> {
+    let deck = crate::calculix::inp::read_inp(path, units)?;
+    let mut mesh = deck.mesh;
+    let mut dirs = std::collections::BTreeMap::<NodeIdx, u8>::new();
+    for b in &deck.boundaries {
+        if b.value != 0.0 || b.dof > 3 {
+            return Err(PipelineError::Model {
+                path: "body.mesh.deck".into(),
+                message: format!(
+                    "{}: *BOUNDARY on node {} DOF {} = {} is not supported (only fixed translations); fix nodes in [body.boundary] instead",
+                    path.display(),
+                    mesh.node_ids[b.node],
+                    b.dof,
+                    b.value
+                ),
+            });
+        }
+        *dirs.entry(b.node).or_insert(0) |= 1 << (b.dof - 1);
+    }
+    if let Some((&n, _)) = dirs.iter().find(|(_, &m)| m != 0b111) {
+        return Err(PipelineError::Model {
+            path: "body.mesh.deck".into(),
+            message: format!(
+                "{}: node {} is fixed in some directions only; flexmbs fixes whole nodes (use [body.boundary])",
+                path.display(),
+                mesh.node_ids[n]
+            ),
+        });
+    }
+    if !dirs.is_empty() {
+        mesh.node_sets.insert(DECK_BOUNDARY.into(), dirs.into_keys().collect());
+    }
+    Ok(mesh)
+}
+
+/// Node set holding the nodes fixed by a CalculiX deck's `*BOUNDARY`; always applied.
+pub const DECK_BOUNDARY: &str = "DECK_BOUNDARY";
 
 fn build_profile(p: &ProfileSpec) -> Result<Profile, FeError> {
     match p {
@@ -273,6 +314,9 @@ pub fn boundary_conditions(
     b: &BoundarySpec,
 ) -> Result<BoundaryConditions, PipelineError> {
     let mut bc = BoundaryConditions::default();
+    if let Some(deck_fixed) = mesh.node_sets.get(DECK_BOUNDARY) {
+        bc.fixed.extend(deck_fixed);
+    }
     for (i, sel) in b.fixed.iter().enumerate() {
         bc.fixed.extend(select_nodes(
             mesh,
