@@ -73,13 +73,19 @@ fn register_font() {
     });
 }
 
-const COLORS: [RGBColor; 6] = [
+const COLORS: [RGBColor; 12] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
     RGBColor(214, 39, 40),
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+    RGBColor(0, 0, 0),
+    RGBColor(255, 215, 0),
 ];
 
 impl LinePlot {
@@ -94,11 +100,11 @@ impl LinePlot {
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
         {
-            let root = SVGBackend::new(path, (900, 560)).into_drawing_area();
+            let root = SVGBackend::new(path, (1000, 620)).into_drawing_area();
             self.draw(&root, path)?;
             root.present().map_err(|e| err(e.to_string()))
         } else {
-            let root = BitMapBackend::new(path, (900, 560)).into_drawing_area();
+            let root = BitMapBackend::new(path, (1000, 620)).into_drawing_area();
             self.draw(&root, path)?;
             root.present().map_err(|e| err(e.to_string()))
         }

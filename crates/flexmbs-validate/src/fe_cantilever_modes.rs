@@ -151,7 +151,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
             MassKind::Consistent,
         )?;
     }
-    for (n, m) in [(10, 1), (20, 2), (40, 2), (80, 4)] {
+    for (n, m) in [(10, 2), (20, 2), (40, 2), (80, 4)] {
         run_one(
             format!("hex20r {n}x{m}x{m}"),
             solid_mesh(ElementKind::Hex20R, n, m)?,
