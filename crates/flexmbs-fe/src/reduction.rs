@@ -200,19 +200,29 @@ pub fn reduce_modal(
     )
 }
 
+/// What a Craig-Bampton reduction keeps.
+#[derive(Debug, Clone)]
+pub struct CraigBamptonOptions<'a> {
+    /// Interface nodes: all their independent DOFs are kept as static constraint modes.
+    pub interface: &'a [crate::NodeIdx],
+    /// Number of fixed-interface normal modes (0 = Guyan).
+    pub internal_modes: usize,
+    /// Eigen solver options for the fixed-interface modes.
+    pub eigen: &'a EigenOptions,
+}
+
 /// Craig-Bampton reduction (seed 001 ch. 3): static constraint modes of the independent DOFs of
 /// `interface` nodes (`Psi = -K_II^-1 K_IB`) followed by `n_internal` fixed-interface normal modes of
 /// `(K_II, M_II)`. `n_internal = 0` is Guyan condensation.
 pub fn craig_bampton(
     mesh: &Mesh,
     sys: &FeSystem,
-    interface: &[crate::NodeIdx],
-    n_internal: usize,
-    opts: &EigenOptions,
+    cb: &CraigBamptonOptions<'_>,
     name: &str,
     provenance: Provenance,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<ReducedBody, FeError> {
+    let (interface, n_internal, opts) = (cb.interface, cb.internal_modes, cb.eigen);
     let n = sys.len();
     let mut is_b = vec![false; n];
     let mut b_dofs = Vec::new();
@@ -365,7 +375,7 @@ fn body_from_basis(
     let k_red = project_dense(&sys.k, v);
     let m_red = project_dense(&sys.m, v);
     let (modes_t, modes_r) = sys.map.expand(v);
-    let has_rot = sys.map.dofs.count.iter().any(|&c| c == 6);
+    let has_rot = sys.map.dofs.count.contains(&6);
     let n_nodes = sys.map.nodes.len();
     let mut node_ids = mesh.node_ids.clone();
     let max_id = node_ids.iter().copied().max().unwrap_or(0);

@@ -2,16 +2,16 @@
 //! reduced-body files and VTK output.
 #![warn(missing_docs)]
 
+pub mod body_file;
+pub mod calculix;
+pub mod error;
 pub mod inp_writer;
 pub mod model;
 pub mod pipeline;
 pub mod plot;
 pub mod report;
-pub mod body_file;
-pub mod vtk;
-pub mod calculix;
-pub mod error;
 pub mod seed;
+pub mod vtk;
 
 pub use error::IoError;
 pub mod seed_body;

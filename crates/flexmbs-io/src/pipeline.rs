@@ -12,7 +12,8 @@ use flexmbs_fe::element::MassKind;
 use flexmbs_fe::mesh::generate;
 use flexmbs_fe::mesh::profile::Profile;
 use flexmbs_fe::reduction::{
-    craig_bampton, modal_analysis, reduce_modal, ModalResult, Provenance, ReducedBody,
+    craig_bampton, modal_analysis, reduce_modal, CraigBamptonOptions, ModalResult, Provenance,
+    ReducedBody,
 };
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::{ElementKind, FeError, Material, Mesh, NodeIdx};
@@ -215,7 +216,8 @@ fn deck_mesh(path: &Path, units: flexmbs_fe::UnitSystem) -> Result<Mesh, Pipelin
         });
     }
     if !dirs.is_empty() {
-        mesh.node_sets.insert(DECK_BOUNDARY.into(), dirs.into_keys().collect());
+        mesh.node_sets
+            .insert(DECK_BOUNDARY.into(), dirs.into_keys().collect());
     }
     Ok(mesh)
 }
@@ -476,9 +478,11 @@ pub fn run_reduction(
             craig_bampton(
                 &body.mesh,
                 &body.system,
-                &body.interface,
-                k,
-                &eigen_options(spec),
+                &CraigBamptonOptions {
+                    interface: &body.interface,
+                    internal_modes: k,
+                    eigen: &eigen_options(spec),
+                },
                 &spec.name,
                 provenance,
                 &mut |e| progress(Stage::Eigen(e)),

@@ -5,6 +5,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Once;
 use thiserror::Error;
 
+/// A closed interval `(lo, hi)` of an axis.
+type Span = (f64, f64);
+
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
@@ -110,7 +113,7 @@ impl LinePlot {
         }
     }
 
-    fn range(&self, path: &Path) -> Result<((f64, f64), (f64, f64)), PlotError> {
+    fn range(&self, path: &Path) -> Result<(Span, Span), PlotError> {
         let ok = |v: f64, log: bool| v.is_finite() && (!log || v > 0.0);
         let pts = self
             .series

@@ -16,13 +16,26 @@ pub fn read_seed_body(dir: &Path, name: &str, units: UnitSystem) -> Result<Reduc
 }
 
 /// Converts a parsed seed body. The frequencies are those of the reduced pair (k_ff, m_ff).
-pub fn seed_to_body(seed: &SeedBody, dir: &Path, name: &str, units: UnitSystem) -> Result<ReducedBody, IoError> {
+pub fn seed_to_body(
+    seed: &SeedBody,
+    dir: &Path,
+    name: &str,
+    units: UnitSystem,
+) -> Result<ReducedBody, IoError> {
     let k = seed.k_ff();
     let m = seed.m_ff();
-    let bad = |what: String| IoError::Inconsistent { file: dir.into(), what };
-    let (w2, _) = dense_generalized(k.as_ref(), m.as_ref()).map_err(|e| bad(format!("reduced matrices: {e}")))?;
+    let bad = |what: String| IoError::Inconsistent {
+        file: dir.into(),
+        what,
+    };
+    let (w2, _) = dense_generalized(k.as_ref(), m.as_ref())
+        .map_err(|e| bad(format!("reduced matrices: {e}")))?;
     let n = seed.num_nodes();
-    let fixed_nodes = (0..n).filter(|&i| (0..seed.num_modes()).all(|c| (0..3).all(|d| seed.modes[(3 * i + d, c)] == 0.0))).collect();
+    let fixed_nodes = (0..n)
+        .filter(|&i| {
+            (0..seed.num_modes()).all(|c| (0..3).all(|d| seed.modes[(3 * i + d, c)] == 0.0))
+        })
+        .collect();
     let labels = (0..seed.num_modes())
         .map(|i| ModeLabel {
             index: i + 1,

@@ -40,7 +40,8 @@ impl ValidationResult {
         self.quantities.insert(name.to_string(), value);
         self.reference.insert(name.to_string(), reference);
         self.tolerance.insert(name.to_string(), rel_tol);
-        if !(Self::rel_err(value, reference) <= rel_tol) {
+        let within = Self::rel_err(value, reference) <= rel_tol; // false for NaN
+        if !within {
             self.pass = false;
         }
     }

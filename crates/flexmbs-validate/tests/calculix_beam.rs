@@ -6,10 +6,12 @@
 
 use flexmbs_fe::constraint::BoundaryConditions;
 use flexmbs_fe::eigen::EigenOptions;
-use flexmbs_fe::reduction::{craig_bampton, modal_analysis, Provenance};
+use flexmbs_fe::reduction::{craig_bampton, modal_analysis, CraigBamptonOptions, Provenance};
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::UnitSystem;
-use flexmbs_io::calculix::{ccx_available, import_matrices, read_dat_frequencies, read_inp, run_ccx};
+use flexmbs_io::calculix::{
+    ccx_available, import_matrices, read_dat_frequencies, read_inp, run_ccx,
+};
 use flexmbs_io::model::read_fe_model;
 use flexmbs_io::pipeline::{prepare, run_modal};
 use std::path::{Path, PathBuf};
@@ -26,7 +28,11 @@ fn ccx_frequencies() -> Option<Vec<f64>> {
     let dir = std::env::temp_dir().join(format!("flexmbs-test-ccx-freq-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let run = run_ccx(&examples().join("calculix/beam_freq.inp"), &dir).expect("ccx frequency run");
-    let f: Vec<f64> = read_dat_frequencies(&run.file("dat")).unwrap().iter().map(|m| m.frequency_hz).collect();
+    let f: Vec<f64> = read_dat_frequencies(&run.file("dat"))
+        .unwrap()
+        .iter()
+        .map(|m| m.frequency_hz)
+        .collect();
     let _ = std::fs::remove_dir_all(&dir);
     Some(f)
 }
@@ -37,10 +43,15 @@ fn rel(a: f64, b: f64) -> f64 {
 
 #[test]
 fn imported_calculix_matrices_reproduce_calculix_frequencies() {
-    let Some(reference) = ccx_frequencies() else { return };
+    let Some(reference) = ccx_frequencies() else {
+        return;
+    };
     assert_eq!(reference.len(), 6);
     // regression values of the recipe
-    for (f, r) in reference.iter().zip([16.73174, 16.73174, 104.6634, 104.6634, 292.1994, 292.1994]) {
+    for (f, r) in reference
+        .iter()
+        .zip([16.73174, 16.73174, 104.6634, 104.6634, 292.1994, 292.1994])
+    {
         assert!(rel(*f, r) < 1e-6, "ccx gives {f}, recipe says {r}");
     }
     let model = examples().join("calculix_beam.toml");
@@ -48,19 +59,23 @@ fn imported_calculix_matrices_reproduce_calculix_frequencies() {
     let body = prepare(&spec, model.parent().unwrap(), &mut |_| {}).unwrap();
     assert_eq!(body.system.len(), 3600);
     let modal = run_modal(&spec, &body, 6, &mut |_| {}).unwrap();
-    for k in 0..6 {
-        let f = modal.labels[k].frequency_hz;
+    for (k, (label, r)) in modal.labels.iter().zip(&reference).enumerate() {
+        let f = label.frequency_hz;
         // the .dat table prints 7 significant digits: 1e-6 relative is its resolution
-        assert!(rel(f, reference[k]) < 1e-6, "mode {}: flexmbs {f} vs ccx {}", k + 1, reference[k]);
+        assert!(rel(f, *r) < 1e-6, "mode {}: flexmbs {f} vs ccx {r}", k + 1);
     }
     // flexmbs's own element on the same deck
     let model = examples().join("calculix_beam_flexmbs.toml");
     let spec = read_fe_model(&model).unwrap().body;
     let body = prepare(&spec, model.parent().unwrap(), &mut |_| {}).unwrap();
     let modal = run_modal(&spec, &body, 6, &mut |_| {}).unwrap();
-    for k in 0..6 {
-        let f = modal.labels[k].frequency_hz;
-        assert!(rel(f, reference[k]) < 1e-3, "mode {}: flexmbs Hex20R {f} vs ccx {}", k + 1, reference[k]);
+    for (k, (label, r)) in modal.labels.iter().zip(&reference).enumerate() {
+        let f = label.frequency_hz;
+        assert!(
+            rel(f, *r) < 1e-3,
+            "mode {}: flexmbs Hex20R {f} vs ccx {r}",
+            k + 1
+        );
     }
 }
 
@@ -76,14 +91,28 @@ fn guyan_tip_stiffness_of_calculix_matrices() {
     let assembled = import_matrices(&deck, &mesh).unwrap();
     let fixed = mesh.nodes_on_plane(0, 0.0, 1e-9);
     assert_eq!(fixed.len(), 21);
-    let bc = BoundaryConditions { fixed, rigid: vec![] };
+    let bc = BoundaryConditions {
+        fixed,
+        rigid: vec![],
+    };
     let sys = FeSystem::from_assembled(&mesh, &assembled, &bc).unwrap();
     // the free-free export clamped in flexmbs gives CalculiX's clamped frequencies
     let modal = modal_analysis(&sys, 2, &EigenOptions::default(), &mut |_| {}).unwrap();
     assert!(rel(modal.labels[0].frequency_hz, 16.73174) < 1e-6);
     let tip = mesh.nearest_node([1.0, 0.01, 0.01]).unwrap();
-    let body = craig_bampton(&mesh, &sys, &[tip], 0, &EigenOptions::default(), "guyan", Provenance::default(), &mut |_| {})
-        .unwrap();
+    let body = craig_bampton(
+        &mesh,
+        &sys,
+        &CraigBamptonOptions {
+            interface: &[tip],
+            internal_modes: 0,
+            eigen: &EigenOptions::default(),
+        },
+        "guyan",
+        Provenance::default(),
+        &mut |_| {},
+    )
+    .unwrap();
     // tip stiffness for a y force with the node otherwise free: 1 / (K_red^-1)_yy
     let k = &body.k_red;
     let det = k[(0, 0)] * (k[(1, 1)] * k[(2, 2)] - k[(1, 2)] * k[(2, 1)])
@@ -95,5 +124,8 @@ fn guyan_tip_stiffness_of_calculix_matrices() {
     // measures 8413.2 (-0.05 %), see the case notes.
     assert!(rel(k_yy, 8417.5) < 1e-3, "k_yy = {k_yy}");
     let k_beam = 3.0 * 210e9 * 0.02f64.powi(4) / 12.0;
-    assert!(rel(k_yy, k_beam) < 0.01, "k_yy = {k_yy} vs 3EI/L^3 = {k_beam}");
+    assert!(
+        rel(k_yy, k_beam) < 0.01,
+        "k_yy = {k_yy} vs 3EI/L^3 = {k_beam}"
+    );
 }

@@ -94,10 +94,12 @@ pub fn dense_shift_invert(
         )));
     }
     let a = Mat::from_fn(n, n, |i, j| k[(i, j)] - sigma * m[(i, j)]);
-    let llt = a.llt(Side::Lower).map_err(|e| FeError::NotPositiveDefinite {
-        what: format!("K - sigma M (sigma = {sigma:e})"),
-        hint: format!(" ({e:?}); the shift must lie below the lowest eigenvalue"),
-    })?;
+    let llt = a
+        .llt(Side::Lower)
+        .map_err(|e| FeError::NotPositiveDefinite {
+            what: format!("K - sigma M (sigma = {sigma:e})"),
+            hint: format!(" ({e:?}); the shift must lie below the lowest eigenvalue"),
+        })?;
     let l = llt.L();
     let mut z = m.to_owned();
     solve_lower_triangular_in_place(l, z.as_mut(), Par::Seq);
@@ -112,11 +114,15 @@ pub fn dense_shift_invert(
     if mu_min < -1e-10 * mu_max {
         return Err(FeError::NotPositiveDefinite {
             what: "mass matrix M".into(),
-            hint: " (it has negative eigenvalues; a mass matrix must be positive semidefinite)".into(),
+            hint: " (it has negative eigenvalues; a mass matrix must be positive semidefinite)"
+                .into(),
         });
     }
     // ascending lambda = descending mu; keep mu clearly positive
-    let keep: Vec<usize> = (0..n).rev().filter(|&i| evd.S()[i] > 1e-14 * mu_max).collect();
+    let keep: Vec<usize> = (0..n)
+        .rev()
+        .filter(|&i| evd.S()[i] > 1e-14 * mu_max)
+        .collect();
     let mut y = Mat::<f64>::zeros(n, keep.len());
     for (c, &i) in keep.iter().enumerate() {
         y.col_mut(c).copy_from(evd.U().col(i));

@@ -5,9 +5,9 @@
 use super::run::inline_includes;
 use super::{read_ccx_matrices, run_ccx, CcxMatrices};
 use crate::IoError;
+use faer::sparse::Triplet;
 use flexmbs_fe::assembly::{entries, Assembled, DofMap};
 use flexmbs_fe::{Mesh, SparseMatrix};
-use faer::sparse::Triplet;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -17,7 +17,10 @@ static RUN: AtomicUsize = AtomicUsize::new(0);
 /// The model-data part of a deck (everything before the first `*STEP`, includes inlined) followed by
 /// a matrix-export step.
 pub fn matrix_export_deck_text(deck: &Path) -> Result<String, IoError> {
-    let text = std::fs::read_to_string(deck).map_err(|source| IoError::Io { file: deck.into(), source })?;
+    let text = std::fs::read_to_string(deck).map_err(|source| IoError::Io {
+        file: deck.into(),
+        source,
+    })?;
     let text = inline_includes(&text, deck)?;
     let mut model = String::with_capacity(text.len() + 100);
     for line in text.lines() {
@@ -41,9 +44,15 @@ pub fn import_matrices(deck: &Path, mesh: &Mesh) -> Result<Assembled, IoError> {
         std::process::id(),
         RUN.fetch_add(1, Ordering::Relaxed)
     ));
-    std::fs::create_dir_all(&dir).map_err(|source| IoError::Io { file: dir.clone(), source })?;
+    std::fs::create_dir_all(&dir).map_err(|source| IoError::Io {
+        file: dir.clone(),
+        source,
+    })?;
     let job_deck: PathBuf = dir.join("export.inp");
-    std::fs::write(&job_deck, text).map_err(|source| IoError::Io { file: job_deck.clone(), source })?;
+    std::fs::write(&job_deck, text).map_err(|source| IoError::Io {
+        file: job_deck.clone(),
+        source,
+    })?;
     let run = run_ccx(&job_deck, &dir)?;
     let ccx = read_ccx_matrices(&run.job)?;
     let out = renumber(&ccx, mesh, &run.file("dof"));
@@ -54,7 +63,12 @@ pub fn import_matrices(deck: &Path, mesh: &Mesh) -> Result<Assembled, IoError> {
 /// Renumbers exported matrices into the DOF numbering of `mesh` (`DofMap::from_counts(mesh.node_dofs())`).
 pub fn renumber(ccx: &CcxMatrices, mesh: &Mesh, dof_file: &Path) -> Result<Assembled, IoError> {
     let dofs = DofMap::from_counts(mesh.node_dofs());
-    let index: HashMap<u64, usize> = mesh.node_ids.iter().enumerate().map(|(i, &id)| (id, i)).collect();
+    let index: HashMap<u64, usize> = mesh
+        .node_ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect();
     let mut map = Vec::with_capacity(ccx.dofs.len());
     for (eq, &(label, dir)) in ccx.dofs.iter().enumerate() {
         let node = *index.get(&label).ok_or_else(|| IoError::Invalid {
@@ -72,9 +86,19 @@ pub fn renumber(ccx: &CcxMatrices, mesh: &Mesh, dof_file: &Path) -> Result<Assem
         map.push(d);
     }
     let permute = |a: &SparseMatrix| -> Result<SparseMatrix, IoError> {
-        let t: Vec<_> = entries(a).map(|(i, j, v)| Triplet::new(map[i], map[j], v)).collect();
-        flexmbs_fe::assembly::sparse_from_triplets(dofs.len, &t)
-            .map_err(|e| IoError::Inconsistent { file: dof_file.into(), what: e.to_string() })
+        let t: Vec<_> = entries(a)
+            .map(|(i, j, v)| Triplet::new(map[i], map[j], v))
+            .collect();
+        flexmbs_fe::assembly::sparse_from_triplets(dofs.len, &t).map_err(|e| {
+            IoError::Inconsistent {
+                file: dof_file.into(),
+                what: e.to_string(),
+            }
+        })
     };
-    Ok(Assembled { k: permute(&ccx.k)?, m: permute(&ccx.m)?, dofs })
+    Ok(Assembled {
+        k: permute(&ccx.k)?,
+        m: permute(&ccx.m)?,
+        dofs,
+    })
 }

@@ -10,8 +10,8 @@ pub mod matrices;
 pub mod run;
 
 pub use dat::{parse_dat_frequencies, read_dat_frequencies, DatMode};
-pub use import::{import_matrices, matrix_export_deck_text, renumber};
 pub use frd::{parse_frd, read_frd, FrdElement, FrdMode, FrdResult};
+pub use import::{import_matrices, matrix_export_deck_text, renumber};
 pub use inp::{parse_inp, parse_inp_with, read_inp, Boundary, InpModel};
 pub use matrices::{parse_ccx_dofs, parse_ccx_matrix, read_ccx_matrices, CcxMatrices};
 pub use run::{ccx_available, matrix_export_deck, run_ccx, CcxRun};
