@@ -53,6 +53,14 @@ enum Command {
         #[arg(long, default_value_t = 0.1)]
         scale: f64,
     },
+    /// Writes the body's mesh as a CalculiX deck (nodes, elements, node sets, materials).
+    ExportInp {
+        /// Model file (TOML).
+        model: PathBuf,
+        /// Output deck (`.inp`).
+        #[arg(long, short)]
+        output: PathBuf,
+    },
     /// Checks a model file without running it (parses, meshes, applies boundary conditions).
     Check {
         /// Model file (TOML).
@@ -122,6 +130,15 @@ fn run(cli: Cli) -> Result<()> {
                 files.len(),
                 output.display()
             );
+            Ok(())
+        }
+        Command::ExportInp { model, output } => {
+            let spec = read_fe_model(&model)?.body;
+            let base = model.parent().unwrap_or(Path::new("."));
+            let mesh = flexmbs_io::pipeline::build_mesh(&spec, base)?;
+            let text = flexmbs_io::inp_writer::mesh_to_inp(&mesh).map_err(anyhow::Error::msg)?;
+            std::fs::write(&output, text).with_context(|| format!("writing {}", output.display()))?;
+            println!("wrote {} ({} nodes, {} elements)", output.display(), mesh.num_nodes(), mesh.elements.len());
             Ok(())
         }
         Command::Check { model } => {

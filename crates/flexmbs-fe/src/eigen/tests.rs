@@ -488,7 +488,7 @@ fn bad_input_is_an_error() {
 /// One-off timing on the crate-stack §2.1 matrix with nx = 22 (n = 31,944):
 /// `cargo test --release -p flexmbs-fe -- --ignored eigen_timing --nocapture`.
 #[test]
-#[ignore]
+#[ignore = "one-off timing run on a 31 944-DOF matrix, not a test: run with --ignored in release"]
 fn eigen_timing_31944() {
     let t0 = std::time::Instant::now();
     let (k, m) = grid_model(22, false);
