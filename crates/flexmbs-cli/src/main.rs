@@ -137,8 +137,14 @@ fn run(cli: Cli) -> Result<()> {
             let base = model.parent().unwrap_or(Path::new("."));
             let mesh = flexmbs_io::pipeline::build_mesh(&spec, base)?;
             let text = flexmbs_io::inp_writer::mesh_to_inp(&mesh).map_err(anyhow::Error::msg)?;
-            std::fs::write(&output, text).with_context(|| format!("writing {}", output.display()))?;
-            println!("wrote {} ({} nodes, {} elements)", output.display(), mesh.num_nodes(), mesh.elements.len());
+            std::fs::write(&output, text)
+                .with_context(|| format!("writing {}", output.display()))?;
+            println!(
+                "wrote {} ({} nodes, {} elements)",
+                output.display(),
+                mesh.num_nodes(),
+                mesh.elements.len()
+            );
             Ok(())
         }
         Command::Check { model } => {

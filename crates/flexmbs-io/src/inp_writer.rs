@@ -17,6 +17,7 @@ pub fn ccx_element_name(kind: ElementKind) -> Option<&'static str> {
     })
 }
 
+/// Numbers are written with 13 significant digits: CalculiX rejects fields longer than 20 characters.
 /// Deck text: `*NODE`, one `*ELEMENT` block per (kind, property), `*NSET`s, materials and
 /// `*SOLID SECTION`s. Beam elements are not written (CalculiX expands beams into solids).
 /// Returns an error message if the mesh has beams.
@@ -25,7 +26,7 @@ pub fn mesh_to_inp(mesh: &Mesh) -> Result<String, String> {
     for (i, x) in mesh.nodes.iter().enumerate() {
         let _ = writeln!(
             s,
-            "{}, {:.17e}, {:.17e}, {:.17e}",
+            "{}, {:.12e}, {:.12e}, {:.12e}",
             mesh.node_ids[i], x[0], x[1], x[2]
         );
     }
@@ -81,7 +82,7 @@ pub fn mesh_to_inp(mesh: &Mesh) -> Result<String, String> {
         };
         let _ = writeln!(
             s,
-            "*MATERIAL, NAME=M{g}\n*ELASTIC\n{:.17e}, {:.17e}\n*DENSITY\n{:.17e}\n*SOLID SECTION, ELSET=E{g}, MATERIAL=M{g}",
+            "*MATERIAL, NAME=M{g}\n*ELASTIC\n{:.12e}, {:.12e}\n*DENSITY\n{:.12e}\n*SOLID SECTION, ELSET=E{g}, MATERIAL=M{g}",
             material.e, material.nu, material.rho
         );
     }
