@@ -30,10 +30,9 @@ impl State {
     }
 }
 
-/// Scratch buffers of every evaluation and integrator, allocated once by [`Workspace::new`];
-/// nothing in a time step allocates.
+/// Buffers of the system-level evaluations ([`crate::system`]).
 #[derive(Debug)]
-pub struct Workspace {
+pub struct SystemBuffers {
     /// Kinematics of every frame.
     pub frames: Vec<FrameKinematics>,
     /// Tangent scratch per body.
@@ -54,22 +53,53 @@ pub struct Workspace {
     pub g_t: Vec<f64>,
     /// Acceleration bias: `g_ddot = G u_dot + g_bias` (nc).
     pub g_bias: Vec<f64>,
+    /// Perturbed positions for finite differences (nq).
+    pub q_pert: Vec<f64>,
+    /// Perturbed velocities for finite differences (nu).
+    pub u_pert: Vec<f64>,
+    /// Velocity-space perturbation (nu).
+    pub dv_pert: Vec<f64>,
+    /// Load forces at the plus perturbation (nu).
+    pub h_plus: Vec<f64>,
+    /// Load forces at the minus perturbation (nu).
+    pub h_minus: Vec<f64>,
+}
+
+/// Buffers of the integrators.
+#[derive(Debug)]
+pub struct StepBuffers {
+    /// New positions (nq).
+    pub q_new: Vec<f64>,
+    /// New velocities (nu).
+    pub u_new: Vec<f64>,
+    /// New accelerations (nu).
+    pub u_dot_new: Vec<f64>,
+    /// New algorithmic accelerations (nu).
+    pub a_new: Vec<f64>,
+    /// Velocity-space position increment (nu).
+    pub dv: Vec<f64>,
+    /// New Lagrange multipliers (nc).
+    pub lambda_new: Vec<f64>,
+    /// Right-hand side / solution of the linear systems (nu + nc).
+    pub rhs: Vec<f64>,
+    /// DOPRI5 stage derivatives, 7 x (nq + nu).
+    pub stages: [Vec<f64>; 7],
+    /// DOPRI5 stage state and candidate solution (nq + nu each).
+    pub y: [Vec<f64>; 2],
+}
+
+/// Scratch buffers of every evaluation and integrator, allocated once by [`Workspace::new`]
+/// right after compiling the model; nothing in a time step allocates.
+#[derive(Debug)]
+pub struct Workspace {
+    /// System evaluation buffers.
+    pub sys: SystemBuffers,
+    /// Integrator buffers.
+    pub step: StepBuffers,
     /// Iteration / augmented matrix solver (nu + nc).
     pub lu: DenseLu,
     /// Mass-matrix solver (nu) for explicit integration.
     pub lu_mass: DenseLu,
-    /// Right-hand side / solution vector (nu + nc).
-    pub rhs: Vec<f64>,
-    /// Position scratch (nq), several.
-    pub q_tmp: [Vec<f64>; 3],
-    /// Velocity-space scratch (nu), several.
-    pub u_tmp: [Vec<f64>; 4],
-    /// Force scratch (nu), two.
-    pub h_tmp: [Vec<f64>; 2],
-    /// DOPRI5 stage derivatives, 7 x (nq + nu).
-    pub stages: [Vec<f64>; 7],
-    /// DOPRI5 stage state (nq + nu), two.
-    pub y_tmp: [Vec<f64>; 2],
 }
 
 impl Workspace {
@@ -87,24 +117,36 @@ impl Workspace {
         let tangent_scratch = model.bodies.iter().map(|b| TangentScratch::new(b.element.nq(), b.element.nu())).collect();
         let v = |n| vec![0.0; n];
         Self {
-            frames,
-            tangent_scratch,
-            mass: Mat::zeros(nu, nu),
-            h: v(nu),
-            dh_dq: Mat::zeros(nu, nu),
-            dh_du: Mat::zeros(nu, nu),
-            g: v(nc),
-            g_jac: Mat::zeros(nc, nu),
-            g_t: v(nc),
-            g_bias: v(nc),
+            sys: SystemBuffers {
+                frames,
+                tangent_scratch,
+                mass: Mat::zeros(nu, nu),
+                h: v(nu),
+                dh_dq: Mat::zeros(nu, nu),
+                dh_du: Mat::zeros(nu, nu),
+                g: v(nc),
+                g_jac: Mat::zeros(nc, nu),
+                g_t: v(nc),
+                g_bias: v(nc),
+                q_pert: v(nq),
+                u_pert: v(nu),
+                dv_pert: v(nu),
+                h_plus: v(nu),
+                h_minus: v(nu),
+            },
+            step: StepBuffers {
+                q_new: v(nq),
+                u_new: v(nu),
+                u_dot_new: v(nu),
+                a_new: v(nu),
+                dv: v(nu),
+                lambda_new: v(nc),
+                rhs: v(nu + nc),
+                stages: std::array::from_fn(|_| v(nq + nu)),
+                y: [v(nq + nu), v(nq + nu)],
+            },
             lu: DenseLu::new(nu + nc),
             lu_mass: DenseLu::new(nu),
-            rhs: v(nu + nc),
-            q_tmp: [v(nq), v(nq), v(nq)],
-            u_tmp: [v(nu), v(nu), v(nu), v(nu)],
-            h_tmp: [v(nu), v(nu)],
-            stages: std::array::from_fn(|_| v(nq + nu)),
-            y_tmp: [v(nq + nu), v(nq + nu)],
         }
     }
 }

@@ -5,7 +5,7 @@ use crate::element::FrameKinematics;
 use crate::joint::{joint_rows, ConstraintRow};
 use crate::load::FrameWrench;
 use crate::model::{FrameOwner, Model};
-use crate::state::Workspace;
+use crate::state::SystemBuffers;
 use faer::{Mat, MatMut};
 use nalgebra::Vector3;
 
@@ -99,7 +99,7 @@ pub fn add_load_forces(model: &Model, t: f64, load_factor: f64, frames: &[FrameK
 /// Tangents `ws.dh_dq` (along `q ⊕ dv`) and `ws.dh_du` of the full `h`: element blocks via
 /// [`crate::Element::force_tangents`], load contributions by central differences of
 /// [`add_load_forces`] (loads couple bodies). Leaves `ws.frames` at `(q, u)`.
-pub fn assemble_tangents(model: &Model, t: f64, q: &[f64], u: &[f64], load_factor: f64, ws: &mut Workspace) {
+pub fn assemble_tangents(model: &Model, t: f64, q: &[f64], u: &[f64], load_factor: f64, ws: &mut SystemBuffers) {
     ws.dh_dq.fill(0.0);
     ws.dh_du.fill(0.0);
     let g = model.gravity * load_factor;
@@ -116,9 +116,8 @@ pub fn assemble_tangents(model: &Model, t: f64, q: &[f64], u: &[f64], load_facto
         );
     }
     if !model.loads.is_empty() {
-        let [qp, ..] = &mut ws.q_tmp;
-        let [up, dv, ..] = &mut ws.u_tmp;
-        let [hp, hm] = &mut ws.h_tmp;
+        let (qp, up, dv) = (&mut ws.q_pert, &mut ws.u_pert, &mut ws.dv_pert);
+        let (hp, hm) = (&mut ws.h_plus, &mut ws.h_minus);
         up.copy_from_slice(u);
         qp.copy_from_slice(q);
         dv.fill(0.0);
@@ -222,7 +221,7 @@ pub fn energy(model: &Model, q: &[f64], u: &[f64], frames: &[FrameKinematics]) -
 }
 
 /// `max |g|` and `max |G u + g_t|` (constraint drift) with up-to-date `ws.g`, `ws.g_jac`, `ws.g_t`.
-pub fn constraint_drift(ws: &Workspace, u: &[f64]) -> (f64, f64) {
+pub fn constraint_drift(ws: &SystemBuffers, u: &[f64]) -> (f64, f64) {
     let mut gmax: f64 = 0.0;
     let mut gdmax: f64 = 0.0;
     for r in 0..ws.g.len() {
