@@ -1,0 +1,147 @@
+//! Error types of the engine: model building ([`ModelError`]) and time integration / statics
+//! ([`SolverError`]).
+
+use crate::ids::{BodyId, FrameId, JointId, LoadId};
+use thiserror::Error;
+
+/// An invalid model specification, detected by [`crate::ModelSpec::compile`].
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ModelError {
+    /// A frame refers to a body that does not exist.
+    #[error("frame `{frame}` refers to unknown body {body}")]
+    UnknownBody {
+        /// Frame name.
+        frame: String,
+        /// The missing body.
+        body: BodyId,
+    },
+    /// A joint or load refers to a frame that does not exist.
+    #[error("{item} refers to unknown frame {frame}")]
+    UnknownFrame {
+        /// Description of the referring item.
+        item: String,
+        /// The missing frame.
+        frame: FrameId,
+    },
+    /// A joint or spring connects a frame to a frame of the same owner (or ground to ground).
+    #[error("joint/spring `{item}` connects two frames of the same owner")]
+    SameOwner {
+        /// Name of the joint or spring.
+        item: String,
+    },
+    /// Prescribed motion on a DOF the joint mask locks.
+    #[error("joint {joint} prescribes motion on a locked DOF ({dof})")]
+    PrescribedOnLockedDof {
+        /// The joint.
+        joint: JointId,
+        /// Which DOF (`rz` or `tx`).
+        dof: &'static str,
+    },
+    /// A numeric parameter outside its admissible range.
+    #[error("invalid parameter `{name}` = {value}: {reason}")]
+    InvalidParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// Given value.
+        value: f64,
+        /// What is expected.
+        reason: &'static str,
+    },
+    /// A piecewise-linear time table that is empty, of unequal lengths or not strictly increasing.
+    #[error("invalid time table in load {load:?}: {reason}")]
+    InvalidTimeTable {
+        /// The load (None: a joint's prescribed motion).
+        load: Option<LoadId>,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// A local frame refers to an FE node the element does not have.
+    #[error("frame `{frame}` refers to node {node} but the element has {num_nodes} nodes")]
+    InvalidNode {
+        /// Frame name.
+        frame: String,
+        /// Node index.
+        node: usize,
+        /// Number of nodes of the element.
+        num_nodes: usize,
+    },
+    /// A state vector of the wrong length was given.
+    #[error("{what} has length {got}, expected {expected}")]
+    DimensionMismatch {
+        /// Which vector.
+        what: &'static str,
+        /// Given length.
+        got: usize,
+        /// Expected length.
+        expected: usize,
+    },
+}
+
+/// A failed time step or static solution.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolverError {
+    /// Newton iterations did not converge.
+    #[error("Newton failed at t = {t} (step {h}): residual {residual:e} after {iterations} iterations")]
+    NewtonFailed {
+        /// Time at the start of the step (or load factor for statics).
+        t: f64,
+        /// Step size (or load increment).
+        h: f64,
+        /// Last residual norm.
+        residual: f64,
+        /// Iterations done.
+        iterations: usize,
+    },
+    /// A NaN or infinity appeared in the state, forces or residual.
+    #[error("non-finite {what} at t = {t} (step {h}), residual {residual:e}")]
+    NonFinite {
+        /// What was non-finite.
+        what: &'static str,
+        /// Time at the start of the step.
+        t: f64,
+        /// Step size.
+        h: f64,
+        /// Last finite residual norm (NaN if none).
+        residual: f64,
+    },
+    /// The iteration (or mass) matrix is singular.
+    #[error("singular {what} matrix at t = {t} (step {h})")]
+    Singular {
+        /// Which matrix.
+        what: &'static str,
+        /// Time.
+        t: f64,
+        /// Step size.
+        h: f64,
+    },
+    /// The adaptive step size fell below the minimum.
+    #[error("step size {h:e} below minimum {h_min:e} at t = {t} (error estimate {error:e})")]
+    StepTooSmall {
+        /// Time.
+        t: f64,
+        /// Rejected step size.
+        h: f64,
+        /// Minimum step size.
+        h_min: f64,
+        /// Last error estimate (scaled, 1 = tolerance).
+        error: f64,
+    },
+    /// The integrator does not handle constraints (DOPRI5 with joints).
+    #[error("integrator `{integrator}` does not support constraints (model has {nc} constraint rows)")]
+    ConstraintsUnsupported {
+        /// Integrator name.
+        integrator: &'static str,
+        /// Number of constraint rows.
+        nc: usize,
+    },
+    /// An invalid integrator or solver setting.
+    #[error("invalid setting `{name}` = {value}: {reason}")]
+    InvalidSetting {
+        /// Setting name.
+        name: &'static str,
+        /// Given value.
+        value: f64,
+        /// What is expected.
+        reason: &'static str,
+    },
+}

@@ -1,0 +1,151 @@
+//! Explicit adaptive Dormand-Prince 5(4) for unconstrained systems.
+//!
+//! First-order form `y = (q, u)`, `y_dot = (T(q) u, M(q)^-1 h(t, q, u))`. Stages combine `q`
+//! additively; after each accepted step the coordinates are normalized (unit quaternions).
+//! Error norm: RMS of `err_i / (atol + rtol max(|y_i|, |y_new_i|))`; step factor
+//! `clamp(0.9 err^(-1/5), 0.2, 5)` (Hairer, Nørsett & Wanner, Solving ODEs I, II.4).
+
+use super::{monitor, StepStats};
+use crate::error::SolverError;
+use crate::linsolve::DenseLu;
+use crate::model::Model;
+use crate::state::{State, SystemBuffers, Workspace};
+use crate::system;
+
+/// Settings of [`Dopri5`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dopri5Settings {
+    /// Relative tolerance. Default 1e-8.
+    pub rtol: f64,
+    /// Absolute tolerance. Default 1e-10.
+    pub atol: f64,
+    /// First step. Default 1e-3.
+    pub h_init: f64,
+    /// Minimum step. Default 1e-14.
+    pub h_min: f64,
+    /// Maximum step. Default infinity.
+    pub h_max: f64,
+}
+
+impl Default for Dopri5Settings {
+    fn default() -> Self {
+        Self { rtol: 1e-8, atol: 1e-10, h_init: 1e-3, h_min: 1e-14, h_max: f64::INFINITY }
+    }
+}
+
+/// The DOPRI5 integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Dopri5 {
+    /// Settings.
+    pub settings: Dopri5Settings,
+}
+
+const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
+    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+];
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+
+/// `dy = (T(q) u, M^-1 h)` at `(t, y)`.
+fn derivative(model: &Model, t: f64, y: &[f64], dy: &mut [f64], sys: &mut SystemBuffers, lu: &mut DenseLu) -> Result<(), SolverError> {
+    let nq = model.nq;
+    let (q, u) = y.split_at(nq);
+    let (dq, du) = dy.split_at_mut(nq);
+    system::q_dot(model, q, u, dq);
+    system::update_frames(model, q, u, &mut sys.frames);
+    system::assemble_mass(model, q, sys.mass.as_mut());
+    system::assemble_forces(model, t, q, u, 1.0, &sys.frames, &mut sys.h);
+    lu.a.copy_from(&sys.mass);
+    if !lu.factor() {
+        return Err(SolverError::Singular { what: "mass", t, h: 0.0 });
+    }
+    du.copy_from_slice(&sys.h);
+    lu.solve_in_place(du);
+    Ok(())
+}
+
+impl Dopri5 {
+    /// Integrator with the given settings.
+    pub fn new(settings: Dopri5Settings) -> Self {
+        Self { settings }
+    }
+
+    /// Adaptive integration to `t_end`, calling `on_step` after each accepted step.
+    pub fn integrate(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        t_end: f64,
+        mut on_step: impl FnMut(&State, &StepStats),
+    ) -> Result<(), SolverError> {
+        if model.nc > 0 {
+            return Err(SolverError::ConstraintsUnsupported { integrator: "DOPRI5", nc: model.nc });
+        }
+        let cfg = &self.settings;
+        let (nq, n) = (model.nq, model.nq + model.nu);
+        let mut h = cfg.h_init.min(cfg.h_max);
+        let mut evals = 0;
+        while s.t < t_end - 1e-14 * t_end.abs().max(1.0) {
+            h = h.min(t_end - s.t);
+            let b = &mut ws.step;
+            let [y_stage, y_new] = &mut b.y;
+            y_stage[..nq].copy_from_slice(&s.q);
+            y_stage[nq..].copy_from_slice(&s.u);
+            derivative(model, s.t, y_stage, &mut b.stages[0], &mut ws.sys, &mut ws.lu_mass)?;
+            for i in 1..7 {
+                for k in 0..n {
+                    let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
+                    y_stage[k] = y0 + h * (0..i).map(|j| A[i][j] * b.stages[j][k]).sum::<f64>();
+                }
+                let (done, rest) = b.stages.split_at_mut(i);
+                let _ = done;
+                derivative(model, s.t + C[i] * h, y_stage, &mut rest[0], &mut ws.sys, &mut ws.lu_mass)?;
+            }
+            evals += 7;
+            y_new.copy_from_slice(y_stage); // stage 7 state = 5th-order solution (FSAL)
+            let mut sum = 0.0;
+            for k in 0..n {
+                let e = h * (0..7).map(|j| E[j] * b.stages[j][k]).sum::<f64>();
+                let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
+                let sc = cfg.atol + cfg.rtol * y0.abs().max(y_new[k].abs());
+                sum += (e / sc).powi(2);
+            }
+            let err = (sum / n as f64).sqrt();
+            if !err.is_finite() {
+                return Err(SolverError::NonFinite { what: "DOPRI5 error estimate", t: s.t, h, residual: f64::NAN });
+            }
+            if err <= 1.0 {
+                s.t += h;
+                s.q.copy_from_slice(&y_new[..nq]);
+                s.u.copy_from_slice(&y_new[nq..]);
+                s.u_dot.copy_from_slice(&b.stages[6][nq..]);
+                system::normalize(model, &mut s.q);
+                let (energy, g_max, g_dot_max) = monitor(model, s, ws);
+                let stats = StepStats { t: s.t, h, iterations: evals, residual: 0.0, energy, g_max, g_dot_max, error_estimate: err };
+                evals = 0;
+                on_step(s, &stats);
+            }
+            let fac = if err > 0.0 { 0.9 * err.powf(-0.2) } else { 5.0 };
+            h = (h * fac.clamp(0.2, 5.0)).min(cfg.h_max);
+            if h < cfg.h_min {
+                return Err(SolverError::StepTooSmall { t: s.t, h, h_min: cfg.h_min, error: err });
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,122 @@
+//! Time integrators and the static solver, with per-step monitoring ([`StepStats`]).
+//!
+//! - [`GenAlpha`]: implicit generalized-alpha for index-3 constrained equations (Arnold &
+//!   Bruls 2007), fixed or adaptive step.
+//! - [`Dopri5`]: explicit adaptive Dormand-Prince 5(4) for unconstrained systems.
+//! - [`Statics`]: static equilibrium by Newton with load stepping.
+
+mod dopri5;
+mod genalpha;
+mod statics;
+
+pub use dopri5::{Dopri5, Dopri5Settings};
+pub use genalpha::{AdaptiveSettings, GenAlpha, GenAlphaParams, GenAlphaSettings};
+pub use statics::{StaticStats, Statics, StaticsSettings};
+
+use crate::error::SolverError;
+use crate::model::Model;
+use crate::state::{State, Workspace};
+use crate::system::{self, Energy};
+use faer::Mat;
+
+/// Monitor output of one accepted step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepStats {
+    /// Time at the end of the step.
+    pub t: f64,
+    /// Step size used.
+    pub h: f64,
+    /// Newton iterations (implicit) or function evaluations (explicit).
+    pub iterations: usize,
+    /// Final residual norm (max norm of the force residual; 0 for explicit).
+    pub residual: f64,
+    /// Energies at the end of the step.
+    pub energy: Energy,
+    /// Position constraint drift `max |g|`.
+    pub g_max: f64,
+    /// Velocity constraint drift `max |G u + g_t|`.
+    pub g_dot_max: f64,
+    /// Scaled local error estimate (1 = tolerance; 0 when not estimated).
+    pub error_estimate: f64,
+}
+
+/// Newton settings of the implicit solvers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSettings {
+    /// Maximum iterations per step. Default 25.
+    pub max_iterations: usize,
+    /// Relative tolerance on the increment. Default 1e-10.
+    pub rtol: f64,
+    /// Absolute tolerance on the increment. Default 1e-10.
+    pub atol: f64,
+    /// Tolerance on `max |g|` (position constraints). Default 1e-12.
+    pub constraint_tol: f64,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        Self { max_iterations: 25, rtol: 1e-10, atol: 1e-10, constraint_tol: 1e-12 }
+    }
+}
+
+/// Consistent accelerations and multipliers at the current state: solves
+/// `[M G^T; G 0] [u_dot; lambda] = [h; -g_bias]` (the index-1 form `g_ddot = 0`) and sets
+/// `state.u_dot`, `state.a = u_dot`, `state.lambda`.
+pub fn consistent_accelerations(model: &Model, s: &mut State, ws: &mut Workspace) -> Result<(), SolverError> {
+    let (nu, nc) = (model.nu, model.nc);
+    let sys = &mut ws.sys;
+    system::update_frames(model, &s.q, &s.u, &mut sys.frames);
+    system::assemble_mass(model, &s.q, sys.mass.as_mut());
+    system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, &sys.frames, &mut sys.h);
+    system::assemble_constraints(model, s.t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+    fill_saddle_matrix(&mut ws.lu.a, &sys.mass, 1.0, &sys.g_jac);
+    let rhs = &mut ws.step.rhs;
+    rhs[..nu].copy_from_slice(&sys.h);
+    for r in 0..nc {
+        rhs[nu + r] = -sys.g_bias[r];
+    }
+    if !ws.lu.factor() {
+        return Err(SolverError::Singular { what: "augmented mass", t: s.t, h: 0.0 });
+    }
+    ws.lu.solve_in_place(rhs);
+    if rhs.iter().any(|x| !x.is_finite()) {
+        return Err(SolverError::NonFinite { what: "initial accelerations", t: s.t, h: 0.0, residual: f64::NAN });
+    }
+    s.u_dot.copy_from_slice(&rhs[..nu]);
+    s.a.copy_from_slice(&rhs[..nu]);
+    s.lambda.copy_from_slice(&rhs[nu..]);
+    Ok(())
+}
+
+/// Writes `[c A, G^T; G, 0]` into `out` (`A`: nu x nu, `G`: nc x nu).
+pub(crate) fn fill_saddle_matrix(out: &mut Mat<f64>, a: &Mat<f64>, c: f64, g: &Mat<f64>) {
+    let (nu, nc) = (a.nrows(), g.nrows());
+    for j in 0..nu {
+        for i in 0..nu {
+            out[(i, j)] = c * a[(i, j)];
+        }
+        for r in 0..nc {
+            out[(nu + r, j)] = g[(r, j)];
+            out[(j, nu + r)] = g[(r, j)];
+        }
+    }
+    for j in 0..nc {
+        for i in 0..nc {
+            out[(nu + i, nu + j)] = 0.0;
+        }
+    }
+}
+
+/// Energy and constraint drift of a state (updates `ws.sys` frames and constraints).
+pub fn monitor(model: &Model, s: &State, ws: &mut Workspace) -> (Energy, f64, f64) {
+    let sys = &mut ws.sys;
+    system::update_frames(model, &s.q, &s.u, &mut sys.frames);
+    system::assemble_constraints(model, s.t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+    let (g, gd) = system::constraint_drift(sys, &s.u);
+    (system::energy(model, &s.q, &s.u, &sys.frames), g, gd)
+}
+
+/// Max norm.
+pub(crate) fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+}

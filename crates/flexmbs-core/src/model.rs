@@ -1,0 +1,273 @@
+//! Editable [`ModelSpec`] (builder) and the immutable compiled [`Model`].
+
+use crate::element::{Element, LocalFrame};
+use crate::error::ModelError;
+use crate::ids::{BodyId, FrameId, JointId, LoadId};
+use crate::joint::{Joint, PrescribedMotion};
+use crate::load::Load;
+use crate::state::State;
+use nalgebra::{Matrix3, Vector3};
+
+/// Who carries a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrameOwner {
+    /// The inertial ground (zero velocity, no coordinates).
+    Ground,
+    /// A body (element) of the model.
+    Body(BodyId),
+}
+
+/// A frame: the attachment point of joints, loads and springs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Name (for messages and output).
+    pub name: String,
+    /// Owner.
+    pub owner: FrameOwner,
+    /// Position/orientation in the owner's reference frame (global for ground).
+    pub local: LocalFrame,
+}
+
+/// A body entry of a model.
+#[derive(Debug)]
+pub struct Body {
+    /// Name.
+    pub name: String,
+    /// The element.
+    pub element: Box<dyn Element>,
+    /// Offset of its coordinates in the global `q`.
+    pub q_offset: usize,
+    /// Offset of its velocity coordinates in the global `u`.
+    pub u_offset: usize,
+}
+
+/// Editable model description. Add bodies, frames, joints and loads, then [`ModelSpec::compile`].
+#[derive(Debug)]
+pub struct ModelSpec {
+    /// Gravitational acceleration (global). Default `(0, 0, 0)`.
+    pub gravity: Vector3<f64>,
+    bodies: Vec<(String, Box<dyn Element>)>,
+    frames: Vec<Frame>,
+    joints: Vec<Joint>,
+    loads: Vec<Load>,
+}
+
+impl Default for ModelSpec {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl ModelSpec {
+    /// Empty model without gravity.
+    pub fn new() -> Self {
+        Self {
+            gravity: Vector3::zeros(),
+            bodies: Vec::new(),
+            frames: Vec::new(),
+            joints: Vec::new(),
+            loads: Vec::new(),
+        }
+    }
+
+    /// Sets the gravitational acceleration.
+    pub fn set_gravity(&mut self, g: Vector3<f64>) -> &mut Self {
+        self.gravity = g;
+        self
+    }
+
+    /// Adds a body.
+    pub fn add_body(&mut self, name: &str, element: impl Element + 'static) -> BodyId {
+        self.bodies.push((name.to_string(), Box::new(element)));
+        BodyId(self.bodies.len() - 1)
+    }
+
+    /// Adds a frame on a body at `position` (body reference coordinates) with `rotation`.
+    pub fn add_frame(&mut self, name: &str, body: BodyId, position: Vector3<f64>, rotation: Matrix3<f64>) -> FrameId {
+        self.push_frame(name, FrameOwner::Body(body), LocalFrame { position, rotation, node: None })
+    }
+
+    /// Adds a frame that follows FE node `node` of a flexible body.
+    pub fn add_node_frame(&mut self, name: &str, body: BodyId, node: usize, position: Vector3<f64>) -> FrameId {
+        let local = LocalFrame { position, rotation: Matrix3::identity(), node: Some(node) };
+        self.push_frame(name, FrameOwner::Body(body), local)
+    }
+
+    /// Adds a ground frame at a global position and orientation.
+    pub fn add_ground_frame(&mut self, name: &str, position: Vector3<f64>, rotation: Matrix3<f64>) -> FrameId {
+        self.push_frame(name, FrameOwner::Ground, LocalFrame { position, rotation, node: None })
+    }
+
+    fn push_frame(&mut self, name: &str, owner: FrameOwner, local: LocalFrame) -> FrameId {
+        self.frames.push(Frame { name: name.to_string(), owner, local });
+        FrameId(self.frames.len() - 1)
+    }
+
+    /// Adds a joint (see the named constructors of [`Joint`]).
+    pub fn add_joint(&mut self, joint: Joint) -> JointId {
+        self.joints.push(joint);
+        JointId(self.joints.len() - 1)
+    }
+
+    /// Adds a load.
+    pub fn add_load(&mut self, load: Load) -> LoadId {
+        self.loads.push(load);
+        LoadId(self.loads.len() - 1)
+    }
+
+    /// Validates the description and builds the immutable model.
+    pub fn compile(self) -> Result<Model, ModelError> {
+        let mut bodies = Vec::with_capacity(self.bodies.len());
+        let (mut nq, mut nu) = (0, 0);
+        for (name, element) in self.bodies {
+            let (q_offset, u_offset) = (nq, nu);
+            nq += element.nq();
+            nu += element.nu();
+            bodies.push(Body { name, element, q_offset, u_offset });
+        }
+        for f in &self.frames {
+            if let FrameOwner::Body(b) = f.owner {
+                let body = bodies.get(b.0).ok_or(ModelError::UnknownBody { frame: f.name.clone(), body: b })?;
+                if let Some(node) = f.local.node {
+                    let num_nodes = body.element.num_nodes();
+                    if node >= num_nodes {
+                        return Err(ModelError::InvalidNode { frame: f.name.clone(), node, num_nodes });
+                    }
+                }
+            }
+        }
+        let check_frame = |item: String, id: FrameId| -> Result<FrameOwner, ModelError> {
+            self.frames.get(id.0).map(|f| f.owner).ok_or(ModelError::UnknownFrame { item, frame: id })
+        };
+        let mut joint_rows = Vec::with_capacity(self.joints.len());
+        let mut nc = 0;
+        for (j, joint) in self.joints.iter().enumerate() {
+            let oa = check_frame(format!("joint `{}`", joint.name), joint.frame_a)?;
+            let ob = check_frame(format!("joint `{}`", joint.name), joint.frame_b)?;
+            if oa == ob {
+                return Err(ModelError::SameOwner { item: joint.name.clone() });
+            }
+            match &joint.prescribed {
+                Some(PrescribedMotion::RevoluteAngle(f)) | Some(PrescribedMotion::RevoluteRate { rate: f, .. }) => {
+                    if joint.locked[5] {
+                        return Err(ModelError::PrescribedOnLockedDof { joint: JointId(j), dof: "rz" });
+                    }
+                    f.validate(None)?;
+                }
+                Some(PrescribedMotion::PrismaticDisplacement(f)) => {
+                    if joint.locked[0] {
+                        return Err(ModelError::PrescribedOnLockedDof { joint: JointId(j), dof: "tx" });
+                    }
+                    f.validate(None)?;
+                }
+                None => {}
+            }
+            joint_rows.push(nc);
+            nc += joint.num_rows();
+        }
+        for (l, load) in self.loads.iter().enumerate() {
+            let id = LoadId(l);
+            match load {
+                Load::Force { frame, time, .. } | Load::Torque { frame, time, .. } => {
+                    check_frame(format!("load {id}"), *frame)?;
+                    time.validate(Some(id))?;
+                }
+                Load::SpringDamper { frame_a, frame_b, stiffness, damping, free_length } => {
+                    let oa = check_frame(format!("load {id}"), *frame_a)?;
+                    let ob = check_frame(format!("load {id}"), *frame_b)?;
+                    if oa == ob && oa == FrameOwner::Ground {
+                        return Err(ModelError::SameOwner { item: format!("spring {id}") });
+                    }
+                    for (name, v) in [("stiffness", *stiffness), ("damping", *damping), ("free_length", *free_length)] {
+                        if !(v >= 0.0 && v.is_finite()) {
+                            return Err(ModelError::InvalidParameter { name, value: v, reason: "must be finite and >= 0" });
+                        }
+                    }
+                }
+            }
+        }
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return Err(ModelError::InvalidParameter { name: "gravity", value: self.gravity.norm(), reason: "must be finite" });
+        }
+        Ok(Model {
+            gravity: self.gravity,
+            bodies,
+            frames: self.frames,
+            joints: self.joints,
+            joint_rows,
+            loads: self.loads,
+            nq,
+            nu,
+            nc,
+        })
+    }
+}
+
+/// The compiled, immutable model: bodies with coordinate offsets, frames, joints, loads.
+#[derive(Debug)]
+pub struct Model {
+    /// Gravitational acceleration.
+    pub gravity: Vector3<f64>,
+    /// Bodies (elements) with their offsets.
+    pub bodies: Vec<Body>,
+    /// Frames.
+    pub frames: Vec<Frame>,
+    /// Joints.
+    pub joints: Vec<Joint>,
+    /// First constraint row of each joint.
+    pub joint_rows: Vec<usize>,
+    /// Loads.
+    pub loads: Vec<Load>,
+    /// Total position coordinates.
+    pub nq: usize,
+    /// Total velocity coordinates.
+    pub nu: usize,
+    /// Total constraint rows (Lagrange multipliers).
+    pub nc: usize,
+}
+
+impl Model {
+    /// State at `t = 0` with every element in its reference configuration, at rest.
+    pub fn initial_state(&self) -> State {
+        let mut s = State::zeros(self.nq, self.nu, self.nc);
+        for b in &self.bodies {
+            let (nq, nu) = (b.element.nq(), b.element.nu());
+            b.element.reference_coordinates(
+                &mut s.q[b.q_offset..b.q_offset + nq],
+                &mut s.u[b.u_offset..b.u_offset + nu],
+            );
+        }
+        s
+    }
+
+    /// Sets pose (global position and rotation of the body reference frame) of a body in `state`.
+    pub fn set_body_pose(&self, state: &mut State, body: BodyId, position: Vector3<f64>, rotation: Matrix3<f64>) {
+        let b = &self.bodies[body.0];
+        let nq = b.element.nq();
+        b.element.set_pose(&mut state.q[b.q_offset..b.q_offset + nq], &position, &rotation);
+    }
+
+    /// Sets velocity and angular velocity (global) of a body in `state` (after its pose).
+    pub fn set_body_velocity(&self, state: &mut State, body: BodyId, velocity: Vector3<f64>, omega: Vector3<f64>) {
+        let b = &self.bodies[body.0];
+        let (nq, nu) = (b.element.nq(), b.element.nu());
+        b.element.set_velocity(
+            &state.q[b.q_offset..b.q_offset + nq],
+            &mut state.u[b.u_offset..b.u_offset + nu],
+            &velocity,
+            &omega,
+        );
+    }
+
+    /// Coordinates of one body in a global vector.
+    pub fn body_q<'a>(&self, body: BodyId, q: &'a [f64]) -> &'a [f64] {
+        let b = &self.bodies[body.0];
+        &q[b.q_offset..b.q_offset + b.element.nq()]
+    }
+
+    /// Velocity coordinates of one body in a global vector.
+    pub fn body_u<'a>(&self, body: BodyId, u: &'a [f64]) -> &'a [f64] {
+        let b = &self.bodies[body.0];
+        &u[b.u_offset..b.u_offset + b.element.nu()]
+    }
+}

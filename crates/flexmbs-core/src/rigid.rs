@@ -1,0 +1,301 @@
+//! Rigid body element (reference point = centre of mass).
+//!
+//! Coordinates: `q = [R; theta]`, `R` the global centre-of-mass position and `theta` either
+//! - Cardan angles x-y-z `(alpha, beta, gamma)`, `A = Rx(alpha) Ry(beta) Rz(gamma)` (seed 000
+//!   eq. (2.22)), with `u = q_dot` (`T = I`, seed 000 eq. (2.26)); global angular velocity
+//!   `omega = G theta_dot`, `G = [e_x, Rx e_y, Rx Ry e_z]` (= `A G_bar`, seed 000 eq. (2.31)); or
+//! - a unit quaternion `p = (p0, p1, p2, p3)` (scalar first) with `u = [R_dot; omega_bar]`,
+//!   `omega_bar` the angular velocity in body coordinates: `p_dot = 1/2 p * (0, omega_bar)`.
+//!   Positions are updated by the exponential map `p ⊕ dv = p * exp(dv_rot / 2)`.
+
+use crate::element::{skew, Element, FrameKinematics, LocalFrame, TangentScratch};
+use faer::MatMut;
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+
+/// Parametrization of the rotation of a rigid body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RotationParam {
+    /// Cardan angles x-y-z with `u = q_dot` (singular at `beta = ±90°`). Default.
+    #[default]
+    Cardan,
+    /// Unit quaternion with body-frame angular velocity as velocity coordinates.
+    Quaternion,
+}
+
+/// A rigid body: mass, inertia tensor about the centre of mass in body axes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigidBody {
+    /// Mass (> 0).
+    pub mass: f64,
+    /// Inertia tensor about the centre of mass in body coordinates (symmetric positive definite).
+    pub inertia: Matrix3<f64>,
+    /// Rotation parametrization.
+    pub rotation: RotationParam,
+}
+
+impl RigidBody {
+    /// Rigid body with Cardan angles.
+    pub fn new(mass: f64, inertia: Matrix3<f64>) -> Self {
+        Self {
+            mass,
+            inertia,
+            rotation: RotationParam::Cardan,
+        }
+    }
+
+    /// Same body with another rotation parametrization.
+    pub fn with_rotation(mut self, rotation: RotationParam) -> Self {
+        self.rotation = rotation;
+        self
+    }
+
+    /// Rotation matrix `A` of the body from its coordinates.
+    pub fn rotation_matrix(&self, q: &[f64]) -> Matrix3<f64> {
+        match self.rotation {
+            RotationParam::Cardan => cardan_matrix(q[3], q[4], q[5]),
+            RotationParam::Quaternion => quaternion(q).to_rotation_matrix().into_inner(),
+        }
+    }
+
+    /// Global angular velocity `omega`.
+    pub fn angular_velocity(&self, q: &[f64], u: &[f64]) -> Vector3<f64> {
+        let w = Vector3::new(u[3], u[4], u[5]);
+        match self.rotation {
+            RotationParam::Cardan => cardan_g(q[3], q[4]) * w,
+            RotationParam::Quaternion => self.rotation_matrix(q) * w,
+        }
+    }
+
+    /// Global angular momentum about the centre of mass `A I A^T omega`.
+    pub fn angular_momentum(&self, q: &[f64], u: &[f64]) -> Vector3<f64> {
+        let a = self.rotation_matrix(q);
+        a * self.inertia * a.transpose() * self.angular_velocity(q, u)
+    }
+
+    /// Rotational part of `h` and of its tangents for the quaternion body:
+    /// `h_rot = -omega_bar x (I omega_bar)`, `d h_rot / d omega_bar = -(w~ I - (I w)~)`.
+    fn gyroscopic_tangent_quaternion(&self, u: &[f64]) -> Matrix3<f64> {
+        let w = Vector3::new(u[3], u[4], u[5]);
+        -(skew(&w) * self.inertia - skew(&(self.inertia * w)))
+    }
+}
+
+/// `Rx(a) Ry(b) Rz(c)` (seed 000 eq. (2.22)).
+pub fn cardan_matrix(a: f64, b: f64, c: f64) -> Matrix3<f64> {
+    let (sa, ca) = a.sin_cos();
+    let (sb, cb) = b.sin_cos();
+    let (sc, cc) = c.sin_cos();
+    Matrix3::new(
+        cb * cc,
+        -cb * sc,
+        sb,
+        ca * sc + cc * sa * sb,
+        ca * cc - sa * sb * sc,
+        -cb * sa,
+        sa * sc - ca * cc * sb,
+        cc * sa + ca * sb * sc,
+        ca * cb,
+    )
+}
+
+/// Global `G(alpha, beta)` with `omega = G theta_dot` for Cardan x-y-z angles.
+fn cardan_g(a: f64, b: f64) -> Matrix3<f64> {
+    let (sa, ca) = a.sin_cos();
+    let (sb, cb) = b.sin_cos();
+    Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb)
+}
+
+/// `G_dot theta_dot` for Cardan x-y-z angles.
+fn cardan_g_dot_theta_dot(a: f64, b: f64, td: &Vector3<f64>) -> Vector3<f64> {
+    let (sa, ca) = a.sin_cos();
+    let (sb, cb) = b.sin_cos();
+    let dg_da = Matrix3::new(0.0, 0.0, 0.0, 0.0, -sa, -ca * cb, 0.0, ca, -sa * cb);
+    let dg_db = Matrix3::new(0.0, 0.0, cb, 0.0, 0.0, sa * sb, 0.0, 0.0, -ca * sb);
+    (dg_da * td.x + dg_db * td.y) * td
+}
+
+fn quaternion(q: &[f64]) -> UnitQuaternion<f64> {
+    UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]))
+}
+
+impl Element for RigidBody {
+    fn nq(&self) -> usize {
+        match self.rotation {
+            RotationParam::Cardan => 6,
+            RotationParam::Quaternion => 7,
+        }
+    }
+    fn nu(&self) -> usize {
+        6
+    }
+    fn reference_coordinates(&self, q: &mut [f64], u: &mut [f64]) {
+        q.fill(0.0);
+        u.fill(0.0);
+        if self.rotation == RotationParam::Quaternion {
+            q[3] = 1.0;
+        }
+    }
+    fn set_pose(&self, q: &mut [f64], position: &Vector3<f64>, rotation: &Matrix3<f64>) {
+        q[..3].copy_from_slice(position.as_slice());
+        match self.rotation {
+            RotationParam::Cardan => {
+                let r = rotation;
+                q[3] = (-r[(1, 2)]).atan2(r[(2, 2)]);
+                q[4] = r[(0, 2)].clamp(-1.0, 1.0).asin();
+                q[5] = (-r[(0, 1)]).atan2(r[(0, 0)]);
+            }
+            RotationParam::Quaternion => {
+                let p = UnitQuaternion::from_matrix(rotation);
+                q[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
+            }
+        }
+    }
+    fn set_velocity(&self, q: &[f64], u: &mut [f64], velocity: &Vector3<f64>, omega: &Vector3<f64>) {
+        u[..3].copy_from_slice(velocity.as_slice());
+        let w = match self.rotation {
+            RotationParam::Cardan => cardan_g(q[3], q[4])
+                .try_inverse()
+                .map(|gi| gi * omega)
+                .unwrap_or_else(|| Vector3::from_element(f64::NAN)),
+            RotationParam::Quaternion => self.rotation_matrix(q).transpose() * omega,
+        };
+        u[3..6].copy_from_slice(w.as_slice());
+    }
+    fn q_dot(&self, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
+        q_dot[..3].copy_from_slice(&u[..3]);
+        match self.rotation {
+            RotationParam::Cardan => q_dot[3..6].copy_from_slice(&u[3..6]),
+            RotationParam::Quaternion => {
+                let p = nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]);
+                let d = p * nalgebra::Quaternion::new(0.0, u[3], u[4], u[5]) * 0.5;
+                q_dot[3..7].copy_from_slice(&[d.w, d.i, d.j, d.k]);
+            }
+        }
+    }
+    fn integrate_position(&self, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+        for i in 0..3 {
+            q_new[i] = q[i] + dv[i];
+        }
+        match self.rotation {
+            RotationParam::Cardan => {
+                for i in 3..6 {
+                    q_new[i] = q[i] + dv[i];
+                }
+            }
+            RotationParam::Quaternion => {
+                let p = quaternion(q) * UnitQuaternion::from_scaled_axis(Vector3::new(dv[3], dv[4], dv[5]));
+                q_new[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
+                self.normalize(q_new);
+            }
+        }
+    }
+    fn normalize(&self, q: &mut [f64]) {
+        if self.rotation == RotationParam::Quaternion {
+            let n = (q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]).sqrt();
+            for x in &mut q[3..7] {
+                *x /= n;
+            }
+        }
+    }
+    fn mass_matrix(&self, q: &[f64], mut m: MatMut<'_, f64>) {
+        m.fill(0.0);
+        for i in 0..3 {
+            m[(i, i)] = self.mass;
+        }
+        let mrot = match self.rotation {
+            RotationParam::Cardan => {
+                let a = self.rotation_matrix(q);
+                let g = cardan_g(q[3], q[4]);
+                g.transpose() * a * self.inertia * a.transpose() * g
+            }
+            RotationParam::Quaternion => self.inertia,
+        };
+        for i in 0..3 {
+            for j in 0..3 {
+                m[(3 + i, 3 + j)] = mrot[(i, j)];
+            }
+        }
+    }
+    fn forces(&self, _t: f64, q: &[f64], u: &[f64], gravity: &Vector3<f64>, h: &mut [f64]) {
+        let f = gravity * self.mass;
+        h[..3].copy_from_slice(f.as_slice());
+        let w = Vector3::new(u[3], u[4], u[5]);
+        let hr = match self.rotation {
+            RotationParam::Cardan => {
+                // h_theta = -G^T (I_g G_dot theta_dot + omega x I_g omega), I_g = A I A^T
+                let a = self.rotation_matrix(q);
+                let g = cardan_g(q[3], q[4]);
+                let ig = a * self.inertia * a.transpose();
+                let omega = g * w;
+                -g.transpose() * (ig * cardan_g_dot_theta_dot(q[3], q[4], &w) + omega.cross(&(ig * omega)))
+            }
+            RotationParam::Quaternion => -w.cross(&(self.inertia * w)),
+        };
+        h[3..6].copy_from_slice(hr.as_slice());
+    }
+    fn frame_kinematics(&self, q: &[f64], u: &[f64], frame: &LocalFrame, out: &mut FrameKinematics) {
+        let a = self.rotation_matrix(q);
+        let r = Vector3::new(q[0], q[1], q[2]);
+        let v = Vector3::new(u[0], u[1], u[2]);
+        let s = a * frame.position; // global offset centre of mass -> frame origin
+        let w = Vector3::new(u[3], u[4], u[5]);
+        // omega = J_rot w (global), with J_rot = G (Cardan) or A (quaternion)
+        let (jrot, alpha_bias) = match self.rotation {
+            RotationParam::Cardan => (cardan_g(q[3], q[4]), cardan_g_dot_theta_dot(q[3], q[4], &w)),
+            RotationParam::Quaternion => (a, Vector3::zeros()),
+        };
+        let omega = jrot * w;
+        out.position = r + s;
+        out.rotation = a * frame.rotation;
+        out.velocity = v + omega.cross(&s);
+        out.angular_velocity = omega;
+        let jt_rot = -skew(&s) * jrot;
+        out.jac_t.fill(0.0);
+        out.jac_r.fill(0.0);
+        for i in 0..3 {
+            out.jac_t[(i, i)] = 1.0;
+            for j in 0..3 {
+                out.jac_t[(i, 3 + j)] = jt_rot[(i, j)];
+                out.jac_r[(i, 3 + j)] = jrot[(i, j)];
+            }
+        }
+        out.bias_acc = alpha_bias.cross(&s) + omega.cross(&omega.cross(&s));
+        out.bias_ang_acc = alpha_bias;
+    }
+    fn force_tangents(
+        &self,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        gravity: &Vector3<f64>,
+        mut dh_dq: MatMut<'_, f64>,
+        mut dh_du: MatMut<'_, f64>,
+        scratch: &mut TangentScratch,
+    ) {
+        match self.rotation {
+            RotationParam::Cardan => {
+                crate::element::finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, scratch)
+            }
+            RotationParam::Quaternion => {
+                // h = [m g; -w x I w] does not depend on q; analytic gyroscopic tangent.
+                dh_dq.fill(0.0);
+                dh_du.fill(0.0);
+                let k = self.gyroscopic_tangent_quaternion(u);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        dh_du[(3 + i, 3 + j)] = k[(i, j)];
+                    }
+                }
+            }
+        }
+    }
+    fn kinetic_energy(&self, q: &[f64], u: &[f64]) -> f64 {
+        let v = Vector3::new(u[0], u[1], u[2]);
+        let omega = self.angular_velocity(q, u);
+        let a = self.rotation_matrix(q);
+        0.5 * self.mass * v.norm_squared() + 0.5 * omega.dot(&(a * self.inertia * a.transpose() * omega))
+    }
+    fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64 {
+        -self.mass * gravity.dot(&Vector3::new(q[0], q[1], q[2]))
+    }
+}

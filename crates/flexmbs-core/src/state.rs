@@ -1,0 +1,152 @@
+//! The mutable [`State`] of a simulation and the preallocated [`Workspace`].
+
+use crate::element::{FrameKinematics, TangentScratch};
+use crate::linsolve::DenseLu;
+use crate::model::{FrameOwner, Model};
+use faer::Mat;
+
+/// Everything that evolves in time. Separate from the immutable [`Model`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Time.
+    pub t: f64,
+    /// Position coordinates (nq).
+    pub q: Vec<f64>,
+    /// Velocity coordinates (nu).
+    pub u: Vec<f64>,
+    /// Accelerations `u_dot` (nu) of the last step (consistent initial values from
+    /// [`crate::integrator::consistent_accelerations`]).
+    pub u_dot: Vec<f64>,
+    /// Algorithmic accelerations `a` of the generalized-alpha scheme (nu).
+    pub a: Vec<f64>,
+    /// Lagrange multipliers (nc), one per constraint row.
+    pub lambda: Vec<f64>,
+}
+
+impl State {
+    /// Zero state of the given dimensions.
+    pub fn zeros(nq: usize, nu: usize, nc: usize) -> Self {
+        Self { t: 0.0, q: vec![0.0; nq], u: vec![0.0; nu], u_dot: vec![0.0; nu], a: vec![0.0; nu], lambda: vec![0.0; nc] }
+    }
+}
+
+/// Buffers of the system-level evaluations ([`crate::system`]).
+#[derive(Debug)]
+pub struct SystemBuffers {
+    /// Kinematics of every frame.
+    pub frames: Vec<FrameKinematics>,
+    /// Tangent scratch per body.
+    pub tangent_scratch: Vec<TangentScratch>,
+    /// Global mass matrix (nu x nu).
+    pub mass: Mat<f64>,
+    /// Global forces `h` incl. loads (nu).
+    pub h: Vec<f64>,
+    /// `dh/dq` along `q ⊕ dv` (nu x nu).
+    pub dh_dq: Mat<f64>,
+    /// `dh/du` (nu x nu).
+    pub dh_du: Mat<f64>,
+    /// Constraint values `g` (nc).
+    pub g: Vec<f64>,
+    /// Constraint Jacobian `G` (nc x nu), `g_dot = G u + g_t`.
+    pub g_jac: Mat<f64>,
+    /// Partial time derivative `g_t` (nc).
+    pub g_t: Vec<f64>,
+    /// Acceleration bias: `g_ddot = G u_dot + g_bias` (nc).
+    pub g_bias: Vec<f64>,
+    /// Perturbed positions for finite differences (nq).
+    pub q_pert: Vec<f64>,
+    /// Perturbed velocities for finite differences (nu).
+    pub u_pert: Vec<f64>,
+    /// Velocity-space perturbation (nu).
+    pub dv_pert: Vec<f64>,
+    /// Load forces at the plus perturbation (nu).
+    pub h_plus: Vec<f64>,
+    /// Load forces at the minus perturbation (nu).
+    pub h_minus: Vec<f64>,
+}
+
+/// Buffers of the integrators.
+#[derive(Debug)]
+pub struct StepBuffers {
+    /// New positions (nq).
+    pub q_new: Vec<f64>,
+    /// New velocities (nu).
+    pub u_new: Vec<f64>,
+    /// New accelerations (nu).
+    pub u_dot_new: Vec<f64>,
+    /// New algorithmic accelerations (nu).
+    pub a_new: Vec<f64>,
+    /// Velocity-space position increment (nu).
+    pub dv: Vec<f64>,
+    /// New Lagrange multipliers (nc).
+    pub lambda_new: Vec<f64>,
+    /// Right-hand side / solution of the linear systems (nu + nc).
+    pub rhs: Vec<f64>,
+    /// DOPRI5 stage derivatives, 7 x (nq + nu).
+    pub stages: [Vec<f64>; 7],
+    /// DOPRI5 stage state and candidate solution (nq + nu each).
+    pub y: [Vec<f64>; 2],
+}
+
+/// Scratch buffers of every evaluation and integrator, allocated once by [`Workspace::new`]
+/// right after compiling the model; nothing in a time step allocates.
+#[derive(Debug)]
+pub struct Workspace {
+    /// System evaluation buffers.
+    pub sys: SystemBuffers,
+    /// Integrator buffers.
+    pub step: StepBuffers,
+    /// Iteration / augmented matrix solver (nu + nc).
+    pub lu: DenseLu,
+    /// Mass-matrix solver (nu) for explicit integration.
+    pub lu_mass: DenseLu,
+}
+
+impl Workspace {
+    /// Allocates all buffers for `model`.
+    pub fn new(model: &Model) -> Self {
+        let (nq, nu, nc) = (model.nq, model.nu, model.nc);
+        let frames = model
+            .frames
+            .iter()
+            .map(|f| match f.owner {
+                FrameOwner::Ground => FrameKinematics::new(0),
+                FrameOwner::Body(b) => FrameKinematics::new(model.bodies[b.0].element.nu()),
+            })
+            .collect();
+        let tangent_scratch = model.bodies.iter().map(|b| TangentScratch::new(b.element.nq(), b.element.nu())).collect();
+        let v = |n| vec![0.0; n];
+        Self {
+            sys: SystemBuffers {
+                frames,
+                tangent_scratch,
+                mass: Mat::zeros(nu, nu),
+                h: v(nu),
+                dh_dq: Mat::zeros(nu, nu),
+                dh_du: Mat::zeros(nu, nu),
+                g: v(nc),
+                g_jac: Mat::zeros(nc, nu),
+                g_t: v(nc),
+                g_bias: v(nc),
+                q_pert: v(nq),
+                u_pert: v(nu),
+                dv_pert: v(nu),
+                h_plus: v(nu),
+                h_minus: v(nu),
+            },
+            step: StepBuffers {
+                q_new: v(nq),
+                u_new: v(nu),
+                u_dot_new: v(nu),
+                a_new: v(nu),
+                dv: v(nu),
+                lambda_new: v(nc),
+                rhs: v(nu + nc),
+                stages: std::array::from_fn(|_| v(nq + nu)),
+                y: [v(nq + nu), v(nq + nu)],
+            },
+            lu: DenseLu::new(nu + nc),
+            lu_mass: DenseLu::new(nu),
+        }
+    }
+}

@@ -1,0 +1,260 @@
+//! System-level assembly: frame kinematics, mass matrix, forces, tangents, constraints and
+//! energies of a [`Model`] at given `(t, q, u)`, written into preallocated buffers.
+
+use crate::element::FrameKinematics;
+use crate::joint::{joint_rows, ConstraintRow};
+use crate::load::FrameWrench;
+use crate::model::{FrameOwner, Model};
+use crate::state::SystemBuffers;
+use faer::{Mat, MatMut};
+use nalgebra::Vector3;
+
+/// Energies of a state (seed 000 eq. (2.43) for the kinetic part).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Energy {
+    /// Kinetic energy.
+    pub kinetic: f64,
+    /// Potential energy of gravity.
+    pub gravity: f64,
+    /// Elastic energy of the elements.
+    pub elastic: f64,
+    /// Energy stored in springs.
+    pub springs: f64,
+}
+
+impl Energy {
+    /// Sum of all parts.
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.gravity + self.elastic + self.springs
+    }
+}
+
+/// Kinematics of every frame at `(q, u)`.
+pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKinematics]) {
+    for (f, k) in model.frames.iter().zip(frames.iter_mut()) {
+        match f.owner {
+            FrameOwner::Ground => {
+                k.position = f.local.position;
+                k.rotation = f.local.rotation;
+            }
+            FrameOwner::Body(b) => {
+                let b = &model.bodies[b.0];
+                let (qb, ub) = (&q[b.q_offset..b.q_offset + b.element.nq()], &u[b.u_offset..b.u_offset + b.element.nu()]);
+                b.element.frame_kinematics(qb, ub, &f.local, k);
+            }
+        }
+    }
+}
+
+/// Global mass matrix `M(q)`.
+pub fn assemble_mass(model: &Model, q: &[f64], mut mass: MatMut<'_, f64>) {
+    mass.fill(0.0);
+    for b in &model.bodies {
+        let (nq, nu) = (b.element.nq(), b.element.nu());
+        b.element.mass_matrix(&q[b.q_offset..b.q_offset + nq], mass.as_mut().submatrix_mut(b.u_offset, b.u_offset, nu, nu));
+    }
+}
+
+/// Global forces `h(t, q, u)` of the elements (gravity scaled by `load_factor`) plus all
+/// loads. `frames` must be up to date ([`update_frames`]).
+pub fn assemble_forces(
+    model: &Model,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    load_factor: f64,
+    frames: &[FrameKinematics],
+    h: &mut [f64],
+) {
+    let g = model.gravity * load_factor;
+    for b in &model.bodies {
+        let (nq, nu) = (b.element.nq(), b.element.nu());
+        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[b.u_offset..b.u_offset + nu]);
+        b.element.forces(t, qb, ub, &g, &mut h[b.u_offset..b.u_offset + nu]);
+    }
+    add_load_forces(model, t, load_factor, frames, h);
+}
+
+/// Adds the generalized forces `J_T^T f + J_R^T m` of all loads to `h`.
+pub fn add_load_forces(model: &Model, t: f64, load_factor: f64, frames: &[FrameKinematics], h: &mut [f64]) {
+    let mut w: [FrameWrench; 2] = [(crate::FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
+    for load in &model.loads {
+        let n = load.wrenches(t, load_factor, frames, &mut w);
+        for (frame, f, m) in &w[..n] {
+            if let FrameOwner::Body(b) = model.frames[frame.0].owner {
+                let off = model.bodies[b.0].u_offset;
+                let k = &frames[frame.0];
+                for j in 0..k.jac_t.ncols() {
+                    let mut s = 0.0;
+                    for i in 0..3 {
+                        s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
+                    }
+                    h[off + j] += s;
+                }
+            }
+        }
+    }
+}
+
+/// Tangents `ws.dh_dq` (along `q ⊕ dv`) and `ws.dh_du` of the full `h`: element blocks via
+/// [`crate::Element::force_tangents`], load contributions by central differences of
+/// [`add_load_forces`] (loads couple bodies). Leaves `ws.frames` at `(q, u)`.
+pub fn assemble_tangents(model: &Model, t: f64, q: &[f64], u: &[f64], load_factor: f64, ws: &mut SystemBuffers) {
+    ws.dh_dq.fill(0.0);
+    ws.dh_du.fill(0.0);
+    let g = model.gravity * load_factor;
+    for (b, scratch) in model.bodies.iter().zip(ws.tangent_scratch.iter_mut()) {
+        let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
+        b.element.force_tangents(
+            t,
+            &q[b.q_offset..b.q_offset + nq],
+            &u[o..o + nu],
+            &g,
+            ws.dh_dq.as_mut().submatrix_mut(o, o, nu, nu),
+            ws.dh_du.as_mut().submatrix_mut(o, o, nu, nu),
+            scratch,
+        );
+    }
+    if !model.loads.is_empty() {
+        let (qp, up, dv) = (&mut ws.q_pert, &mut ws.u_pert, &mut ws.dv_pert);
+        let (hp, hm) = (&mut ws.h_plus, &mut ws.h_minus);
+        up.copy_from_slice(u);
+        qp.copy_from_slice(q);
+        dv.fill(0.0);
+        for b in &model.bodies {
+            let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+            for j in 0..nu {
+                // position direction
+                let eps = 1e-6;
+                for (sign, hh) in [(1.0, &mut *hp), (-1.0, &mut *hm)] {
+                    dv[o + j] = sign * eps;
+                    b.element.integrate_position(&q[oq..oq + nq], &dv[o..o + nu], &mut qp[oq..oq + nq]);
+                    update_frames(model, qp, u, &mut ws.frames);
+                    hh.fill(0.0);
+                    add_load_forces(model, t, load_factor, &ws.frames, hh);
+                }
+                dv[o + j] = 0.0;
+                qp[oq..oq + nq].copy_from_slice(&q[oq..oq + nq]);
+                add_difference_column(&mut ws.dh_dq, o + j, hp, hm, eps);
+                // velocity direction
+                let eps = 1e-6 * u[o + j].abs().max(1.0);
+                for (sign, hh) in [(1.0, &mut *hp), (-1.0, &mut *hm)] {
+                    up[o + j] = u[o + j] + sign * eps;
+                    update_frames(model, q, up, &mut ws.frames);
+                    hh.fill(0.0);
+                    add_load_forces(model, t, load_factor, &ws.frames, hh);
+                }
+                up[o + j] = u[o + j];
+                add_difference_column(&mut ws.dh_du, o + j, hp, hm, eps);
+            }
+        }
+        update_frames(model, q, u, &mut ws.frames);
+    }
+}
+
+fn add_difference_column(m: &mut Mat<f64>, col: usize, hp: &[f64], hm: &[f64], eps: f64) {
+    for i in 0..hp.len() {
+        m[(i, col)] += (hp[i] - hm[i]) / (2.0 * eps);
+    }
+}
+
+/// Constraint values `g`, Jacobian `G`, `g_t` and acceleration bias of all joints at `t`.
+/// `frames` must be up to date.
+pub fn assemble_constraints(
+    model: &Model,
+    t: f64,
+    frames: &[FrameKinematics],
+    g: &mut [f64],
+    mut g_jac: MatMut<'_, f64>,
+    g_t: &mut [f64],
+    g_bias: &mut [f64],
+) {
+    g_jac.fill(0.0);
+    let zero = ConstraintRow {
+        g: 0.0,
+        t_b: Vector3::zeros(),
+        r_b: Vector3::zeros(),
+        t_a: Vector3::zeros(),
+        r_a: Vector3::zeros(),
+        g_t: 0.0,
+        bias: 0.0,
+    };
+    let mut rows = [zero; 7];
+    for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
+        let n = joint.num_rows();
+        let (ka, kb) = (&frames[joint.frame_a.0], &frames[joint.frame_b.0]);
+        joint_rows(joint, t, ka, kb, &mut rows[..n]);
+        for (i, row) in rows[..n].iter().enumerate() {
+            let r = r0 + i;
+            g[r] = row.g;
+            g_t[r] = row.g_t;
+            g_bias[r] = row.bias;
+            for (frame, ct, cr) in [(joint.frame_a, &row.t_a, &row.r_a), (joint.frame_b, &row.t_b, &row.r_b)] {
+                if let FrameOwner::Body(b) = model.frames[frame.0].owner {
+                    let off = model.bodies[b.0].u_offset;
+                    let k = &frames[frame.0];
+                    for j in 0..k.jac_t.ncols() {
+                        let mut s = 0.0;
+                        for d in 0..3 {
+                            s += ct[d] * k.jac_t[(d, j)] + cr[d] * k.jac_r[(d, j)];
+                        }
+                        g_jac[(r, off + j)] += s;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Energies at `(q, u)`; `frames` must be up to date (for the springs).
+pub fn energy(model: &Model, q: &[f64], u: &[f64], frames: &[FrameKinematics]) -> Energy {
+    let mut e = Energy::default();
+    for b in &model.bodies {
+        let (nq, nu) = (b.element.nq(), b.element.nu());
+        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[b.u_offset..b.u_offset + nu]);
+        e.kinetic += b.element.kinetic_energy(qb, ub);
+        e.gravity += b.element.gravity_potential(qb, &model.gravity);
+        e.elastic += b.element.elastic_energy(qb);
+    }
+    e.springs = model.loads.iter().map(|l| l.potential_energy(frames)).sum();
+    e
+}
+
+/// `max |g|` and `max |G u + g_t|` (constraint drift) with up-to-date `ws.g`, `ws.g_jac`, `ws.g_t`.
+pub fn constraint_drift(ws: &SystemBuffers, u: &[f64]) -> (f64, f64) {
+    let mut gmax: f64 = 0.0;
+    let mut gdmax: f64 = 0.0;
+    for r in 0..ws.g.len() {
+        let mut gd = ws.g_t[r];
+        for (j, uj) in u.iter().enumerate() {
+            gd += ws.g_jac[(r, j)] * uj;
+        }
+        gmax = gmax.max(ws.g[r].abs());
+        gdmax = gdmax.max(gd.abs());
+    }
+    (gmax, gdmax)
+}
+
+/// Global `q ⊕ dv`, body by body.
+pub fn integrate_positions(model: &Model, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+    for b in &model.bodies {
+        let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+        b.element.integrate_position(&q[oq..oq + nq], &dv[o..o + nu], &mut q_new[oq..oq + nq]);
+    }
+}
+
+/// Global `q_dot = T(q) u`, body by body.
+pub fn q_dot(model: &Model, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
+    for b in &model.bodies {
+        let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+        b.element.q_dot(&q[oq..oq + nq], &u[o..o + nu], &mut q_dot[oq..oq + nq]);
+    }
+}
+
+/// Normalizes all element coordinates (unit quaternions).
+pub fn normalize(model: &Model, q: &mut [f64]) {
+    for b in &model.bodies {
+        let (nq, oq) = (b.element.nq(), b.q_offset);
+        b.element.normalize(&mut q[oq..oq + nq]);
+    }
+}
