@@ -493,6 +493,13 @@ pub struct ReductionSpec {
     pub solver: SolverName,
     /// Spectral shift (default automatic).
     pub shift: Option<f64>,
+    /// Relative residual tolerance of the eigen solver (default 1e-9).
+    #[serde(default = "default_tol")]
+    pub tol: f64,
+}
+
+fn default_tol() -> f64 {
+    1e-9
 }
 
 fn default_modes() -> usize {
@@ -508,6 +515,7 @@ impl Default for ReductionSpec {
             mass: MassName::Lumped,
             solver: SolverName::Auto,
             shift: None,
+            tol: default_tol(),
         }
     }
 }
@@ -629,6 +637,9 @@ fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
             "body.reduction.modes",
             "a modal reduction needs at least one mode".into(),
         ));
+    }
+    if !(r.tol > 0.0 && r.tol < 1e-2) {
+        return Err(err("body.reduction.tol", format!("must be in (0, 1e-2), got {}", r.tol)));
     }
     if r.method != ReductionMethod::Modal && r.interface.is_empty() {
         return Err(err(

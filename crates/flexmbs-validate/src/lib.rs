@@ -4,6 +4,7 @@
 //! `../shared/reference/benchmarks.md`).
 #![warn(missing_docs)]
 
+pub mod complex_beam_frequencies;
 pub mod fe_cantilever_modes;
 pub mod result;
 
@@ -22,9 +23,16 @@ pub struct Case {
 
 /// All cases.
 pub fn cases() -> Vec<Case> {
-    vec![Case {
-        name: "fe_cantilever_modes",
-        description: "steel cantilever 1 m x 20 mm x 20 mm: bending, torsion, axial frequencies vs beam theory",
-        run: fe_cantilever_modes::run,
-    }]
+    vec![
+        Case {
+            name: "fe_cantilever_modes",
+            description: "steel cantilever 1 m x 20 mm x 20 mm: bending, torsion, axial frequencies vs beam theory",
+            run: fe_cantilever_modes::run,
+        },
+        Case {
+            name: "complex_beam_frequencies",
+            description: "seed 000 §5.1: FFR complex beam, simulated modal frequencies vs the modal analysis",
+            run: complex_beam_frequencies::run,
+        },
+    ]
 }

@@ -12,6 +12,7 @@
 //! `docs/notation-ffr.md` for the derivation and the corrected quadratic velocity vector (2.79).
 
 mod body;
+mod element;
 mod invariants;
 mod kinematics;
 mod si;
@@ -21,6 +22,7 @@ mod tests;
 mod tests_dynamics;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
+pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
 pub use si::reduced_body_to_si;

@@ -1,0 +1,214 @@
+//! The FFR body as an [`Element`] of the multibody engine: the adapter between the engine's
+//! element contract and the FFR mathematics of [`FfrBody`] (seed 000 (2.73)).
+
+use super::{FfrBody, FfrScratch, RotationParam};
+use crate::element::{Element, FrameKinematics, LocalFrame};
+use crate::rotation::{cardan_from_matrix, cardan_g_bar, quaternion_from_matrix, skew};
+use faer::MatMut;
+use nalgebra::{Matrix3, Vector3};
+use std::sync::Mutex;
+
+/// An FFR body in a multibody model. The evaluated state lives in a scratch buffer behind a mutex
+/// (uncontended: one element is evaluated by one thread at a time), so the `&self` methods of the
+/// element contract allocate nothing.
+#[derive(Debug)]
+pub struct FfrElement {
+    body: FfrBody,
+    scratch: Mutex<FfrScratch>,
+    zero_u: Vec<f64>,
+}
+
+impl FfrElement {
+    /// Wraps an FFR body.
+    pub fn new(body: FfrBody) -> Self {
+        let nf = body.nf();
+        let nu = body.nu();
+        Self { body, scratch: Mutex::new(FfrScratch::new(nf)), zero_u: vec![0.0; nu] }
+    }
+
+    /// The wrapped body.
+    pub fn body(&self) -> &FfrBody {
+        &self.body
+    }
+
+    /// Evaluates the state into the scratch buffer and runs `f` on it; `None` if the state is
+    /// invalid (singular Cardan angles, non-finite values): callers then write NaN, which the
+    /// integrators report as a diverging step with time and step size.
+    fn with_state<R>(&self, q: &[f64], u: &[f64], f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R) -> Option<R> {
+        let mut s = match self.scratch.lock() {
+            Ok(s) => s,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        self.body.update(q, u, &mut s).ok()?;
+        Some(f(&self.body, &mut s))
+    }
+}
+
+fn fill_nan(x: &mut [f64]) {
+    x.fill(f64::NAN);
+}
+
+impl Element for FfrElement {
+    fn nq(&self) -> usize {
+        self.body.nq()
+    }
+
+    fn nu(&self) -> usize {
+        self.body.nu()
+    }
+
+    fn num_nodes(&self) -> usize {
+        self.body.num_nodes()
+    }
+
+    fn reference_coordinates(&self, q: &mut [f64], u: &mut [f64]) {
+        q.fill(0.0);
+        u.fill(0.0);
+        if self.body.rotation == RotationParam::Quaternion {
+            q[3] = 1.0;
+        }
+    }
+
+    fn set_pose(&self, q: &mut [f64], position: &Vector3<f64>, rotation: &Matrix3<f64>) {
+        q[..3].copy_from_slice(position.as_slice());
+        match self.body.rotation {
+            RotationParam::Cardan => match cardan_from_matrix(rotation, 1e-9) {
+                Ok(th) => q[3..6].copy_from_slice(th.as_slice()),
+                Err(_) => q[3..6].fill(f64::NAN),
+            },
+            RotationParam::Quaternion => q[3..7].copy_from_slice(quaternion_from_matrix(rotation).as_slice()),
+        }
+    }
+
+    fn set_velocity(&self, q: &[f64], u: &mut [f64], velocity: &Vector3<f64>, omega: &Vector3<f64>) {
+        u[..3].copy_from_slice(velocity.as_slice());
+        let ok = self.with_state(q, &self.zero_u, |_, s| s.a.transpose() * omega);
+        let Some(omega_bar) = ok else {
+            u[3..6].fill(f64::NAN);
+            return;
+        };
+        match self.body.rotation {
+            RotationParam::Cardan => {
+                let th = Vector3::new(q[3], q[4], q[5]);
+                match cardan_g_bar(&th).try_inverse() {
+                    Some(gi) => u[3..6].copy_from_slice((gi * omega_bar).as_slice()),
+                    None => u[3..6].fill(f64::NAN),
+                }
+            }
+            RotationParam::Quaternion => u[3..6].copy_from_slice(omega_bar.as_slice()),
+        }
+    }
+
+    fn q_dot(&self, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
+        self.body.coordinate_rates(q, u, q_dot);
+    }
+
+    fn normalize(&self, q: &mut [f64]) {
+        if self.body.normalize(q).is_err() {
+            fill_nan(q);
+        }
+    }
+
+    fn mass_matrix(&self, q: &[f64], mut m: MatMut<'_, f64>) {
+        let done = self.with_state(q, &self.zero_u, |b, s| b.mass_matrix(s, m.as_mut()));
+        if done.is_none() {
+            m.fill(f64::NAN);
+        }
+    }
+
+    fn forces(&self, _t: f64, q: &[f64], u: &[f64], gravity: &Vector3<f64>, h: &mut [f64]) {
+        let done = self.with_state(q, u, |b, s| {
+            b.quadratic_velocity(s, h);
+            b.add_internal_forces(s, h);
+            b.add_gravity_force(s, gravity, h);
+        });
+        if done.is_none() {
+            fill_nan(h);
+        }
+    }
+
+    fn frame_kinematics(&self, q: &[f64], u: &[f64], frame: &LocalFrame, out: &mut FrameKinematics) {
+        let done = self.with_state(q, u, |b, s| -> Option<()> {
+            match frame.node {
+                Some(node) => {
+                    let k = b.node_kinematics(node, q, u, s).ok()?;
+                    b.node_jacobian_translation(node, s, out.jac_t.as_mut()).ok()?;
+                    b.node_jacobian_rotation(node, s, out.jac_r.as_mut()).ok()?;
+                    out.position = k.r;
+                    out.rotation = k.frame * frame.rotation;
+                    out.velocity = k.v;
+                    out.angular_velocity = k.omega;
+                    out.bias_acc = k.a_bias;
+                    out.bias_ang_acc = k.alpha_bias;
+                }
+                None => point_fixed_in_reference_frame(b, q, u, s, frame, out),
+            }
+            Some(())
+        });
+        if done.flatten().is_none() {
+            out.position.fill(f64::NAN);
+            out.velocity.fill(f64::NAN);
+        }
+    }
+
+    fn kinetic_energy(&self, q: &[f64], u: &[f64]) -> f64 {
+        self.with_state(q, u, |b, s| b.kinetic_energy(s, u)).unwrap_or(f64::NAN)
+    }
+
+    fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64 {
+        // V = -sum_j m_j g . r_j = -g . (I1 R + A S_t), S_t = sum_j m_j u_bar_j (deformed)
+        self.with_state(q, &self.zero_u, |b, s| {
+            let r = Vector3::new(q[0], q[1], q[2]);
+            -gravity.dot(&(b.invariants.i1 * r + s.a * s.s_t))
+        })
+        .unwrap_or(f64::NAN)
+    }
+
+    fn elastic_energy(&self, q: &[f64]) -> f64 {
+        let nf = self.body.nf();
+        let qf = &q[q.len() - nf..];
+        let mut e = 0.0;
+        for a in 0..nf {
+            for c in 0..nf {
+                e += 0.5 * qf[a] * self.body.k_ff[(a, c)] * qf[c];
+            }
+        }
+        e
+    }
+}
+
+/// Kinematics of a point `p` (and orientation) fixed in the floating frame: `r = R + A p`,
+/// `J_T = [I, -A p~ H, 0]`, `J_R = [0, A H, 0]`, bias `A (w x (w x p) + z x p)` and `A z`
+/// (seed 000 (2.70), (2.72) with `u_bar = p`, no deformation).
+fn point_fixed_in_reference_frame(
+    b: &FfrBody,
+    q: &[f64],
+    u: &[f64],
+    s: &FfrScratch,
+    frame: &LocalFrame,
+    out: &mut FrameKinematics,
+) {
+    let p = frame.position;
+    let w = s.omega;
+    let z = s.hdot_w;
+    out.position = Vector3::new(q[0], q[1], q[2]) + s.a * p;
+    out.rotation = s.a * frame.rotation;
+    out.velocity = Vector3::new(u[0], u[1], u[2]) + s.a * w.cross(&p);
+    out.angular_velocity = s.a * w;
+    out.bias_acc = s.a * (w.cross(&w.cross(&p)) + z.cross(&p));
+    out.bias_ang_acc = s.a * z;
+    let jt_rot = -s.a * skew(&p) * s.h;
+    let jr_rot = s.a * s.h;
+    let nu = b.nu();
+    for i in 0..3 {
+        for j in 0..nu {
+            out.jac_t[(i, j)] = 0.0;
+            out.jac_r[(i, j)] = 0.0;
+        }
+        out.jac_t[(i, i)] = 1.0;
+        for j in 0..3 {
+            out.jac_t[(i, 3 + j)] = jt_rot[(i, j)];
+            out.jac_r[(i, 3 + j)] = jr_rot[(i, j)];
+        }
+    }
+}
