@@ -74,8 +74,9 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
         log_y: true,
     }
     .write(&out.join("frequencies.png"))?;
+    crate::demo_sim::run(out, &reduced, quiet)?;
     println!(
-        "\nwrote {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes.pvd)",
+        "\nwrote {0}/tip.csv, {0}/tip.png, {0}/animation/cantilever.pvd (ParaView), {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes.pvd)",
         out.display(),
         body_path.display(),
         files.len(),

@@ -81,7 +81,8 @@ enum Command {
         dir: PathBuf,
     },
     /// The main job on an embedded default model: modal analysis and reduction of a steel cantilever,
-    /// with a results table (CSV), a plot, a reduced-body file and a ParaView mode animation.
+    /// then a time simulation of it as an FFR body under a tip force step, with CSV results, plots,
+    /// the reduced-body file and ParaView animations (mode shapes and the simulated motion).
     Demo {
         /// Output folder.
         #[arg(long, short, default_value = "out/demo")]
@@ -204,6 +205,7 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 mod demo;
+mod demo_sim;
 
 fn load(model: &Path, quiet: bool) -> Result<(PreparedBody, flexmbs_io::model::FeBodySpec)> {
     let spec = read_fe_model(model)?.body;
