@@ -5,7 +5,9 @@
 use anyhow::{Context, Result};
 use flexmbs_core::ffr::{reduced_body_to_si, FfrBody, FfrElement, RotationParam};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
-use flexmbs_core::{FrameKinematics, Joint, Load, LoadCoordinates, LocalFrame, ModelSpec, TimeFunction, Workspace};
+use flexmbs_core::{
+    FrameKinematics, Joint, Load, LoadCoordinates, LocalFrame, ModelSpec, TimeFunction, Workspace,
+};
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_io::plot::{LinePlot, Series, Style};
 use nalgebra::{Matrix3, Vector3};
@@ -28,13 +30,20 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
     spec.add_load(Load::Force {
         frame: tip_frame,
         vector: Vector3::new(0.0, 0.0, -20.0),
-        time: TimeFunction::Step { t0: 0.0, before: 0.0, after: 1.0 },
+        time: TimeFunction::Step {
+            t0: 0.0,
+            before: 0.0,
+            after: 1.0,
+        },
         coordinates: LoadCoordinates::Global,
     });
     let model = spec.compile()?;
     let mut state = model.initial_state();
     let mut ws = Workspace::new(&model);
-    let integrator = GenAlpha::new(GenAlphaSettings { rho_inf: 0.9, ..GenAlphaSettings::default() })?;
+    let integrator = GenAlpha::new(GenAlphaSettings {
+        rho_inf: 0.9,
+        ..GenAlphaSettings::default()
+    })?;
     integrator.initialize(&model, &mut state, &mut ws)?;
     let (h, t_end, every) = (2e-4, 0.2, 10usize);
     let q0 = model.bodies[b.0].q_offset;
@@ -63,16 +72,30 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
         let mut points = Vec::with_capacity(body.nodes.len());
         let mut disp = Vec::with_capacity(3 * body.nodes.len());
         for (n, x0) in body.nodes.iter().enumerate() {
-            let frame = LocalFrame { position: Vector3::from(*x0), rotation: Matrix3::identity(), node: Some(n) };
+            let frame = LocalFrame {
+                position: Vector3::from(*x0),
+                rotation: Matrix3::identity(),
+                node: Some(n),
+            };
             element.frame_kinematics(q, &zero_u, &frame, &mut fk);
             points.push([fk.position[0], fk.position[1], fk.position[2]]);
             disp.extend((0..3).map(|d| fk.position[d] - x0[d]));
         }
-        let d = [points[tip][0] - body.nodes[tip][0], points[tip][1] - body.nodes[tip][1], points[tip][2] - body.nodes[tip][2]];
+        let d = [
+            points[tip][0] - body.nodes[tip][0],
+            points[tip][1] - body.nodes[tip][1],
+            points[tip][2] - body.nodes[tip][2],
+        ];
         let _ = writeln!(csv, "{t:.6e},{:.9e},{:.9e},{:.9e}", d[0], d[1], d[2]);
         tip_z.push((t * 1e3, d[2] * 1e3));
         let name = format!("frames/step_{i:05}.vtu");
-        flexmbs_io::vtk::write_vtu(&anim.join(&name), &points, &body.cells, &[("displacement", 3, &disp)], &[])?;
+        flexmbs_io::vtk::write_vtu(
+            &anim.join(&name),
+            &points,
+            &body.cells,
+            &[("displacement", 3, &disp)],
+            &[],
+        )?;
         pvd.push((*t, name));
     }
     let entries: Vec<(f64, &str)> = pvd.iter().map(|(t, n)| (*t, n.as_str())).collect();
@@ -85,7 +108,11 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
         x_label: "t [ms]".into(),
         y_label: "tip u_z [mm]".into(),
         series: vec![
-            Series { name: "flexmbs (FFR, 12 modes, generalized-alpha)".into(), points: tip_z, style: Style::Line },
+            Series {
+                name: "flexmbs (FFR, 12 modes, generalized-alpha)".into(),
+                points: tip_z,
+                style: Style::Line,
+            },
             Series {
                 name: "static deflection PL^3/3EI".into(),
                 points: vec![(0.0, w_static * 1e3), (t_end * 1e3, w_static * 1e3)],
@@ -97,12 +124,18 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
     }
     .write(&out.join("tip.png"))?;
     if !quiet {
-        eprintln!("simulated {} steps; {} animation frames", step, samples.len());
+        eprintln!(
+            "simulated {} steps; {} animation frames",
+            step,
+            samples.len()
+        );
     }
     Ok(())
 }
 
 fn nearest(body: &ReducedBody, x: [f64; 3]) -> usize {
     let d = |p: &[f64; 3]| (0..3).map(|k| (p[k] - x[k]).powi(2)).sum::<f64>();
-    (0..body.nodes.len()).min_by(|&a, &b| d(&body.nodes[a]).total_cmp(&d(&body.nodes[b]))).unwrap_or(0)
+    (0..body.nodes.len())
+        .min_by(|&a, &b| d(&body.nodes[a]).total_cmp(&d(&body.nodes[b])))
+        .unwrap_or(0)
 }

@@ -150,7 +150,13 @@ impl Element for RigidBody {
             }
         }
     }
-    fn set_velocity(&self, q: &[f64], u: &mut [f64], velocity: &Vector3<f64>, omega: &Vector3<f64>) {
+    fn set_velocity(
+        &self,
+        q: &[f64],
+        u: &mut [f64],
+        velocity: &Vector3<f64>,
+        omega: &Vector3<f64>,
+    ) {
         u[..3].copy_from_slice(velocity.as_slice());
         let w = match self.rotation {
             RotationParam::Cardan => cardan_g(q[3], q[4])
@@ -183,7 +189,8 @@ impl Element for RigidBody {
                 }
             }
             RotationParam::Quaternion => {
-                let p = quaternion(q) * UnitQuaternion::from_scaled_axis(Vector3::new(dv[3], dv[4], dv[5]));
+                let p = quaternion(q)
+                    * UnitQuaternion::from_scaled_axis(Vector3::new(dv[3], dv[4], dv[5]));
                 q_new[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
                 self.normalize(q_new);
             }
@@ -227,13 +234,20 @@ impl Element for RigidBody {
                 let g = cardan_g(q[3], q[4]);
                 let ig = a * self.inertia * a.transpose();
                 let omega = g * w;
-                -g.transpose() * (ig * cardan_g_dot_theta_dot(q[3], q[4], &w) + omega.cross(&(ig * omega)))
+                -g.transpose()
+                    * (ig * cardan_g_dot_theta_dot(q[3], q[4], &w) + omega.cross(&(ig * omega)))
             }
             RotationParam::Quaternion => -w.cross(&(self.inertia * w)),
         };
         h[3..6].copy_from_slice(hr.as_slice());
     }
-    fn frame_kinematics(&self, q: &[f64], u: &[f64], frame: &LocalFrame, out: &mut FrameKinematics) {
+    fn frame_kinematics(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        frame: &LocalFrame,
+        out: &mut FrameKinematics,
+    ) {
         let a = self.rotation_matrix(q);
         let r = Vector3::new(q[0], q[1], q[2]);
         let v = Vector3::new(u[0], u[1], u[2]);
@@ -273,9 +287,9 @@ impl Element for RigidBody {
         scratch: &mut TangentScratch,
     ) {
         match self.rotation {
-            RotationParam::Cardan => {
-                crate::element::finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, scratch)
-            }
+            RotationParam::Cardan => crate::element::finite_difference_tangents(
+                self, t, q, u, gravity, dh_dq, dh_du, scratch,
+            ),
             RotationParam::Quaternion => {
                 // h = [m g; -w x I w] does not depend on q; analytic gyroscopic tangent.
                 dh_dq.fill(0.0);
@@ -293,7 +307,8 @@ impl Element for RigidBody {
         let v = Vector3::new(u[0], u[1], u[2]);
         let omega = self.angular_velocity(q, u);
         let a = self.rotation_matrix(q);
-        0.5 * self.mass * v.norm_squared() + 0.5 * omega.dot(&(a * self.inertia * a.transpose() * omega))
+        0.5 * self.mass * v.norm_squared()
+            + 0.5 * omega.dot(&(a * self.inertia * a.transpose() * omega))
     }
     fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64 {
         -self.mass * gravity.dot(&Vector3::new(q[0], q[1], q[2]))

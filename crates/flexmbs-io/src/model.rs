@@ -639,7 +639,10 @@ fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
         ));
     }
     if !(r.tol > 0.0 && r.tol < 1e-2) {
-        return Err(err("body.reduction.tol", format!("must be in (0, 1e-2), got {}", r.tol)));
+        return Err(err(
+            "body.reduction.tol",
+            format!("must be in (0, 1e-2), got {}", r.tol),
+        ));
     }
     if r.method != ReductionMethod::Modal && r.interface.is_empty() {
         return Err(err(

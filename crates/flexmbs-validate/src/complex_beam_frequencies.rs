@@ -61,7 +61,10 @@ pub fn simulate(body: &ReducedBody, h: f64, t_end: f64) -> Result<(Vec<f64>, Vec
         state.u[u0 + 6 + k] = *v;
     }
     let mut ws = Workspace::new(&model);
-    let integrator = GenAlpha::new(GenAlphaSettings { rho_inf: 1.0, ..GenAlphaSettings::default() })?;
+    let integrator = GenAlpha::new(GenAlphaSettings {
+        rho_inf: 1.0,
+        ..GenAlphaSettings::default()
+    })?;
     integrator.initialize(&model, &mut state, &mut ws)?;
     let q0 = model.bodies[b.0].q_offset;
     let mut t = vec![0.0];
@@ -89,14 +92,28 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     let t_end = 12.0 / modal[0];
     let (t, q) = simulate(&body, h, t_end)?;
     let mut res = ValidationResult::new("complex_beam_frequencies");
-    let mut table = String::from("| mode | modal [Hz] | simulated [Hz] | error |\n|---|---|---|---|\n");
+    let mut table =
+        String::from("| mode | modal [Hz] | simulated [Hz] | error |\n|---|---|---|---|\n");
     for k in 0..5 {
         let x: Vec<f64> = q.iter().map(|r| r[k]).collect();
-        let Some(f) = zero_crossing_frequency(&t, &x) else { bail!("q_f({k}) does not oscillate") };
+        let Some(f) = zero_crossing_frequency(&t, &x) else {
+            bail!("q_f({k}) does not oscillate")
+        };
         res.check(&format!("f{}_hz", k + 1), f, modal[k], 2e-4);
-        table += &format!("| {} | {:.3} | {:.3} | {:+.4} % |\n", k + 1, modal[k], f, 100.0 * (f - modal[k]) / modal[k]);
+        table += &format!(
+            "| {} | {:.3} | {:.3} | {:+.4} % |\n",
+            k + 1,
+            modal[k],
+            f,
+            100.0 * (f - modal[k]) / modal[k]
+        );
         if !quiet {
-            eprintln!("  mode {}: modal {:.3} Hz, simulated {:.3} Hz", k + 1, modal[k], f);
+            eprintln!(
+                "  mode {}: modal {:.3} Hz, simulated {:.3} Hz",
+                k + 1,
+                modal[k],
+                f
+            );
         }
     }
     std::fs::write(out.join("frequencies.md"), &table)?;
@@ -104,7 +121,10 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     let series = (0..5)
         .map(|k| Series {
             name: format!("q_f({k})"),
-            points: (0..n_plot).step_by(10).map(|i| (t[i] * 1e3, q[i][k])).collect(),
+            points: (0..n_plot)
+                .step_by(10)
+                .map(|i| (t[i] * 1e3, q[i][k]))
+                .collect(),
             style: Style::Line,
         })
         .collect();

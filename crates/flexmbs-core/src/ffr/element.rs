@@ -23,7 +23,11 @@ impl FfrElement {
     pub fn new(body: FfrBody) -> Self {
         let nf = body.nf();
         let nu = body.nu();
-        Self { body, scratch: Mutex::new(FfrScratch::new(nf)), zero_u: vec![0.0; nu] }
+        Self {
+            body,
+            scratch: Mutex::new(FfrScratch::new(nf)),
+            zero_u: vec![0.0; nu],
+        }
     }
 
     /// The wrapped body.
@@ -34,7 +38,12 @@ impl FfrElement {
     /// Evaluates the state into the scratch buffer and runs `f` on it; `None` if the state is
     /// invalid (singular Cardan angles, non-finite values): callers then write NaN, which the
     /// integrators report as a diverging step with time and step size.
-    fn with_state<R>(&self, q: &[f64], u: &[f64], f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R) -> Option<R> {
+    fn with_state<R>(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R,
+    ) -> Option<R> {
         let mut s = match self.scratch.lock() {
             Ok(s) => s,
             Err(poisoned) => poisoned.into_inner(),
@@ -76,11 +85,19 @@ impl Element for FfrElement {
                 Ok(th) => q[3..6].copy_from_slice(th.as_slice()),
                 Err(_) => q[3..6].fill(f64::NAN),
             },
-            RotationParam::Quaternion => q[3..7].copy_from_slice(quaternion_from_matrix(rotation).as_slice()),
+            RotationParam::Quaternion => {
+                q[3..7].copy_from_slice(quaternion_from_matrix(rotation).as_slice())
+            }
         }
     }
 
-    fn set_velocity(&self, q: &[f64], u: &mut [f64], velocity: &Vector3<f64>, omega: &Vector3<f64>) {
+    fn set_velocity(
+        &self,
+        q: &[f64],
+        u: &mut [f64],
+        velocity: &Vector3<f64>,
+        omega: &Vector3<f64>,
+    ) {
         u[..3].copy_from_slice(velocity.as_slice());
         let ok = self.with_state(q, &self.zero_u, |_, s| s.a.transpose() * omega);
         let Some(omega_bar) = ok else {
@@ -127,12 +144,19 @@ impl Element for FfrElement {
         }
     }
 
-    fn frame_kinematics(&self, q: &[f64], u: &[f64], frame: &LocalFrame, out: &mut FrameKinematics) {
+    fn frame_kinematics(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        frame: &LocalFrame,
+        out: &mut FrameKinematics,
+    ) {
         let done = self.with_state(q, u, |b, s| -> Option<()> {
             match frame.node {
                 Some(node) => {
                     let k = b.node_kinematics(node, q, u, s).ok()?;
-                    b.node_jacobian_translation(node, s, out.jac_t.as_mut()).ok()?;
+                    b.node_jacobian_translation(node, s, out.jac_t.as_mut())
+                        .ok()?;
                     b.node_jacobian_rotation(node, s, out.jac_r.as_mut()).ok()?;
                     out.position = k.r;
                     out.rotation = k.frame * frame.rotation;
@@ -152,7 +176,8 @@ impl Element for FfrElement {
     }
 
     fn kinetic_energy(&self, q: &[f64], u: &[f64]) -> f64 {
-        self.with_state(q, u, |b, s| b.kinetic_energy(s, u)).unwrap_or(f64::NAN)
+        self.with_state(q, u, |b, s| b.kinetic_energy(s, u))
+            .unwrap_or(f64::NAN)
     }
 
     fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64 {
