@@ -1,11 +1,16 @@
 //! One generic joint: a constraint between two frames with a mask of locked relative DOFs.
 //!
 //! Relative translation `d = A_a^T (p_b - p_a)` and relative rotation `R = A_a^T A_b` are
-//! measured in the first frame `a`. Locked translation `i` gives the row `g = e_i^a . (p_b - p_a)`;
-//! locked rotation `i` (with `(i, j, k)` cyclic) gives `g = 1/2 (e_k^a . e_j^b - e_j^a . e_k^b)`,
-//! the `i`-component of the vector part of `R` (`sin` of a rotation about axis `i`), which is
-//! zero for any rotation about the other, free axes. Rows are ordered tx, ty, tz, rx, ry, rz,
-//! then the prescribed-motion row.
+//! measured in the first frame `a`. Locked translation `i` gives the row `g = e_i^a . (p_b - p_a)`.
+//! Locked rotation `i` (with `(i, j, k)` cyclic) gives, depending on how many rotations are locked:
+//! - 3 (fixed): `g = 1/2 (e_k^a . e_j^b - e_j^a . e_k^b)`, the `i`-component of the vector part
+//!   of `R` (`sin` of a small rotation about `i`);
+//! - 2 (one free axis `f`, the other locked axis `o`): `g = e_f^a . e_o^b` (axis `f` of `a` stays
+//!   perpendicular to the locked axes of `b`: regular for any angle about `f`, unlike the vector
+//!   part which is singular at 180°);
+//! - 1: the universal-joint form `g = e_j^a . e_k^b`.
+//!
+//! Rows are ordered tx, ty, tz, rx, ry, rz, then the prescribed-motion row.
 
 use crate::element::FrameKinematics;
 use crate::ids::FrameId;
@@ -154,16 +159,33 @@ pub fn joint_rows(
             r += 1;
         }
     }
+    let n_rot = joint.locked[3..].iter().filter(|&&l| l).count();
     for i in 0..3 {
         if joint.locked[3 + i] {
             let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-            let (f_kj, n_kj, b_kj) = axis_pair(ka, kb, k, j);
-            let (f_jk, n_jk, b_jk) = axis_pair(ka, kb, j, k);
-            out[r] = rotation_row(
-                0.5 * (f_kj - f_jk),
-                0.5 * (n_kj - n_jk),
-                0.5 * (b_kj - b_jk),
-            );
+            out[r] = match n_rot {
+                3 => {
+                    let (f_kj, n_kj, b_kj) = axis_pair(ka, kb, k, j);
+                    let (f_jk, n_jk, b_jk) = axis_pair(ka, kb, j, k);
+                    rotation_row(
+                        0.5 * (f_kj - f_jk),
+                        0.5 * (n_kj - n_jk),
+                        0.5 * (b_kj - b_jk),
+                    )
+                }
+                2 => {
+                    // free axis f, other locked axis o: e_f^a . e_o^b = 0 (any angle about f)
+                    let f = (3..6).find(|&d| !joint.locked[d]).map_or(0, |d| d - 3);
+                    let o = 3 - f - i;
+                    let (g, n, b) = axis_pair(ka, kb, f, o);
+                    rotation_row(g, n, b)
+                }
+                _ => {
+                    // universal-joint form: e_j^a . e_k^b = 0
+                    let (g, n, b) = axis_pair(ka, kb, j, k);
+                    rotation_row(g, n, b)
+                }
+            };
             r += 1;
         }
     }

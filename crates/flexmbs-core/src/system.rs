@@ -293,3 +293,67 @@ pub fn normalize(model: &Model, q: &mut [f64]) {
         b.element.normalize(&mut q[oq..oq + nq]);
     }
 }
+
+/// Subtracts the geometric stiffness of the constraint forces, `d(G^T lambda)/dq` (along
+/// `q ⊕ dv`, central differences), from `sys.dh_dq`. Needed by statics, where the reduced
+/// stiffness of a mechanism comes from it. Leaves frames and constraint buffers at `(q, u)`.
+pub fn subtract_constraint_force_tangent(
+    model: &Model,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    lambda: &[f64],
+    sys: &mut SystemBuffers,
+) {
+    if model.nc == 0 {
+        return;
+    }
+    sys.dv_pert.fill(0.0);
+    let eps = 1e-6;
+    for b in &model.bodies {
+        let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+        sys.q_pert.copy_from_slice(q);
+        for j in 0..nu {
+            for sign in [1.0, -1.0] {
+                sys.dv_pert[o + j] = sign * eps;
+                b.element.integrate_position(
+                    &q[oq..oq + nq],
+                    &sys.dv_pert[o..o + nu],
+                    &mut sys.q_pert[oq..oq + nq],
+                );
+                update_frames(model, &sys.q_pert, u, &mut sys.frames);
+                assemble_constraints(
+                    model,
+                    t,
+                    &sys.frames,
+                    &mut sys.g,
+                    sys.g_jac.as_mut(),
+                    &mut sys.g_t,
+                    &mut sys.g_bias,
+                );
+                let out = if sign > 0.0 {
+                    &mut sys.h_plus
+                } else {
+                    &mut sys.h_minus
+                };
+                for (i, v) in out.iter_mut().enumerate() {
+                    *v = (0..model.nc).map(|k| sys.g_jac[(k, i)] * lambda[k]).sum();
+                }
+            }
+            sys.dv_pert[o + j] = 0.0;
+            for i in 0..model.nu {
+                sys.dh_dq[(i, o + j)] -= (sys.h_plus[i] - sys.h_minus[i]) / (2.0 * eps);
+            }
+        }
+    }
+    update_frames(model, q, u, &mut sys.frames);
+    assemble_constraints(
+        model,
+        t,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
+}

@@ -231,8 +231,11 @@ impl GenAlpha {
                 g_max = g_max.max(gk.abs());
             }
             residual = r_max;
-            let scale = nt.atol + nt.rtol * super::max_abs(&b.u_dot_new);
-            if increment <= scale && g_max <= nt.constraint_tol {
+            // Increment small, or at the round-off floor of the positions (beta' du_dot ~ eps |q|).
+            let q_scale = super::max_abs(&b.q_new).max(1.0);
+            let small = increment <= nt.atol + nt.rtol * super::max_abs(&b.u_dot_new)
+                || beta_p * increment <= 16.0 * f64::EPSILON * q_scale;
+            if small && g_max <= nt.constraint_tol * q_scale {
                 return Ok(StepStats {
                     t: t1,
                     h,
@@ -293,8 +296,15 @@ impl GenAlpha {
         t_end: f64,
         mut on_step: impl FnMut(&State, &StepStats),
     ) -> Result<(), SolverError> {
-        while s.t < t_end - 1e-12 * h {
-            let stats = self.step(model, s, ws, h.min(t_end - s.t))?;
+        // A remainder below 1e-6 h is absorbed into the last step (no micro steps).
+        while t_end - s.t > 1e-6 * h {
+            let remaining = t_end - s.t;
+            let hs = if remaining < h * (1.0 + 1e-6) {
+                remaining
+            } else {
+                h
+            };
+            let stats = self.step(model, s, ws, hs)?;
             on_step(s, &stats);
         }
         Ok(())

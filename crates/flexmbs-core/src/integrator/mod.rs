@@ -49,7 +49,9 @@ pub struct NewtonSettings {
     pub rtol: f64,
     /// Absolute tolerance on the increment. Default 1e-10.
     pub atol: f64,
-    /// Tolerance on `max |g|` (position constraints). Default 1e-12.
+    /// Tolerance on `max |g|` (position constraints), relative to `max(1, |q|_inf)`. Default 1e-12.
+    /// (Generalized-alpha also accepts an increment with `beta' |du_dot| <= 16 eps max(1, |q|)`,
+    /// the round-off floor of the scaled constraint rows.)
     pub constraint_tol: f64,
 }
 

@@ -3,7 +3,9 @@
 //! elastic forces are not), `mu` goes `1/n, 2/n, ..., 1`; a failed increment is halved.
 //!
 //! Newton system per iteration (unknowns: velocity-space position increment `dv`, `lambda`):
-//! `[-dh/dq  G^T; G  0] [dv; d lambda] = [h - G^T lambda; -g]`, `q <- q ⊕ dv`.
+//! `[-dh/dq + d(G^T lambda)/dq  G^T; G  0] [dv; d lambda] = [h - G^T lambda; -g]`, `q <- q ⊕ dv`
+//! (the geometric stiffness of the constraint forces is what makes a loaded mechanism stiff;
+//! it is computed by finite differences, [`crate::system::subtract_constraint_force_tangent`]).
 
 use super::{fill_saddle_matrix, NewtonSettings};
 use crate::error::SolverError;
@@ -118,6 +120,47 @@ impl Statics {
         Ok(stats)
     }
 
+    /// Least-squares multipliers at the current configuration, `G G^T lambda = G h`, via
+    /// `[I G^T; G 0] [x; lambda] = [h; 0]`: the start of the geometric stiffness.
+    fn multiplier_predictor(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        mu: f64,
+    ) -> Result<(), SolverError> {
+        let (nu, t, sys) = (model.nu, s.t, &mut ws.sys);
+        system::update_frames(model, &s.q, &s.u, &mut sys.frames);
+        system::assemble_forces(model, t, &s.q, &s.u, mu, &sys.frames, &mut sys.h);
+        system::assemble_constraints(
+            model,
+            t,
+            &sys.frames,
+            &mut sys.g,
+            sys.g_jac.as_mut(),
+            &mut sys.g_t,
+            &mut sys.g_bias,
+        );
+        sys.dh_du.fill(0.0);
+        for i in 0..nu {
+            sys.dh_du[(i, i)] = 1.0;
+        }
+        fill_saddle_matrix(&mut ws.lu.a, &sys.dh_du, 1.0, &sys.g_jac);
+        if !ws.lu.factor() {
+            return Err(SolverError::Singular {
+                what: "constraint Jacobian (redundant constraints?)",
+                t: mu,
+                h: mu,
+            });
+        }
+        let rhs = &mut ws.step.rhs;
+        rhs[..nu].copy_from_slice(&sys.h);
+        rhs[nu..].fill(0.0);
+        ws.lu.solve_in_place(rhs);
+        s.lambda.copy_from_slice(&rhs[nu..]);
+        Ok(())
+    }
+
     /// Newton iterations at load factor `mu`: (iterations, residual, max |g|).
     fn newton(
         &self,
@@ -130,6 +173,9 @@ impl Statics {
         let nt = &self.settings.newton;
         let (nu, nc, t) = (model.nu, model.nc, s.t);
         let mut residual = f64::NAN;
+        if nc > 0 {
+            self.multiplier_predictor(model, s, ws, mu)?;
+        }
         for iter in 0..=nt.max_iterations {
             let sys = &mut ws.sys;
             system::update_frames(model, &s.q, &s.u, &mut sys.frames);
@@ -170,6 +216,7 @@ impl Statics {
                 break;
             }
             system::assemble_tangents(model, t, &s.q, &s.u, mu, sys);
+            system::subtract_constraint_force_tangent(model, t, &s.q, &s.u, &s.lambda, sys);
             fill_saddle_matrix(&mut ws.lu.a, &sys.dh_dq, -1.0, &sys.g_jac);
             if !ws.lu.factor() {
                 return Err(SolverError::Singular {
