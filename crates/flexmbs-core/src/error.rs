@@ -81,7 +81,9 @@ pub enum ModelError {
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SolverError {
     /// Newton iterations did not converge.
-    #[error("Newton failed at t = {t} (step {h}): residual {residual:e} after {iterations} iterations")]
+    #[error(
+        "Newton failed at t = {t} (step {h}): residual {residual:e} after {iterations} iterations"
+    )]
     NewtonFailed {
         /// Time at the start of the step (or load factor for statics).
         t: f64,
@@ -127,7 +129,9 @@ pub enum SolverError {
         error: f64,
     },
     /// The integrator does not handle constraints (DOPRI5 with joints).
-    #[error("integrator `{integrator}` does not support constraints (model has {nc} constraint rows)")]
+    #[error(
+        "integrator `{integrator}` does not support constraints (model has {nc} constraint rows)"
+    )]
     ConstraintsUnsupported {
         /// Integrator name.
         integrator: &'static str,

@@ -52,7 +52,13 @@ pub struct Joint {
 impl Joint {
     /// Generic joint with a locked-DOF mask.
     pub fn new(name: &str, frame_a: FrameId, frame_b: FrameId, locked: [bool; 6]) -> Self {
-        Self { name: name.to_string(), frame_a, frame_b, locked, prescribed: None }
+        Self {
+            name: name.to_string(),
+            frame_a,
+            frame_b,
+            locked,
+            prescribed: None,
+        }
     }
     /// All six relative DOFs locked.
     pub fn fixed(name: &str, a: FrameId, b: FrameId) -> Self {
@@ -107,7 +113,12 @@ pub struct ConstraintRow {
 
 /// `f = e_j^a . e_k^b`, its rate direction `n` (`f_dot = n . (omega_b - omega_a)`) and the
 /// bias part of `f_ddot` (everything but `n . (J_R^b - J_R^a) u_dot`).
-fn axis_pair(ka: &FrameKinematics, kb: &FrameKinematics, j: usize, k: usize) -> (f64, Vector3<f64>, f64) {
+fn axis_pair(
+    ka: &FrameKinematics,
+    kb: &FrameKinematics,
+    j: usize,
+    k: usize,
+) -> (f64, Vector3<f64>, f64) {
     let ea = ka.rotation.column(j).into_owned();
     let eb = kb.rotation.column(k).into_owned();
     let (wa, wb) = (ka.angular_velocity, kb.angular_velocity);
@@ -118,12 +129,26 @@ fn axis_pair(ka: &FrameKinematics, kb: &FrameKinematics, j: usize, k: usize) -> 
 }
 
 fn rotation_row(g: f64, n: Vector3<f64>, bias: f64) -> ConstraintRow {
-    ConstraintRow { g, t_b: Vector3::zeros(), r_b: n, t_a: Vector3::zeros(), r_a: -n, g_t: 0.0, bias }
+    ConstraintRow {
+        g,
+        t_b: Vector3::zeros(),
+        r_b: n,
+        t_a: Vector3::zeros(),
+        r_a: -n,
+        g_t: 0.0,
+        bias,
+    }
 }
 
 /// Rows of a joint at time `t` (in the order documented in the module), written to `out`
 /// (length [`Joint::num_rows`]).
-pub fn joint_rows(joint: &Joint, t: f64, ka: &FrameKinematics, kb: &FrameKinematics, out: &mut [ConstraintRow]) {
+pub fn joint_rows(
+    joint: &Joint,
+    t: f64,
+    ka: &FrameKinematics,
+    kb: &FrameKinematics,
+    out: &mut [ConstraintRow],
+) {
     let dp = kb.position - ka.position;
     let dv = kb.velocity - ka.velocity;
     let wa = ka.angular_velocity;
@@ -142,7 +167,11 @@ pub fn joint_rows(joint: &Joint, t: f64, ka: &FrameKinematics, kb: &FrameKinemat
                 3 => {
                     let (f_kj, n_kj, b_kj) = axis_pair(ka, kb, k, j);
                     let (f_jk, n_jk, b_jk) = axis_pair(ka, kb, j, k);
-                    rotation_row(0.5 * (f_kj - f_jk), 0.5 * (n_kj - n_jk), 0.5 * (b_kj - b_jk))
+                    rotation_row(
+                        0.5 * (f_kj - f_jk),
+                        0.5 * (n_kj - n_jk),
+                        0.5 * (b_kj - b_jk),
+                    )
                 }
                 2 => {
                     // free axis f, other locked axis o: e_f^a . e_o^b = 0 (any angle about f)
@@ -171,10 +200,17 @@ pub fn joint_rows(joint: &Joint, t: f64, ka: &FrameKinematics, kb: &FrameKinemat
         }
         Some(m) => {
             let (p, pd, pdd) = match m {
-                PrescribedMotion::RevoluteAngle(f) => (f.value(t), f.derivative(t), f.second_derivative(t)),
-                PrescribedMotion::RevoluteRate { initial_angle, rate } => {
-                    (initial_angle + rate.integral(t), rate.value(t), rate.derivative(t))
+                PrescribedMotion::RevoluteAngle(f) => {
+                    (f.value(t), f.derivative(t), f.second_derivative(t))
                 }
+                PrescribedMotion::RevoluteRate {
+                    initial_angle,
+                    rate,
+                } => (
+                    initial_angle + rate.integral(t),
+                    rate.value(t),
+                    rate.derivative(t),
+                ),
                 PrescribedMotion::PrismaticDisplacement(_) => unreachable!("handled above"),
             };
             // S = sin(phi), C = cos(phi) from the x-y block of R; g = S cos p - C sin p.
@@ -182,14 +218,25 @@ pub fn joint_rows(joint: &Joint, t: f64, ka: &FrameKinematics, kb: &FrameKinemat
             let (f_xy, n_xy, b_xy) = axis_pair(ka, kb, 0, 1);
             let (f_xx, n_xx, b_xx) = axis_pair(ka, kb, 0, 0);
             let (f_yy, n_yy, b_yy) = axis_pair(ka, kb, 1, 1);
-            let (s, ns, bs) = (0.5 * (f_yx - f_xy), 0.5 * (n_yx - n_xy), 0.5 * (b_yx - b_xy));
-            let (c, nc, bc) = (0.5 * (f_xx + f_yy), 0.5 * (n_xx + n_yy), 0.5 * (b_xx + b_yy));
+            let (s, ns, bs) = (
+                0.5 * (f_yx - f_xy),
+                0.5 * (n_yx - n_xy),
+                0.5 * (b_yx - b_xy),
+            );
+            let (c, nc, bc) = (
+                0.5 * (f_xx + f_yy),
+                0.5 * (n_xx + n_yy),
+                0.5 * (b_xx + b_yy),
+            );
             let w = kb.angular_velocity - ka.angular_velocity;
             let (s_dot, c_dot) = (ns.dot(&w), nc.dot(&w));
             let (sp, cp) = p.sin_cos();
             let mut row = rotation_row(s * cp - c * sp, ns * cp - nc * sp, 0.0);
             row.g_t = -(s * sp + c * cp) * pd;
-            row.bias = cp * bs - sp * bc - 2.0 * pd * (s_dot * sp + c_dot * cp) - pd * pd * (s * cp - c * sp)
+            row.bias = cp * bs
+                - sp * bc
+                - 2.0 * pd * (s_dot * sp + c_dot * cp)
+                - pd * pd * (s * cp - c * sp)
                 - pdd * (s * sp + c * cp);
             out[r] = row;
         }
@@ -211,5 +258,13 @@ fn translation_row(
         + 2.0 * wa.cross(&e).dot(dv)
         + exdp.dot(&ka.bias_ang_acc)
         + wa.cross(&wa.cross(&e)).dot(dp);
-    ConstraintRow { g: e.dot(dp), t_b: e, r_b: Vector3::zeros(), t_a: -e, r_a: exdp, g_t: 0.0, bias }
+    ConstraintRow {
+        g: e.dot(dp),
+        t_b: e,
+        r_b: Vector3::zeros(),
+        t_a: -e,
+        r_a: exdp,
+        g_t: 0.0,
+        bias,
+    }
 }

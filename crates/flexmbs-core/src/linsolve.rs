@@ -106,7 +106,10 @@ mod tests {
         assert!(lu.factor());
         let mut b = [1.0, -2.0];
         lu.solve_in_place(&mut b);
-        assert!((b[0] - 1.0).abs() < 1e-15 && (b[1] - 1.0).abs() < 1e-15, "{b:?}");
+        assert!(
+            (b[0] - 1.0).abs() < 1e-15 && (b[1] - 1.0).abs() < 1e-15,
+            "{b:?}"
+        );
     }
 
     #[test]

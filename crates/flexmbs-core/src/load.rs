@@ -64,19 +64,46 @@ pub type FrameWrench = (FrameId, Vector3<f64>, Vector3<f64>);
 impl Load {
     /// Global wrenches of this load on its frames at time `t` (`load_factor` scales point
     /// loads); at most two, written to `out`, returning how many.
-    pub fn wrenches(&self, t: f64, load_factor: f64, frames: &[FrameKinematics], out: &mut [FrameWrench; 2]) -> usize {
+    pub fn wrenches(
+        &self,
+        t: f64,
+        load_factor: f64,
+        frames: &[FrameKinematics],
+        out: &mut [FrameWrench; 2],
+    ) -> usize {
         let z = Vector3::zeros();
         match self {
-            Load::Force { frame, vector, time, coordinates } | Load::Torque { frame, vector, time, coordinates } => {
+            Load::Force {
+                frame,
+                vector,
+                time,
+                coordinates,
+            }
+            | Load::Torque {
+                frame,
+                vector,
+                time,
+                coordinates,
+            } => {
                 let k = &frames[frame.0];
                 let mut v = vector * (time.value(t) * load_factor);
                 if *coordinates == LoadCoordinates::Frame {
                     v = k.rotation * v;
                 }
-                out[0] = if matches!(self, Load::Force { .. }) { (*frame, v, z) } else { (*frame, z, v) };
+                out[0] = if matches!(self, Load::Force { .. }) {
+                    (*frame, v, z)
+                } else {
+                    (*frame, z, v)
+                };
                 1
             }
-            Load::SpringDamper { frame_a, frame_b, stiffness, damping, free_length } => {
+            Load::SpringDamper {
+                frame_a,
+                frame_b,
+                stiffness,
+                damping,
+                free_length,
+            } => {
                 let (ka, kb) = (&frames[frame_a.0], &frames[frame_b.0]);
                 let d = kb.position - ka.position;
                 let l = d.norm();
@@ -95,7 +122,13 @@ impl Load {
     /// work is not tracked).
     pub fn potential_energy(&self, frames: &[FrameKinematics]) -> f64 {
         match self {
-            Load::SpringDamper { frame_a, frame_b, stiffness, free_length, .. } => {
+            Load::SpringDamper {
+                frame_a,
+                frame_b,
+                stiffness,
+                free_length,
+                ..
+            } => {
                 let l = (frames[frame_b.0].position - frames[frame_a.0].position).norm();
                 0.5 * stiffness * (l - free_length).powi(2)
             }

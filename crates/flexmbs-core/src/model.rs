@@ -83,23 +83,64 @@ impl ModelSpec {
     }
 
     /// Adds a frame on a body at `position` (body reference coordinates) with `rotation`.
-    pub fn add_frame(&mut self, name: &str, body: BodyId, position: Vector3<f64>, rotation: Matrix3<f64>) -> FrameId {
-        self.push_frame(name, FrameOwner::Body(body), LocalFrame { position, rotation, node: None })
+    pub fn add_frame(
+        &mut self,
+        name: &str,
+        body: BodyId,
+        position: Vector3<f64>,
+        rotation: Matrix3<f64>,
+    ) -> FrameId {
+        self.push_frame(
+            name,
+            FrameOwner::Body(body),
+            LocalFrame {
+                position,
+                rotation,
+                node: None,
+            },
+        )
     }
 
     /// Adds a frame that follows FE node `node` of a flexible body.
-    pub fn add_node_frame(&mut self, name: &str, body: BodyId, node: usize, position: Vector3<f64>) -> FrameId {
-        let local = LocalFrame { position, rotation: Matrix3::identity(), node: Some(node) };
+    pub fn add_node_frame(
+        &mut self,
+        name: &str,
+        body: BodyId,
+        node: usize,
+        position: Vector3<f64>,
+    ) -> FrameId {
+        let local = LocalFrame {
+            position,
+            rotation: Matrix3::identity(),
+            node: Some(node),
+        };
         self.push_frame(name, FrameOwner::Body(body), local)
     }
 
     /// Adds a ground frame at a global position and orientation.
-    pub fn add_ground_frame(&mut self, name: &str, position: Vector3<f64>, rotation: Matrix3<f64>) -> FrameId {
-        self.push_frame(name, FrameOwner::Ground, LocalFrame { position, rotation, node: None })
+    pub fn add_ground_frame(
+        &mut self,
+        name: &str,
+        position: Vector3<f64>,
+        rotation: Matrix3<f64>,
+    ) -> FrameId {
+        self.push_frame(
+            name,
+            FrameOwner::Ground,
+            LocalFrame {
+                position,
+                rotation,
+                node: None,
+            },
+        )
     }
 
     fn push_frame(&mut self, name: &str, owner: FrameOwner, local: LocalFrame) -> FrameId {
-        self.frames.push(Frame { name: name.to_string(), owner, local });
+        self.frames.push(Frame {
+            name: name.to_string(),
+            owner,
+            local,
+        });
         FrameId(self.frames.len() - 1)
     }
 
@@ -123,21 +164,36 @@ impl ModelSpec {
             let (q_offset, u_offset) = (nq, nu);
             nq += element.nq();
             nu += element.nu();
-            bodies.push(Body { name, element, q_offset, u_offset });
+            bodies.push(Body {
+                name,
+                element,
+                q_offset,
+                u_offset,
+            });
         }
         for f in &self.frames {
             if let FrameOwner::Body(b) = f.owner {
-                let body = bodies.get(b.0).ok_or(ModelError::UnknownBody { frame: f.name.clone(), body: b })?;
+                let body = bodies.get(b.0).ok_or(ModelError::UnknownBody {
+                    frame: f.name.clone(),
+                    body: b,
+                })?;
                 if let Some(node) = f.local.node {
                     let num_nodes = body.element.num_nodes();
                     if node >= num_nodes {
-                        return Err(ModelError::InvalidNode { frame: f.name.clone(), node, num_nodes });
+                        return Err(ModelError::InvalidNode {
+                            frame: f.name.clone(),
+                            node,
+                            num_nodes,
+                        });
                     }
                 }
             }
         }
         let check_frame = |item: String, id: FrameId| -> Result<FrameOwner, ModelError> {
-            self.frames.get(id.0).map(|f| f.owner).ok_or(ModelError::UnknownFrame { item, frame: id })
+            self.frames
+                .get(id.0)
+                .map(|f| f.owner)
+                .ok_or(ModelError::UnknownFrame { item, frame: id })
         };
         let mut joint_rows = Vec::with_capacity(self.joints.len());
         let mut nc = 0;
@@ -145,18 +201,27 @@ impl ModelSpec {
             let oa = check_frame(format!("joint `{}`", joint.name), joint.frame_a)?;
             let ob = check_frame(format!("joint `{}`", joint.name), joint.frame_b)?;
             if oa == ob {
-                return Err(ModelError::SameOwner { item: joint.name.clone() });
+                return Err(ModelError::SameOwner {
+                    item: joint.name.clone(),
+                });
             }
             match &joint.prescribed {
-                Some(PrescribedMotion::RevoluteAngle(f)) | Some(PrescribedMotion::RevoluteRate { rate: f, .. }) => {
+                Some(PrescribedMotion::RevoluteAngle(f))
+                | Some(PrescribedMotion::RevoluteRate { rate: f, .. }) => {
                     if joint.locked[5] {
-                        return Err(ModelError::PrescribedOnLockedDof { joint: JointId(j), dof: "rz" });
+                        return Err(ModelError::PrescribedOnLockedDof {
+                            joint: JointId(j),
+                            dof: "rz",
+                        });
                     }
                     f.validate(None)?;
                 }
                 Some(PrescribedMotion::PrismaticDisplacement(f)) => {
                     if joint.locked[0] {
-                        return Err(ModelError::PrescribedOnLockedDof { joint: JointId(j), dof: "tx" });
+                        return Err(ModelError::PrescribedOnLockedDof {
+                            joint: JointId(j),
+                            dof: "tx",
+                        });
                     }
                     f.validate(None)?;
                 }
@@ -172,22 +237,42 @@ impl ModelSpec {
                     check_frame(format!("load {id}"), *frame)?;
                     time.validate(Some(id))?;
                 }
-                Load::SpringDamper { frame_a, frame_b, stiffness, damping, free_length } => {
+                Load::SpringDamper {
+                    frame_a,
+                    frame_b,
+                    stiffness,
+                    damping,
+                    free_length,
+                } => {
                     let oa = check_frame(format!("load {id}"), *frame_a)?;
                     let ob = check_frame(format!("load {id}"), *frame_b)?;
                     if oa == ob && oa == FrameOwner::Ground {
-                        return Err(ModelError::SameOwner { item: format!("spring {id}") });
+                        return Err(ModelError::SameOwner {
+                            item: format!("spring {id}"),
+                        });
                     }
-                    for (name, v) in [("stiffness", *stiffness), ("damping", *damping), ("free_length", *free_length)] {
+                    for (name, v) in [
+                        ("stiffness", *stiffness),
+                        ("damping", *damping),
+                        ("free_length", *free_length),
+                    ] {
                         if !(v >= 0.0 && v.is_finite()) {
-                            return Err(ModelError::InvalidParameter { name, value: v, reason: "must be finite and >= 0" });
+                            return Err(ModelError::InvalidParameter {
+                                name,
+                                value: v,
+                                reason: "must be finite and >= 0",
+                            });
                         }
                     }
                 }
             }
         }
         if !self.gravity.iter().all(|g| g.is_finite()) {
-            return Err(ModelError::InvalidParameter { name: "gravity", value: self.gravity.norm(), reason: "must be finite" });
+            return Err(ModelError::InvalidParameter {
+                name: "gravity",
+                value: self.gravity.norm(),
+                reason: "must be finite",
+            });
         }
         Ok(Model {
             gravity: self.gravity,
@@ -241,14 +326,30 @@ impl Model {
     }
 
     /// Sets pose (global position and rotation of the body reference frame) of a body in `state`.
-    pub fn set_body_pose(&self, state: &mut State, body: BodyId, position: Vector3<f64>, rotation: Matrix3<f64>) {
+    pub fn set_body_pose(
+        &self,
+        state: &mut State,
+        body: BodyId,
+        position: Vector3<f64>,
+        rotation: Matrix3<f64>,
+    ) {
         let b = &self.bodies[body.0];
         let nq = b.element.nq();
-        b.element.set_pose(&mut state.q[b.q_offset..b.q_offset + nq], &position, &rotation);
+        b.element.set_pose(
+            &mut state.q[b.q_offset..b.q_offset + nq],
+            &position,
+            &rotation,
+        );
     }
 
     /// Sets velocity and angular velocity (global) of a body in `state` (after its pose).
-    pub fn set_body_velocity(&self, state: &mut State, body: BodyId, velocity: Vector3<f64>, omega: Vector3<f64>) {
+    pub fn set_body_velocity(
+        &self,
+        state: &mut State,
+        body: BodyId,
+        velocity: Vector3<f64>,
+        omega: Vector3<f64>,
+    ) {
         let b = &self.bodies[body.0];
         let (nq, nu) = (b.element.nq(), b.element.nu());
         b.element.set_velocity(

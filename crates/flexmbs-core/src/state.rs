@@ -26,7 +26,14 @@ pub struct State {
 impl State {
     /// Zero state of the given dimensions.
     pub fn zeros(nq: usize, nu: usize, nc: usize) -> Self {
-        Self { t: 0.0, q: vec![0.0; nq], u: vec![0.0; nu], u_dot: vec![0.0; nu], a: vec![0.0; nu], lambda: vec![0.0; nc] }
+        Self {
+            t: 0.0,
+            q: vec![0.0; nq],
+            u: vec![0.0; nu],
+            u_dot: vec![0.0; nu],
+            a: vec![0.0; nu],
+            lambda: vec![0.0; nc],
+        }
     }
 }
 
@@ -114,7 +121,11 @@ impl Workspace {
                 FrameOwner::Body(b) => FrameKinematics::new(model.bodies[b.0].element.nu()),
             })
             .collect();
-        let tangent_scratch = model.bodies.iter().map(|b| TangentScratch::new(b.element.nq(), b.element.nu())).collect();
+        let tangent_scratch = model
+            .bodies
+            .iter()
+            .map(|b| TangentScratch::new(b.element.nq(), b.element.nu()))
+            .collect();
         let v = |n| vec![0.0; n];
         Self {
             sys: SystemBuffers {

@@ -39,7 +39,10 @@ pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKin
             }
             FrameOwner::Body(b) => {
                 let b = &model.bodies[b.0];
-                let (qb, ub) = (&q[b.q_offset..b.q_offset + b.element.nq()], &u[b.u_offset..b.u_offset + b.element.nu()]);
+                let (qb, ub) = (
+                    &q[b.q_offset..b.q_offset + b.element.nq()],
+                    &u[b.u_offset..b.u_offset + b.element.nu()],
+                );
                 b.element.frame_kinematics(qb, ub, &f.local, k);
             }
         }
@@ -51,7 +54,10 @@ pub fn assemble_mass(model: &Model, q: &[f64], mut mass: MatMut<'_, f64>) {
     mass.fill(0.0);
     for b in &model.bodies {
         let (nq, nu) = (b.element.nq(), b.element.nu());
-        b.element.mass_matrix(&q[b.q_offset..b.q_offset + nq], mass.as_mut().submatrix_mut(b.u_offset, b.u_offset, nu, nu));
+        b.element.mass_matrix(
+            &q[b.q_offset..b.q_offset + nq],
+            mass.as_mut().submatrix_mut(b.u_offset, b.u_offset, nu, nu),
+        );
     }
 }
 
@@ -69,14 +75,24 @@ pub fn assemble_forces(
     let g = model.gravity * load_factor;
     for b in &model.bodies {
         let (nq, nu) = (b.element.nq(), b.element.nu());
-        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[b.u_offset..b.u_offset + nu]);
-        b.element.forces(t, qb, ub, &g, &mut h[b.u_offset..b.u_offset + nu]);
+        let (qb, ub) = (
+            &q[b.q_offset..b.q_offset + nq],
+            &u[b.u_offset..b.u_offset + nu],
+        );
+        b.element
+            .forces(t, qb, ub, &g, &mut h[b.u_offset..b.u_offset + nu]);
     }
     add_load_forces(model, t, load_factor, frames, h);
 }
 
 /// Adds the generalized forces `J_T^T f + J_R^T m` of all loads to `h`.
-pub fn add_load_forces(model: &Model, t: f64, load_factor: f64, frames: &[FrameKinematics], h: &mut [f64]) {
+pub fn add_load_forces(
+    model: &Model,
+    t: f64,
+    load_factor: f64,
+    frames: &[FrameKinematics],
+    h: &mut [f64],
+) {
     let mut w: [FrameWrench; 2] = [(crate::FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
     for load in &model.loads {
         let n = load.wrenches(t, load_factor, frames, &mut w);
@@ -99,7 +115,14 @@ pub fn add_load_forces(model: &Model, t: f64, load_factor: f64, frames: &[FrameK
 /// Tangents `ws.dh_dq` (along `q ⊕ dv`) and `ws.dh_du` of the full `h`: element blocks via
 /// [`crate::Element::force_tangents`], load contributions by central differences of
 /// [`add_load_forces`] (loads couple bodies). Leaves `ws.frames` at `(q, u)`.
-pub fn assemble_tangents(model: &Model, t: f64, q: &[f64], u: &[f64], load_factor: f64, ws: &mut SystemBuffers) {
+pub fn assemble_tangents(
+    model: &Model,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    load_factor: f64,
+    ws: &mut SystemBuffers,
+) {
     ws.dh_dq.fill(0.0);
     ws.dh_du.fill(0.0);
     let g = model.gravity * load_factor;
@@ -128,7 +151,11 @@ pub fn assemble_tangents(model: &Model, t: f64, q: &[f64], u: &[f64], load_facto
                 let eps = 1e-6;
                 for (sign, hh) in [(1.0, &mut *hp), (-1.0, &mut *hm)] {
                     dv[o + j] = sign * eps;
-                    b.element.integrate_position(&q[oq..oq + nq], &dv[o..o + nu], &mut qp[oq..oq + nq]);
+                    b.element.integrate_position(
+                        &q[oq..oq + nq],
+                        &dv[o..o + nu],
+                        &mut qp[oq..oq + nq],
+                    );
                     update_frames(model, qp, u, &mut ws.frames);
                     hh.fill(0.0);
                     add_load_forces(model, t, load_factor, &ws.frames, hh);
@@ -189,7 +216,10 @@ pub fn assemble_constraints(
             g[r] = row.g;
             g_t[r] = row.g_t;
             g_bias[r] = row.bias;
-            for (frame, ct, cr) in [(joint.frame_a, &row.t_a, &row.r_a), (joint.frame_b, &row.t_b, &row.r_b)] {
+            for (frame, ct, cr) in [
+                (joint.frame_a, &row.t_a, &row.r_a),
+                (joint.frame_b, &row.t_b, &row.r_b),
+            ] {
                 if let FrameOwner::Body(b) = model.frames[frame.0].owner {
                     let off = model.bodies[b.0].u_offset;
                     let k = &frames[frame.0];
@@ -211,7 +241,10 @@ pub fn energy(model: &Model, q: &[f64], u: &[f64], frames: &[FrameKinematics]) -
     let mut e = Energy::default();
     for b in &model.bodies {
         let (nq, nu) = (b.element.nq(), b.element.nu());
-        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[b.u_offset..b.u_offset + nu]);
+        let (qb, ub) = (
+            &q[b.q_offset..b.q_offset + nq],
+            &u[b.u_offset..b.u_offset + nu],
+        );
         e.kinetic += b.element.kinetic_energy(qb, ub);
         e.gravity += b.element.gravity_potential(qb, &model.gravity);
         e.elastic += b.element.elastic_energy(qb);
@@ -239,7 +272,8 @@ pub fn constraint_drift(ws: &SystemBuffers, u: &[f64]) -> (f64, f64) {
 pub fn integrate_positions(model: &Model, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
     for b in &model.bodies {
         let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
-        b.element.integrate_position(&q[oq..oq + nq], &dv[o..o + nu], &mut q_new[oq..oq + nq]);
+        b.element
+            .integrate_position(&q[oq..oq + nq], &dv[o..o + nu], &mut q_new[oq..oq + nq]);
     }
 }
 
@@ -247,7 +281,8 @@ pub fn integrate_positions(model: &Model, q: &[f64], dv: &[f64], q_new: &mut [f6
 pub fn q_dot(model: &Model, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
     for b in &model.bodies {
         let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
-        b.element.q_dot(&q[oq..oq + nq], &u[o..o + nu], &mut q_dot[oq..oq + nq]);
+        b.element
+            .q_dot(&q[oq..oq + nq], &u[o..o + nu], &mut q_dot[oq..oq + nq]);
     }
 }
 
@@ -262,7 +297,14 @@ pub fn normalize(model: &Model, q: &mut [f64]) {
 /// Subtracts the geometric stiffness of the constraint forces, `d(G^T lambda)/dq` (along
 /// `q ⊕ dv`, central differences), from `sys.dh_dq`. Needed by statics, where the reduced
 /// stiffness of a mechanism comes from it. Leaves frames and constraint buffers at `(q, u)`.
-pub fn subtract_constraint_force_tangent(model: &Model, t: f64, q: &[f64], u: &[f64], lambda: &[f64], sys: &mut SystemBuffers) {
+pub fn subtract_constraint_force_tangent(
+    model: &Model,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    lambda: &[f64],
+    sys: &mut SystemBuffers,
+) {
     if model.nc == 0 {
         return;
     }
@@ -274,10 +316,26 @@ pub fn subtract_constraint_force_tangent(model: &Model, t: f64, q: &[f64], u: &[
         for j in 0..nu {
             for sign in [1.0, -1.0] {
                 sys.dv_pert[o + j] = sign * eps;
-                b.element.integrate_position(&q[oq..oq + nq], &sys.dv_pert[o..o + nu], &mut sys.q_pert[oq..oq + nq]);
+                b.element.integrate_position(
+                    &q[oq..oq + nq],
+                    &sys.dv_pert[o..o + nu],
+                    &mut sys.q_pert[oq..oq + nq],
+                );
                 update_frames(model, &sys.q_pert, u, &mut sys.frames);
-                assemble_constraints(model, t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
-                let out = if sign > 0.0 { &mut sys.h_plus } else { &mut sys.h_minus };
+                assemble_constraints(
+                    model,
+                    t,
+                    &sys.frames,
+                    &mut sys.g,
+                    sys.g_jac.as_mut(),
+                    &mut sys.g_t,
+                    &mut sys.g_bias,
+                );
+                let out = if sign > 0.0 {
+                    &mut sys.h_plus
+                } else {
+                    &mut sys.h_minus
+                };
                 for (i, v) in out.iter_mut().enumerate() {
                     *v = (0..model.nc).map(|k| sys.g_jac[(k, i)] * lambda[k]).sum();
                 }
@@ -289,5 +347,13 @@ pub fn subtract_constraint_force_tangent(model: &Model, t: f64, q: &[f64], u: &[
         }
     }
     update_frames(model, q, u, &mut sys.frames);
-    assemble_constraints(model, t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+    assemble_constraints(
+        model,
+        t,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
 }

@@ -73,7 +73,9 @@ impl TimeFunction {
             })
         };
         match self {
-            Self::Ramp { t0, t1, .. } | Self::Pulse { t0, t1, .. } if !(t1 > t0) => {
+            Self::Ramp { t0, t1, .. } | Self::Pulse { t0, t1, .. }
+                if t1.partial_cmp(t0) != Some(std::cmp::Ordering::Greater) =>
+            {
                 bad("t1", *t1, "must be greater than t0")
             }
             Self::Table { times, values } => {
@@ -83,7 +85,10 @@ impl TimeFunction {
                         reason: "times and values must be non-empty and of equal length",
                     });
                 }
-                if times.windows(2).any(|w| !(w[1] > w[0])) {
+                if times
+                    .windows(2)
+                    .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+                {
                     return Err(ModelError::InvalidTimeTable {
                         load,
                         reason: "times must be strictly increasing",
@@ -260,11 +265,32 @@ mod tests {
     fn all_variants() -> Vec<TimeFunction> {
         vec![
             TimeFunction::Constant(2.5),
-            TimeFunction::Ramp { t0: 0.2, t1: 0.7, v0: -1.0, v1: 3.0 },
-            TimeFunction::Step { t0: 0.4, before: 1.0, after: -2.0 },
-            TimeFunction::Pulse { t0: 0.3, t1: 0.6, value: 4.0 },
-            TimeFunction::Harmonic { amplitude: 1.5, frequency_hz: 2.0, phase: 0.3, offset: 0.5 },
-            TimeFunction::Table { times: vec![0.1, 0.5, 0.8], values: vec![1.0, -1.0, 2.0] },
+            TimeFunction::Ramp {
+                t0: 0.2,
+                t1: 0.7,
+                v0: -1.0,
+                v1: 3.0,
+            },
+            TimeFunction::Step {
+                t0: 0.4,
+                before: 1.0,
+                after: -2.0,
+            },
+            TimeFunction::Pulse {
+                t0: 0.3,
+                t1: 0.6,
+                value: 4.0,
+            },
+            TimeFunction::Harmonic {
+                amplitude: 1.5,
+                frequency_hz: 2.0,
+                phase: 0.3,
+                offset: 0.5,
+            },
+            TimeFunction::Table {
+                times: vec![0.1, 0.5, 0.8],
+                values: vec![1.0, -1.0, 2.0],
+            },
         ]
     }
 
@@ -282,11 +308,19 @@ mod tests {
                 let (a, b) = (k as f64 * h, (k + 1) as f64 * h);
                 sum += h / 6.0 * (f.value(a) + 4.0 * f.value(0.5 * (a + b)) + f.value(b));
             }
-            assert!((sum - f.integral(t_end)).abs() < 1e-4, "{f:?}: {sum} vs {}", f.integral(t_end));
+            assert!(
+                (sum - f.integral(t_end)).abs() < 1e-4,
+                "{f:?}: {sum} vs {}",
+                f.integral(t_end)
+            );
             let t = 0.45;
             let e = 1e-6;
             let fd = (f.value(t + e) - f.value(t - e)) / (2.0 * e);
-            assert!((fd - f.derivative(t)).abs() < 1e-6, "{f:?}: {fd} vs {}", f.derivative(t));
+            assert!(
+                (fd - f.derivative(t)).abs() < 1e-6,
+                "{f:?}: {fd} vs {}",
+                f.derivative(t)
+            );
             let fd2 = (f.derivative(t + e) - f.derivative(t - e)) / (2.0 * e);
             assert!((fd2 - f.second_derivative(t)).abs() < 1e-4, "{f:?}");
         }
@@ -294,9 +328,23 @@ mod tests {
 
     #[test]
     fn invalid_tables_are_rejected() {
-        let f = TimeFunction::Table { times: vec![0.0, 0.0], values: vec![1.0, 2.0] };
-        assert!(matches!(f.validate(None), Err(ModelError::InvalidTimeTable { .. })));
-        let f = TimeFunction::Ramp { t0: 1.0, t1: 0.5, v0: 0.0, v1: 1.0 };
-        assert!(matches!(f.validate(None), Err(ModelError::InvalidParameter { .. })));
+        let f = TimeFunction::Table {
+            times: vec![0.0, 0.0],
+            values: vec![1.0, 2.0],
+        };
+        assert!(matches!(
+            f.validate(None),
+            Err(ModelError::InvalidTimeTable { .. })
+        ));
+        let f = TimeFunction::Ramp {
+            t0: 1.0,
+            t1: 0.5,
+            v0: 0.0,
+            v1: 1.0,
+        };
+        assert!(matches!(
+            f.validate(None),
+            Err(ModelError::InvalidParameter { .. })
+        ));
     }
 }

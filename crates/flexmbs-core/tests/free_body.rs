@@ -17,7 +17,11 @@ fn free_body(rotation: RotationParam, omega: Vector3<f64>) -> (Model, State, Bod
 
 fn momentum(model: &Model, s: &State, body: BodyId) -> Vector3<f64> {
     let rb = RigidBody::new(2.0, Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)))
-        .with_rotation(if model.nq == 7 { RotationParam::Quaternion } else { RotationParam::Cardan });
+        .with_rotation(if model.nq == 7 {
+            RotationParam::Quaternion
+        } else {
+            RotationParam::Cardan
+        });
     rb.angular_momentum(model.body_q(body, &s.q), model.body_u(body, &s.u))
 }
 
@@ -27,9 +31,15 @@ fn dopri5_conserves_energy_and_angular_momentum() {
     for rot in [RotationParam::Quaternion, RotationParam::Cardan] {
         let (model, mut s, body) = free_body(rot, Vector3::new(0.4, 0.3, 0.6));
         let mut ws = Workspace::new(&model);
-        let e0 = flexmbs_core::integrator::monitor(&model, &s, &mut ws).0.total();
+        let e0 = flexmbs_core::integrator::monitor(&model, &s, &mut ws)
+            .0
+            .total();
         let l0 = momentum(&model, &s, body);
-        let d = Dopri5::new(Dopri5Settings { rtol: 1e-12, atol: 1e-12, ..Default::default() });
+        let d = Dopri5::new(Dopri5Settings {
+            rtol: 1e-12,
+            atol: 1e-12,
+            ..Default::default()
+        });
         let (mut de, mut dl): (f64, f64) = (0.0, 0.0);
         d.integrate(&model, &mut s, &mut ws, 20.0, |s, st| {
             de = de.max((st.energy.total() - e0).abs() / e0);
@@ -47,17 +57,29 @@ fn dopri5_conserves_energy_and_angular_momentum() {
 fn generalized_alpha_drift_is_bounded() {
     let (model, mut s, body) = free_body(RotationParam::Quaternion, Vector3::new(0.4, 0.3, 0.6));
     let mut ws = Workspace::new(&model);
-    let ga = GenAlpha::new(GenAlphaSettings { rho_inf: 1.0, ..Default::default() }).unwrap();
+    let ga = GenAlpha::new(GenAlphaSettings {
+        rho_inf: 1.0,
+        ..Default::default()
+    })
+    .unwrap();
     ga.initialize(&model, &mut s, &mut ws).unwrap();
-    let e0 = flexmbs_core::integrator::monitor(&model, &s, &mut ws).0.total();
+    let e0 = flexmbs_core::integrator::monitor(&model, &s, &mut ws)
+        .0
+        .total();
     let l0 = momentum(&model, &s, body);
     let mut errs = Vec::new();
     ga.integrate(&model, &mut s, &mut ws, 1e-3, 20.0, |s, st| {
-        errs.push(((st.energy.total() - e0).abs() / e0, (momentum(&model, s, body) - l0).norm() / l0.norm()));
+        errs.push((
+            (st.energy.total() - e0).abs() / e0,
+            (momentum(&model, s, body) - l0).norm() / l0.norm(),
+        ));
     })
     .unwrap();
     let half = errs.len() / 2;
-    let max = |v: &[(f64, f64)]| v.iter().fold((0.0_f64, 0.0_f64), |m, e| (m.0.max(e.0), m.1.max(e.1)));
+    let max = |v: &[(f64, f64)]| {
+        v.iter()
+            .fold((0.0_f64, 0.0_f64), |m, e| (m.0.max(e.0), m.1.max(e.1)))
+    };
     let (a, b) = (max(&errs[..half]), max(&errs[half..]));
     println!("first half {a:?}, second half {b:?}");
     assert!(b.0 < 1e-4 && b.1 < 1e-4);
@@ -68,14 +90,23 @@ fn generalized_alpha_drift_is_bounded() {
 /// flips (body-frame omega_y changes sign) within 30 s; spin about the major axis does not.
 #[test]
 fn intermediate_axis_is_unstable() {
-    for (omega, flips) in [(Vector3::new(1e-3, 1.0, 1e-3), true), (Vector3::new(1e-3, 1e-3, 1.0), false)] {
+    for (omega, flips) in [
+        (Vector3::new(1e-3, 1.0, 1e-3), true),
+        (Vector3::new(1e-3, 1e-3, 1.0), false),
+    ] {
         let (model, mut s, _) = free_body(RotationParam::Quaternion, omega);
         let mut ws = Workspace::new(&model);
         let (axis, w0) = if flips { (4, 1.0_f64) } else { (5, 1.0_f64) };
         let mut min_w = w0;
-        Dopri5::new(Dopri5Settings { rtol: 1e-10, atol: 1e-12, ..Default::default() })
-            .integrate(&model, &mut s, &mut ws, 30.0, |s, _| min_w = min_w.min(s.u[axis]))
-            .unwrap();
+        Dopri5::new(Dopri5Settings {
+            rtol: 1e-10,
+            atol: 1e-12,
+            ..Default::default()
+        })
+        .integrate(&model, &mut s, &mut ws, 30.0, |s, _| {
+            min_w = min_w.min(s.u[axis])
+        })
+        .unwrap();
         assert_eq!(min_w < 0.0, flips, "omega {omega:?}: min {min_w}");
     }
 }

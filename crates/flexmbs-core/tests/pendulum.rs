@@ -5,8 +5,18 @@ use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::*;
 use std::f64::consts::PI;
 
-fn simulate(p: &Pendulum, theta0: f64, rho: f64, h: f64, t_end: f64) -> (Vec<(f64, f64)>, Vec<f64>, f64) {
-    let ga = GenAlpha::new(GenAlphaSettings { rho_inf: rho, ..Default::default() }).unwrap();
+fn simulate(
+    p: &Pendulum,
+    theta0: f64,
+    rho: f64,
+    h: f64,
+    t_end: f64,
+) -> (Vec<(f64, f64)>, Vec<f64>, f64) {
+    let ga = GenAlpha::new(GenAlphaSettings {
+        rho_inf: rho,
+        ..Default::default()
+    })
+    .unwrap();
     let mut s = p.state(theta0);
     let mut ws = Workspace::new(&p.model);
     ga.initialize(&p.model, &mut s, &mut ws).unwrap();
@@ -50,7 +60,11 @@ fn large_amplitude_period_matches_elliptic_integral() {
     let period = mean_period(&samples);
     let rel = (period - t_exact).abs() / t_exact;
     let scale = p.m * p.g * p.l;
-    let drift = energy.iter().map(|e| (e - energy[0]).abs()).fold(0.0, f64::max) / scale;
+    let drift = energy
+        .iter()
+        .map(|e| (e - energy[0]).abs())
+        .fold(0.0, f64::max)
+        / scale;
     println!("period {period}, exact {t_exact}, rel err {rel:e}, energy drift {drift:e}");
     assert!(rel < 1e-5, "relative period error {rel}");
     assert!(drift < 2e-6, "energy drift {drift}");

@@ -29,7 +29,13 @@ pub struct Dopri5Settings {
 
 impl Default for Dopri5Settings {
     fn default() -> Self {
-        Self { rtol: 1e-8, atol: 1e-10, h_init: 1e-3, h_min: 1e-14, h_max: f64::INFINITY }
+        Self {
+            rtol: 1e-8,
+            atol: 1e-10,
+            h_init: 1e-3,
+            h_min: 1e-14,
+            h_max: f64::INFINITY,
+        }
     }
 }
 
@@ -46,9 +52,30 @@ const A: [[f64; 6]; 7] = [
     [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
     [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
     [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
-    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
-    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
-    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
 ];
 const E: [f64; 7] = [
     71.0 / 57600.0,
@@ -61,7 +88,14 @@ const E: [f64; 7] = [
 ];
 
 /// `dy = (T(q) u, M^-1 h)` at `(t, y)`.
-fn derivative(model: &Model, t: f64, y: &[f64], dy: &mut [f64], sys: &mut SystemBuffers, lu: &mut DenseLu) -> Result<(), SolverError> {
+fn derivative(
+    model: &Model,
+    t: f64,
+    y: &[f64],
+    dy: &mut [f64],
+    sys: &mut SystemBuffers,
+    lu: &mut DenseLu,
+) -> Result<(), SolverError> {
     let nq = model.nq;
     let (q, u) = y.split_at(nq);
     let (dq, du) = dy.split_at_mut(nq);
@@ -71,7 +105,11 @@ fn derivative(model: &Model, t: f64, y: &[f64], dy: &mut [f64], sys: &mut System
     system::assemble_forces(model, t, q, u, 1.0, &sys.frames, &mut sys.h);
     lu.a.copy_from(&sys.mass);
     if !lu.factor() {
-        return Err(SolverError::Singular { what: "mass", t, h: 0.0 });
+        return Err(SolverError::Singular {
+            what: "mass",
+            t,
+            h: 0.0,
+        });
     }
     du.copy_from_slice(&sys.h);
     lu.solve_in_place(du);
@@ -94,7 +132,10 @@ impl Dopri5 {
         mut on_step: impl FnMut(&State, &StepStats),
     ) -> Result<(), SolverError> {
         if model.nc > 0 {
-            return Err(SolverError::ConstraintsUnsupported { integrator: "DOPRI5", nc: model.nc });
+            return Err(SolverError::ConstraintsUnsupported {
+                integrator: "DOPRI5",
+                nc: model.nc,
+            });
         }
         let cfg = &self.settings;
         let (nq, n) = (model.nq, model.nq + model.nu);
@@ -106,28 +147,46 @@ impl Dopri5 {
             let [y_stage, y_new] = &mut b.y;
             y_stage[..nq].copy_from_slice(&s.q);
             y_stage[nq..].copy_from_slice(&s.u);
-            derivative(model, s.t, y_stage, &mut b.stages[0], &mut ws.sys, &mut ws.lu_mass)?;
+            derivative(
+                model,
+                s.t,
+                y_stage,
+                &mut b.stages[0],
+                &mut ws.sys,
+                &mut ws.lu_mass,
+            )?;
             for i in 1..7 {
-                for k in 0..n {
+                for (k, yk) in y_stage.iter_mut().enumerate() {
                     let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
-                    y_stage[k] = y0 + h * (0..i).map(|j| A[i][j] * b.stages[j][k]).sum::<f64>();
+                    *yk = y0 + h * (0..i).map(|j| A[i][j] * b.stages[j][k]).sum::<f64>();
                 }
-                let (done, rest) = b.stages.split_at_mut(i);
-                let _ = done;
-                derivative(model, s.t + C[i] * h, y_stage, &mut rest[0], &mut ws.sys, &mut ws.lu_mass)?;
+                let (_, rest) = b.stages.split_at_mut(i);
+                derivative(
+                    model,
+                    s.t + C[i] * h,
+                    y_stage,
+                    &mut rest[0],
+                    &mut ws.sys,
+                    &mut ws.lu_mass,
+                )?;
             }
             evals += 7;
             y_new.copy_from_slice(y_stage); // stage 7 state = 5th-order solution (FSAL)
             let mut sum = 0.0;
-            for k in 0..n {
+            for (k, yk) in y_new.iter().enumerate() {
                 let e = h * (0..7).map(|j| E[j] * b.stages[j][k]).sum::<f64>();
                 let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
-                let sc = cfg.atol + cfg.rtol * y0.abs().max(y_new[k].abs());
+                let sc = cfg.atol + cfg.rtol * y0.abs().max(yk.abs());
                 sum += (e / sc).powi(2);
             }
             let err = (sum / n as f64).sqrt();
             if !err.is_finite() {
-                return Err(SolverError::NonFinite { what: "DOPRI5 error estimate", t: s.t, h, residual: f64::NAN });
+                return Err(SolverError::NonFinite {
+                    what: "DOPRI5 error estimate",
+                    t: s.t,
+                    h,
+                    residual: f64::NAN,
+                });
             }
             if err <= 1.0 {
                 s.t += h;
@@ -136,14 +195,28 @@ impl Dopri5 {
                 s.u_dot.copy_from_slice(&b.stages[6][nq..]);
                 system::normalize(model, &mut s.q);
                 let (energy, g_max, g_dot_max) = monitor(model, s, ws);
-                let stats = StepStats { t: s.t, h, iterations: evals, residual: 0.0, energy, g_max, g_dot_max, error_estimate: err };
+                let stats = StepStats {
+                    t: s.t,
+                    h,
+                    iterations: evals,
+                    residual: 0.0,
+                    energy,
+                    g_max,
+                    g_dot_max,
+                    error_estimate: err,
+                };
                 evals = 0;
                 on_step(s, &stats);
             }
             let fac = if err > 0.0 { 0.9 * err.powf(-0.2) } else { 5.0 };
             h = (h * fac.clamp(0.2, 5.0)).min(cfg.h_max);
             if h < cfg.h_min {
-                return Err(SolverError::StepTooSmall { t: s.t, h, h_min: cfg.h_min, error: err });
+                return Err(SolverError::StepTooSmall {
+                    t: s.t,
+                    h,
+                    h_min: cfg.h_min,
+                    error: err,
+                });
             }
         }
         Ok(())

@@ -43,7 +43,10 @@ pub struct GenAlphaSettings {
 
 impl Default for GenAlphaSettings {
     fn default() -> Self {
-        Self { rho_inf: 0.9, newton: NewtonSettings::default() }
+        Self {
+            rho_inf: 0.9,
+            newton: NewtonSettings::default(),
+        }
     }
 }
 
@@ -67,7 +70,12 @@ impl GenAlphaParams {
         let alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
         let alpha_f = rho / (rho + 1.0);
         let gamma = 0.5 + alpha_f - alpha_m;
-        Self { alpha_m, alpha_f, beta: 0.25 * (gamma + 0.5).powi(2), gamma }
+        Self {
+            alpha_m,
+            alpha_f,
+            beta: 0.25 * (gamma + 0.5).powi(2),
+            gamma,
+        }
     }
 }
 
@@ -93,7 +101,13 @@ pub struct AdaptiveSettings {
 
 impl Default for AdaptiveSettings {
     fn default() -> Self {
-        Self { h_init: 1e-3, h_min: 1e-12, h_max: 0.1, atol: 1e-6, rtol: 1e-6 }
+        Self {
+            h_init: 1e-3,
+            h_min: 1e-12,
+            h_max: 0.1,
+            atol: 1e-6,
+            rtol: 1e-6,
+        }
     }
 }
 
@@ -111,18 +125,36 @@ impl GenAlpha {
     pub fn new(settings: GenAlphaSettings) -> Result<Self, SolverError> {
         let rho = settings.rho_inf;
         if !(0.0..=1.0).contains(&rho) {
-            return Err(SolverError::InvalidSetting { name: "rho_inf", value: rho, reason: "must be in [0, 1]" });
+            return Err(SolverError::InvalidSetting {
+                name: "rho_inf",
+                value: rho,
+                reason: "must be in [0, 1]",
+            });
         }
-        Ok(Self { settings, params: GenAlphaParams::from_rho_inf(rho) })
+        Ok(Self {
+            settings,
+            params: GenAlphaParams::from_rho_inf(rho),
+        })
     }
 
     /// Prepares a state for the first step: consistent `u_dot`, `a` and `lambda`.
-    pub fn initialize(&self, model: &Model, s: &mut State, ws: &mut Workspace) -> Result<(), SolverError> {
+    pub fn initialize(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+    ) -> Result<(), SolverError> {
         consistent_accelerations(model, s, ws)
     }
 
     /// One step of size `h`; on success the state is advanced, on error it is unchanged.
-    pub fn step(&self, model: &Model, s: &mut State, ws: &mut Workspace, h: f64) -> Result<StepStats, SolverError> {
+    pub fn step(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        h: f64,
+    ) -> Result<StepStats, SolverError> {
         let mut stats = self.solve_step(model, s, ws, h)?;
         commit(s, &ws.step, h);
         let (energy, g, gd) = monitor(model, s, ws);
@@ -132,14 +164,29 @@ impl GenAlpha {
 
     /// Newton iterations of one step; the result is left in `ws.step` (`q_new`, `u_new`,
     /// `u_dot_new`, `a_new`, `lambda_new`); `s` is not touched.
-    fn solve_step(&self, model: &Model, s: &State, ws: &mut Workspace, h: f64) -> Result<StepStats, SolverError> {
+    fn solve_step(
+        &self,
+        model: &Model,
+        s: &State,
+        ws: &mut Workspace,
+        h: f64,
+    ) -> Result<StepStats, SolverError> {
         let (p, nt) = (&self.params, &self.settings.newton);
         let (nu, t1) = (model.nu, s.t + h);
         let c = (1.0 - p.alpha_f) / (1.0 - p.alpha_m);
         let (beta_p, gamma_p) = (h * h * p.beta * c, h * p.gamma * c);
-        let fail = |what, residual| SolverError::NonFinite { what, t: s.t, h, residual };
+        let fail = |what, residual| SolverError::NonFinite {
+            what,
+            t: s.t,
+            h,
+            residual,
+        };
         if !(h > 0.0 && h.is_finite()) {
-            return Err(SolverError::InvalidSetting { name: "h", value: h, reason: "step must be positive" });
+            return Err(SolverError::InvalidSetting {
+                name: "h",
+                value: h,
+                reason: "step must be positive",
+            });
         }
         let b = &mut ws.step;
         b.u_dot_new.copy_from_slice(&s.u_dot); // predictor: constant acceleration
@@ -152,7 +199,15 @@ impl GenAlpha {
             system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
             system::assemble_mass(model, &b.q_new, sys.mass.as_mut());
             system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, &sys.frames, &mut sys.h);
-            system::assemble_constraints(model, t1, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+            system::assemble_constraints(
+                model,
+                t1,
+                &sys.frames,
+                &mut sys.g,
+                sys.g_jac.as_mut(),
+                &mut sys.g_t,
+                &mut sys.g_bias,
+            );
             // residual r = M u_dot - h + G^T lambda,  g / beta'
             let (mut r_max, mut g_max) = (0.0_f64, 0.0_f64);
             for i in 0..nu {
@@ -181,7 +236,13 @@ impl GenAlpha {
             let small = increment <= nt.atol + nt.rtol * super::max_abs(&b.u_dot_new)
                 || beta_p * increment <= 16.0 * f64::EPSILON * q_scale;
             if small && g_max <= nt.constraint_tol * q_scale {
-                return Ok(StepStats { t: t1, h, iterations: iter - 1, residual, ..Default::default() });
+                return Ok(StepStats {
+                    t: t1,
+                    h,
+                    iterations: iter - 1,
+                    residual,
+                    ..Default::default()
+                });
             }
             if iter > nt.max_iterations {
                 break;
@@ -189,12 +250,17 @@ impl GenAlpha {
             system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
             for j in 0..nu {
                 for i in 0..nu {
-                    sys.dh_dq[(i, j)] = sys.mass[(i, j)] - gamma_p * sys.dh_du[(i, j)] - beta_p * sys.dh_dq[(i, j)];
+                    sys.dh_dq[(i, j)] =
+                        sys.mass[(i, j)] - gamma_p * sys.dh_du[(i, j)] - beta_p * sys.dh_dq[(i, j)];
                 }
             }
             fill_saddle_matrix(&mut ws.lu.a, &sys.dh_dq, 1.0, &sys.g_jac);
             if !ws.lu.factor() {
-                return Err(SolverError::Singular { what: "iteration", t: s.t, h });
+                return Err(SolverError::Singular {
+                    what: "iteration",
+                    t: s.t,
+                    h,
+                });
             }
             let sol = &mut b.rhs;
             for (k, gk) in sys.g.iter().enumerate() {
@@ -205,14 +271,19 @@ impl GenAlpha {
             if sol.iter().any(|x| !x.is_finite()) {
                 return Err(fail("Newton increment", residual));
             }
-            for i in 0..nu {
-                b.u_dot_new[i] += sol[i];
+            for (x, d) in b.u_dot_new.iter_mut().zip(&sol[..nu]) {
+                *x += d;
             }
-            for k in 0..model.nc {
-                b.lambda_new[k] += sol[nu + k];
+            for (l, d) in b.lambda_new.iter_mut().zip(&sol[nu..]) {
+                *l += d;
             }
         }
-        Err(SolverError::NewtonFailed { t: s.t, h, residual, iterations: nt.max_iterations })
+        Err(SolverError::NewtonFailed {
+            t: s.t,
+            h,
+            residual,
+            iterations: nt.max_iterations,
+        })
     }
 
     /// Fixed-step integration to `t_end` (last step shortened), calling `on_step` after every step.
@@ -228,7 +299,11 @@ impl GenAlpha {
         // A remainder below 1e-6 h is absorbed into the last step (no micro steps).
         while t_end - s.t > 1e-6 * h {
             let remaining = t_end - s.t;
-            let hs = if remaining < h * (1.0 + 1e-6) { remaining } else { h };
+            let hs = if remaining < h * (1.0 + 1e-6) {
+                remaining
+            } else {
+                h
+            };
             let stats = self.step(model, s, ws, hs)?;
             on_step(s, &stats);
         }
@@ -260,17 +335,33 @@ impl GenAlpha {
                     if err <= 1.0 {
                         commit(s, &ws.step, h);
                         let (energy, g, gd) = monitor(model, s, ws);
-                        (stats.energy, stats.g_max, stats.g_dot_max, stats.error_estimate) = (energy, g, gd, err);
+                        (
+                            stats.energy,
+                            stats.g_max,
+                            stats.g_dot_max,
+                            stats.error_estimate,
+                        ) = (energy, g, gd, err);
                         on_step(s, &stats);
                     }
-                    let fac = if err > 0.0 { 0.9 * err.powf(-1.0 / 3.0) } else { 2.0 };
+                    let fac = if err > 0.0 {
+                        0.9 * err.powf(-1.0 / 3.0)
+                    } else {
+                        2.0
+                    };
                     h = (h * fac.clamp(0.2, 2.0)).min(ctl.h_max);
                 }
-                Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => h *= 0.5,
+                Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => {
+                    h *= 0.5
+                }
                 Err(e) => return Err(e),
             }
             if h < ctl.h_min {
-                return Err(SolverError::StepTooSmall { t: s.t, h, h_min: ctl.h_min, error: err });
+                return Err(SolverError::StepTooSmall {
+                    t: s.t,
+                    h,
+                    h_min: ctl.h_min,
+                    error: err,
+                });
             }
         }
         Ok(())
@@ -280,7 +371,9 @@ impl GenAlpha {
 /// `a_{n+1}`, `u_{n+1}` and `q_{n+1} = q_n ⊕ dv` from the current `u_dot_{n+1}` iterate.
 fn kinematic_update(model: &Model, p: &GenAlphaParams, h: f64, s: &State, b: &mut StepBuffers) {
     for i in 0..model.nu {
-        let a_new = ((1.0 - p.alpha_f) * b.u_dot_new[i] + p.alpha_f * s.u_dot[i] - p.alpha_m * s.a[i]) / (1.0 - p.alpha_m);
+        let a_new = ((1.0 - p.alpha_f) * b.u_dot_new[i] + p.alpha_f * s.u_dot[i]
+            - p.alpha_m * s.a[i])
+            / (1.0 - p.alpha_m);
         b.a_new[i] = a_new;
         b.u_new[i] = s.u[i] + h * ((1.0 - p.gamma) * s.a[i] + p.gamma * a_new);
         b.dv[i] = h * (s.u[i] + h * ((0.5 - p.beta) * s.a[i] + p.beta * a_new));

@@ -57,20 +57,37 @@ pub struct NewtonSettings {
 
 impl Default for NewtonSettings {
     fn default() -> Self {
-        Self { max_iterations: 25, rtol: 1e-10, atol: 1e-10, constraint_tol: 1e-12 }
+        Self {
+            max_iterations: 25,
+            rtol: 1e-10,
+            atol: 1e-10,
+            constraint_tol: 1e-12,
+        }
     }
 }
 
 /// Consistent accelerations and multipliers at the current state: solves
 /// `[M G^T; G 0] [u_dot; lambda] = [h; -g_bias]` (the index-1 form `g_ddot = 0`) and sets
 /// `state.u_dot`, `state.a = u_dot`, `state.lambda`.
-pub fn consistent_accelerations(model: &Model, s: &mut State, ws: &mut Workspace) -> Result<(), SolverError> {
+pub fn consistent_accelerations(
+    model: &Model,
+    s: &mut State,
+    ws: &mut Workspace,
+) -> Result<(), SolverError> {
     let (nu, nc) = (model.nu, model.nc);
     let sys = &mut ws.sys;
     system::update_frames(model, &s.q, &s.u, &mut sys.frames);
     system::assemble_mass(model, &s.q, sys.mass.as_mut());
     system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, &sys.frames, &mut sys.h);
-    system::assemble_constraints(model, s.t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+    system::assemble_constraints(
+        model,
+        s.t,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
     fill_saddle_matrix(&mut ws.lu.a, &sys.mass, 1.0, &sys.g_jac);
     let rhs = &mut ws.step.rhs;
     rhs[..nu].copy_from_slice(&sys.h);
@@ -78,11 +95,20 @@ pub fn consistent_accelerations(model: &Model, s: &mut State, ws: &mut Workspace
         rhs[nu + r] = -sys.g_bias[r];
     }
     if !ws.lu.factor() {
-        return Err(SolverError::Singular { what: "augmented mass", t: s.t, h: 0.0 });
+        return Err(SolverError::Singular {
+            what: "augmented mass",
+            t: s.t,
+            h: 0.0,
+        });
     }
     ws.lu.solve_in_place(rhs);
     if rhs.iter().any(|x| !x.is_finite()) {
-        return Err(SolverError::NonFinite { what: "initial accelerations", t: s.t, h: 0.0, residual: f64::NAN });
+        return Err(SolverError::NonFinite {
+            what: "initial accelerations",
+            t: s.t,
+            h: 0.0,
+            residual: f64::NAN,
+        });
     }
     s.u_dot.copy_from_slice(&rhs[..nu]);
     s.a.copy_from_slice(&rhs[..nu]);
@@ -113,7 +139,15 @@ pub(crate) fn fill_saddle_matrix(out: &mut Mat<f64>, a: &Mat<f64>, c: f64, g: &M
 pub fn monitor(model: &Model, s: &State, ws: &mut Workspace) -> (Energy, f64, f64) {
     let sys = &mut ws.sys;
     system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-    system::assemble_constraints(model, s.t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+    system::assemble_constraints(
+        model,
+        s.t,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
     let (g, gd) = system::constraint_drift(sys, &s.u);
     (system::energy(model, &s.q, &s.u, &sys.frames), g, gd)
 }

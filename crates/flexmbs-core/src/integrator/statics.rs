@@ -28,7 +28,12 @@ pub struct StaticsSettings {
 
 impl Default for StaticsSettings {
     fn default() -> Self {
-        Self { load_steps: 1, min_increment: 1e-4, force_tol: 1e-10, newton: NewtonSettings::default() }
+        Self {
+            load_steps: 1,
+            min_increment: 1e-4,
+            force_tol: 1e-10,
+            newton: NewtonSettings::default(),
+        }
     }
 }
 
@@ -60,17 +65,31 @@ impl Statics {
 
     /// Solves for the equilibrium at full load starting from `s.q`; sets `s.u = 0`, `s.q`,
     /// `s.lambda` (and `s.u_dot = 0`).
-    pub fn solve(&self, model: &Model, s: &mut State, ws: &mut Workspace) -> Result<StaticStats, SolverError> {
+    pub fn solve(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+    ) -> Result<StaticStats, SolverError> {
         let cfg = &self.settings;
         if cfg.load_steps == 0 {
-            return Err(SolverError::InvalidSetting { name: "load_steps", value: 0.0, reason: "must be >= 1" });
+            return Err(SolverError::InvalidSetting {
+                name: "load_steps",
+                value: 0.0,
+                reason: "must be >= 1",
+            });
         }
         s.u.fill(0.0);
         s.u_dot.fill(0.0);
         system::update_frames(model, &s.q, &s.u, &mut ws.sys.frames);
         system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, &ws.sys.frames, &mut ws.sys.h);
         let tol = cfg.force_tol * super::max_abs(&ws.sys.h).max(1.0);
-        let mut stats = StaticStats { increments: 0, iterations: 0, residual: 0.0, g_max: 0.0 };
+        let mut stats = StaticStats {
+            increments: 0,
+            iterations: 0,
+            residual: 0.0,
+            g_max: 0.0,
+        };
         let (mut mu, mut dmu) = (0.0, 1.0 / cfg.load_steps as f64);
         while mu < 1.0 - 1e-14 {
             let target = (mu + dmu).min(1.0);
@@ -79,9 +98,15 @@ impl Statics {
             match self.newton(model, s, ws, target, tol) {
                 Ok((it, res, g)) => {
                     mu = target;
-                    stats = StaticStats { increments: stats.increments + 1, iterations: stats.iterations + it, residual: res, g_max: g };
+                    stats = StaticStats {
+                        increments: stats.increments + 1,
+                        iterations: stats.iterations + it,
+                        residual: res,
+                        g_max: g,
+                    };
                 }
-                Err(e @ SolverError::NewtonFailed { .. }) | Err(e @ SolverError::Singular { .. }) => {
+                Err(e @ SolverError::NewtonFailed { .. })
+                | Err(e @ SolverError::Singular { .. }) => {
                     s.q.copy_from_slice(&ws.step.y[0][..model.nq]);
                     s.lambda.copy_from_slice(&ws.step.y[1][..model.nc]);
                     dmu *= 0.5;
@@ -97,18 +122,36 @@ impl Statics {
 
     /// Least-squares multipliers at the current configuration, `G G^T lambda = G h`, via
     /// `[I G^T; G 0] [x; lambda] = [h; 0]`: the start of the geometric stiffness.
-    fn multiplier_predictor(&self, model: &Model, s: &mut State, ws: &mut Workspace, mu: f64) -> Result<(), SolverError> {
+    fn multiplier_predictor(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        mu: f64,
+    ) -> Result<(), SolverError> {
         let (nu, t, sys) = (model.nu, s.t, &mut ws.sys);
         system::update_frames(model, &s.q, &s.u, &mut sys.frames);
         system::assemble_forces(model, t, &s.q, &s.u, mu, &sys.frames, &mut sys.h);
-        system::assemble_constraints(model, t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+        system::assemble_constraints(
+            model,
+            t,
+            &sys.frames,
+            &mut sys.g,
+            sys.g_jac.as_mut(),
+            &mut sys.g_t,
+            &mut sys.g_bias,
+        );
         sys.dh_du.fill(0.0);
         for i in 0..nu {
             sys.dh_du[(i, i)] = 1.0;
         }
         fill_saddle_matrix(&mut ws.lu.a, &sys.dh_du, 1.0, &sys.g_jac);
         if !ws.lu.factor() {
-            return Err(SolverError::Singular { what: "constraint Jacobian (redundant constraints?)", t: mu, h: mu });
+            return Err(SolverError::Singular {
+                what: "constraint Jacobian (redundant constraints?)",
+                t: mu,
+                h: mu,
+            });
         }
         let rhs = &mut ws.step.rhs;
         rhs[..nu].copy_from_slice(&sys.h);
@@ -119,7 +162,14 @@ impl Statics {
     }
 
     /// Newton iterations at load factor `mu`: (iterations, residual, max |g|).
-    fn newton(&self, model: &Model, s: &mut State, ws: &mut Workspace, mu: f64, tol: f64) -> Result<(usize, f64, f64), SolverError> {
+    fn newton(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        mu: f64,
+        tol: f64,
+    ) -> Result<(usize, f64, f64), SolverError> {
         let nt = &self.settings.newton;
         let (nu, nc, t) = (model.nu, model.nc, s.t);
         let mut residual = f64::NAN;
@@ -130,16 +180,32 @@ impl Statics {
             let sys = &mut ws.sys;
             system::update_frames(model, &s.q, &s.u, &mut sys.frames);
             system::assemble_forces(model, t, &s.q, &s.u, mu, &sys.frames, &mut sys.h);
-            system::assemble_constraints(model, t, &sys.frames, &mut sys.g, sys.g_jac.as_mut(), &mut sys.g_t, &mut sys.g_bias);
+            system::assemble_constraints(
+                model,
+                t,
+                &sys.frames,
+                &mut sys.g,
+                sys.g_jac.as_mut(),
+                &mut sys.g_t,
+                &mut sys.g_bias,
+            );
             let rhs = &mut ws.step.rhs;
-            for i in 0..nu {
-                rhs[i] = sys.h[i] - (0..nc).map(|k| sys.g_jac[(k, i)] * s.lambda[k]).sum::<f64>();
+            for (i, ri) in rhs[..nu].iter_mut().enumerate() {
+                *ri = sys.h[i]
+                    - (0..nc)
+                        .map(|k| sys.g_jac[(k, i)] * s.lambda[k])
+                        .sum::<f64>();
             }
             for k in 0..nc {
                 rhs[nu + k] = -sys.g[k];
             }
             if rhs.iter().any(|x| !x.is_finite()) {
-                return Err(SolverError::NonFinite { what: "static residual", t: mu, h: mu, residual });
+                return Err(SolverError::NonFinite {
+                    what: "static residual",
+                    t: mu,
+                    h: mu,
+                    residual,
+                });
             }
             residual = super::max_abs(&rhs[..nu]);
             let g_max = super::max_abs(&rhs[nu..]);
@@ -153,7 +219,11 @@ impl Statics {
             system::subtract_constraint_force_tangent(model, t, &s.q, &s.u, &s.lambda, sys);
             fill_saddle_matrix(&mut ws.lu.a, &sys.dh_dq, -1.0, &sys.g_jac);
             if !ws.lu.factor() {
-                return Err(SolverError::Singular { what: "static tangent", t: mu, h: mu });
+                return Err(SolverError::Singular {
+                    what: "static tangent",
+                    t: mu,
+                    h: mu,
+                });
             }
             ws.lu.solve_in_place(rhs);
             system::integrate_positions(model, &s.q, &rhs[..nu], &mut ws.step.q_new);
@@ -162,6 +232,11 @@ impl Statics {
                 s.lambda[k] += rhs[nu + k];
             }
         }
-        Err(SolverError::NewtonFailed { t: mu, h: mu, residual, iterations: nt.max_iterations })
+        Err(SolverError::NewtonFailed {
+            t: mu,
+            h: mu,
+            residual,
+            iterations: nt.max_iterations,
+        })
     }
 }

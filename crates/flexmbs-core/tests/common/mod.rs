@@ -20,11 +20,26 @@ impl Pendulum {
         let (m, ic, l, g) = (1.5, 0.02, 0.8, 9.81);
         let mut spec = ModelSpec::new();
         spec.set_gravity(Vector3::new(0.0, -g, 0.0));
-        let body = spec.add_body("bob", RigidBody::new(m, Matrix3::identity() * ic).with_rotation(rotation));
+        let body = spec.add_body(
+            "bob",
+            RigidBody::new(m, Matrix3::identity() * ic).with_rotation(rotation),
+        );
         let pivot_g = spec.add_ground_frame("pivot", Vector3::zeros(), Matrix3::identity());
-        let pivot_b = spec.add_frame("pivot_b", body, Vector3::new(0.0, l, 0.0), Matrix3::identity());
+        let pivot_b = spec.add_frame(
+            "pivot_b",
+            body,
+            Vector3::new(0.0, l, 0.0),
+            Matrix3::identity(),
+        );
         spec.add_joint(Joint::revolute("hinge", pivot_g, pivot_b));
-        Self { model: spec.compile().unwrap(), body, m, ic, l, g }
+        Self {
+            model: spec.compile().unwrap(),
+            body,
+            m,
+            ic,
+            l,
+            g,
+        }
     }
 
     /// State at angle `theta0` from the vertical, at rest.
