@@ -314,3 +314,80 @@ impl Element for RigidBody {
         -self.mass * gravity.dot(&Vector3::new(q[0], q[1], q[2]))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::finite_difference_tangents;
+    use faer::Mat;
+
+    fn body(rot: RotationParam) -> RigidBody {
+        let i = Matrix3::new(1.0, 0.1, -0.05, 0.1, 2.0, 0.2, -0.05, 0.2, 3.0);
+        RigidBody::new(2.5, i).with_rotation(rot)
+    }
+
+    /// The analytic gyroscopic tangent of the quaternion body equals the default central
+    /// finite-difference tangent to 1e-6 (both dh/du and dh/dq = 0).
+    #[test]
+    fn analytic_tangent_matches_finite_differences() {
+        let b = body(RotationParam::Quaternion);
+        let (mut q, mut u) = (vec![0.0; 7], vec![0.0; 6]);
+        b.set_pose(
+            &mut q,
+            &Vector3::new(0.1, 0.2, 0.3),
+            &cardan_matrix(0.3, -0.6, 1.2),
+        );
+        b.set_velocity(
+            &q,
+            &mut u,
+            &Vector3::new(1.0, -2.0, 0.5),
+            &Vector3::new(0.7, -1.3, 2.1),
+        );
+        let g = Vector3::new(0.0, -9.81, 0.0);
+        let (mut kq, mut ku) = (Mat::<f64>::zeros(6, 6), Mat::<f64>::zeros(6, 6));
+        let (mut fq, mut fu) = (Mat::<f64>::zeros(6, 6), Mat::<f64>::zeros(6, 6));
+        let mut s = TangentScratch::new(7, 6);
+        b.force_tangents(0.0, &q, &u, &g, kq.as_mut(), ku.as_mut(), &mut s);
+        finite_difference_tangents(&b, 0.0, &q, &u, &g, fq.as_mut(), fu.as_mut(), &mut s);
+        let mut worst: f64 = 0.0;
+        for i in 0..6 {
+            for j in 0..6 {
+                worst = worst
+                    .max((kq[(i, j)] - fq[(i, j)]).abs())
+                    .max((ku[(i, j)] - fu[(i, j)]).abs());
+            }
+        }
+        assert!(worst < 1e-6, "max difference {worst}");
+        assert!(ku[(3, 4)].abs() > 0.1, "tangent is not trivially zero");
+    }
+
+    /// Cardan and quaternion parametrizations of the same motion give the same frame velocity,
+    /// angular velocity and kinetic energy (checks G, A and the Cardan mass matrix), to 1e-12.
+    #[test]
+    fn cardan_and_quaternion_agree() {
+        let frame = LocalFrame::at(Vector3::new(0.3, -0.2, 0.4));
+        let r = cardan_matrix(0.4, -0.7, 2.0);
+        let (v, w) = (Vector3::new(0.5, 0.1, -0.3), Vector3::new(1.1, -0.4, 0.8));
+        let mut out = Vec::new();
+        for rot in [RotationParam::Cardan, RotationParam::Quaternion] {
+            let b = body(rot);
+            let (mut q, mut u) = (vec![0.0; b.nq()], vec![0.0; 6]);
+            b.set_pose(&mut q, &Vector3::new(1.0, 2.0, 3.0), &r);
+            b.set_velocity(&q, &mut u, &v, &w);
+            let mut k = FrameKinematics::new(6);
+            b.frame_kinematics(&q, &u, &frame, &mut k);
+            let mut m = Mat::<f64>::zeros(6, 6);
+            b.mass_matrix(&q, m.as_mut());
+            let t_mass: f64 = (0..6)
+                .map(|i| (0..6).map(|j| 0.5 * u[i] * m[(i, j)] * u[j]).sum::<f64>())
+                .sum();
+            assert!((t_mass - b.kinetic_energy(&q, &u)).abs() < 1e-12);
+            assert!((k.rotation - r).norm() < 1e-12);
+            out.push((k.position, k.velocity, k.angular_velocity, t_mass));
+        }
+        assert!((out[0].0 - out[1].0).norm() < 1e-12);
+        assert!((out[0].1 - out[1].1).norm() < 1e-12);
+        assert!((out[0].2 - out[1].2).norm() < 1e-12);
+        assert!((out[0].3 - out[1].3).abs() < 1e-12);
+    }
+}

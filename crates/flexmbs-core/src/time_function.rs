@@ -73,7 +73,9 @@ impl TimeFunction {
             })
         };
         match self {
-            Self::Ramp { t0, t1, .. } | Self::Pulse { t0, t1, .. } if !(t1 > t0) => {
+            Self::Ramp { t0, t1, .. } | Self::Pulse { t0, t1, .. }
+                if t1.partial_cmp(t0) != Some(std::cmp::Ordering::Greater) =>
+            {
                 bad("t1", *t1, "must be greater than t0")
             }
             Self::Table { times, values } => {
@@ -83,7 +85,10 @@ impl TimeFunction {
                         reason: "times and values must be non-empty and of equal length",
                     });
                 }
-                if times.windows(2).any(|w| !(w[1] > w[0])) {
+                if times
+                    .windows(2)
+                    .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+                {
                     return Err(ModelError::InvalidTimeTable {
                         load,
                         reason: "times must be strictly increasing",

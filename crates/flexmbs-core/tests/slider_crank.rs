@@ -2,7 +2,7 @@
 //! x(phi) = r cos phi + sqrt(l^2 - r^2 sin^2 phi).
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::*;
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::PI;
 
 #[test]
@@ -51,7 +51,6 @@ fn slider_position_matches_analytic_solution() {
         Vector3::new(0.0, w * r / 2.0, 0.0),
         z * (-w * r / l),
     );
-    let _ = Rotation3::<f64>::identity();
     let mut ws = Workspace::new(&model);
     let ga = GenAlpha::new(GenAlphaSettings::default()).unwrap();
     ga.initialize(&model, &mut s, &mut ws).unwrap();
@@ -62,7 +61,7 @@ fn slider_position_matches_analytic_solution() {
         g_max = g_max.max(st.g_max);
         gd_max = gd_max.max(st.g_dot_max);
         let k = (s.t / h).round() as usize;
-        if k % 125 == 0 {
+        if k.is_multiple_of(125) {
             let phi = w * s.t;
             let x = r * phi.cos() + (l * l - r * r * phi.sin().powi(2)).sqrt();
             max_err = max_err.max((model.body_q(slider, &s.q)[0] - x).abs());

@@ -156,12 +156,11 @@ impl Dopri5 {
                 &mut ws.lu_mass,
             )?;
             for i in 1..7 {
-                for k in 0..n {
+                for (k, yk) in y_stage.iter_mut().enumerate() {
                     let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
-                    y_stage[k] = y0 + h * (0..i).map(|j| A[i][j] * b.stages[j][k]).sum::<f64>();
+                    *yk = y0 + h * (0..i).map(|j| A[i][j] * b.stages[j][k]).sum::<f64>();
                 }
-                let (done, rest) = b.stages.split_at_mut(i);
-                let _ = done;
+                let (_, rest) = b.stages.split_at_mut(i);
                 derivative(
                     model,
                     s.t + C[i] * h,
@@ -174,10 +173,10 @@ impl Dopri5 {
             evals += 7;
             y_new.copy_from_slice(y_stage); // stage 7 state = 5th-order solution (FSAL)
             let mut sum = 0.0;
-            for k in 0..n {
+            for (k, yk) in y_new.iter().enumerate() {
                 let e = h * (0..7).map(|j| E[j] * b.stages[j][k]).sum::<f64>();
                 let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
-                let sc = cfg.atol + cfg.rtol * y0.abs().max(y_new[k].abs());
+                let sc = cfg.atol + cfg.rtol * y0.abs().max(yk.abs());
                 sum += (e / sc).powi(2);
             }
             let err = (sum / n as f64).sqrt();

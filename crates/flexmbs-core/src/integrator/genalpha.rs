@@ -271,11 +271,11 @@ impl GenAlpha {
             if sol.iter().any(|x| !x.is_finite()) {
                 return Err(fail("Newton increment", residual));
             }
-            for i in 0..nu {
-                b.u_dot_new[i] += sol[i];
+            for (x, d) in b.u_dot_new.iter_mut().zip(&sol[..nu]) {
+                *x += d;
             }
-            for k in 0..model.nc {
-                b.lambda_new[k] += sol[nu + k];
+            for (l, d) in b.lambda_new.iter_mut().zip(&sol[nu..]) {
+                *l += d;
             }
         }
         Err(SolverError::NewtonFailed {

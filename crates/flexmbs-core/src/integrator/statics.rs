@@ -190,8 +190,8 @@ impl Statics {
                 &mut sys.g_bias,
             );
             let rhs = &mut ws.step.rhs;
-            for i in 0..nu {
-                rhs[i] = sys.h[i]
+            for (i, ri) in rhs[..nu].iter_mut().enumerate() {
+                *ri = sys.h[i]
                     - (0..nc)
                         .map(|k| sys.g_jac[(k, i)] * s.lambda[k])
                         .sum::<f64>();

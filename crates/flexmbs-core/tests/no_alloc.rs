@@ -1,0 +1,97 @@
+//! No heap allocation inside a time step (counting global allocator; own test binary).
+mod common;
+use flexmbs_core::integrator::{Dopri5, GenAlpha, GenAlphaSettings};
+use flexmbs_core::*;
+use nalgebra::{Matrix3, Vector3};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Generalized-alpha steps (joint, spring, follower force, finite-difference tangents) and a
+/// DOPRI5 run perform zero allocations after the workspace exists. One test function so that
+/// no other test thread allocates concurrently.
+#[test]
+fn steps_do_not_allocate() {
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, -9.81, 0.0));
+    let b = spec.add_body("b", RigidBody::new(1.0, Matrix3::identity() * 0.1));
+    let q = spec.add_body(
+        "q",
+        RigidBody::new(1.0, Matrix3::identity() * 0.1).with_rotation(RotationParam::Quaternion),
+    );
+    let g = spec.add_ground_frame("g", Vector3::zeros(), Matrix3::identity());
+    let fb = spec.add_frame("fb", b, Vector3::new(0.0, 0.5, 0.0), Matrix3::identity());
+    let fq = spec.add_frame("fq", q, Vector3::zeros(), Matrix3::identity());
+    spec.add_joint(Joint::revolute("hinge", g, fb));
+    spec.add_load(Load::SpringDamper {
+        frame_a: fb,
+        frame_b: fq,
+        stiffness: 100.0,
+        damping: 1.0,
+        free_length: 0.3,
+    });
+    spec.add_load(Load::Force {
+        frame: fq,
+        vector: Vector3::x(),
+        time: TimeFunction::Harmonic {
+            amplitude: 1.0,
+            frequency_hz: 2.0,
+            phase: 0.0,
+            offset: 0.0,
+        },
+        coordinates: LoadCoordinates::Frame,
+    });
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_pose(&mut s, b, Vector3::new(0.0, -0.5, 0.0), Matrix3::identity());
+    model.set_body_pose(&mut s, q, Vector3::new(0.3, -1.0, 0.0), Matrix3::identity());
+    let mut ws = Workspace::new(&model);
+    let ga = GenAlpha::new(GenAlphaSettings::default()).unwrap();
+    ga.initialize(&model, &mut s, &mut ws).unwrap();
+    ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..20 {
+        ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    }
+    let n_ga = ALLOCS.load(Ordering::SeqCst) - before;
+
+    let mut spec = ModelSpec::new();
+    let body = spec.add_body(
+        "free",
+        RigidBody::new(1.0, Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)))
+            .with_rotation(RotationParam::Quaternion),
+    );
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_velocity(&mut s, body, Vector3::x(), Vector3::new(0.3, 1.0, 0.2));
+    let mut ws = Workspace::new(&model);
+    let before = ALLOCS.load(Ordering::SeqCst);
+    Dopri5::default()
+        .integrate(&model, &mut s, &mut ws, 0.5, |_, _| {})
+        .unwrap();
+    let n_dp = ALLOCS.load(Ordering::SeqCst) - before;
+    assert_eq!(
+        (n_ga, n_dp),
+        (0, 0),
+        "allocations in 20 generalized-alpha steps / a DOPRI5 run"
+    );
+}
