@@ -54,7 +54,7 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
     integrator
         .integrate(&model, &mut state, &mut ws, h, t_end, |s, _| {
             step += 1;
-            if step % every == 0 {
+            if step.is_multiple_of(every) {
                 samples.push((s.t, s.q[q0..q0 + nq].to_vec()));
             }
         })

@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Vector3};
 fn box_nodes() -> (Vec<[f64; 3]>, Vec<f64>) {
     let mut x = Vec::new();
     let mut m = Vec::new();
-    for (i, s) in [
+    for s in [
         [-1.0, -1.0, -1.0],
         [1.0, -1.0, -1.0],
         [1.0, 1.0, -1.0],
@@ -28,7 +28,7 @@ fn box_nodes() -> (Vec<[f64; 3]>, Vec<f64>) {
     .enumerate()
     {
         x.push([0.3 * s[0], 0.1 * s[1], 0.05 * s[2]]);
-        m.push(if i % 2 == 0 { 1.5 } else { 1.5 });
+        m.push(1.5); // equal masses: centre of mass at the origin (the rigid body's reference point)
     }
     (x, m)
 }
