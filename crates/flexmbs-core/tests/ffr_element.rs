@@ -23,10 +23,7 @@ fn box_nodes() -> (Vec<[f64; 3]>, Vec<f64>) {
         [1.0, -1.0, 1.0],
         [1.0, 1.0, 1.0],
         [-1.0, 1.0, 1.0],
-    ]
-    .iter()
-    .enumerate()
-    {
+    ] {
         x.push([0.3 * s[0], 0.1 * s[1], 0.05 * s[2]]);
         m.push(1.5); // equal masses: centre of mass at the origin (the rigid body's reference point)
     }
