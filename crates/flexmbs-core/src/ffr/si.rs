@@ -10,8 +10,8 @@ use flexmbs_fe::UnitSystem;
 /// `m_red *= c^2 Ms`, `k_red *= c^2 Ks`: `m_red`, `k_red` stay `Φ^T M Φ`, `Φ^T K Φ` of the
 /// converted data, and the modal frequencies are unchanged.
 ///
-/// Note: with `c = L / sqrt(Ms)` mass-normalised modes in SI(mm) become `Φ^T M Φ = L^2 I` in SI
-/// (not `I`); all FFR quantities are computed from the converted data, so this is consistent.
+/// With `c = 1 / sqrt(Ms)` (`UnitSystem::mode_to_si`) mass-normalised modes stay mass-normalised
+/// in SI (`m_red` unchanged) and `k_red` is unchanged too (`Ks / Ms = 1` for SI(mm)).
 pub fn reduced_body_to_si(body: &ReducedBody) -> ReducedBody {
     let u = body.units;
     let mut out = body.clone();
