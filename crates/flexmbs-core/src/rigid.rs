@@ -80,22 +80,9 @@ impl RigidBody {
     }
 }
 
-/// `Rx(a) Ry(b) Rz(c)` (seed 000 eq. (2.22)).
+/// `Rx(a) Ry(b) Rz(c)` (seed 000 eq. (2.22)); see [`crate::rotation::cardan_matrix`].
 pub fn cardan_matrix(a: f64, b: f64, c: f64) -> Matrix3<f64> {
-    let (sa, ca) = a.sin_cos();
-    let (sb, cb) = b.sin_cos();
-    let (sc, cc) = c.sin_cos();
-    Matrix3::new(
-        cb * cc,
-        -cb * sc,
-        sb,
-        ca * sc + cc * sa * sb,
-        ca * cc - sa * sb * sc,
-        -cb * sa,
-        sa * sc - ca * cc * sb,
-        cc * sa + ca * sb * sc,
-        ca * cb,
-    )
+    crate::rotation::cardan_matrix(&Vector3::new(a, b, c))
 }
 
 /// Global `G(alpha, beta)` with `omega = G theta_dot` for Cardan x-y-z angles.

@@ -128,14 +128,15 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
             style: Style::Line,
         })
         .collect();
-    LinePlot {
+    let plot = LinePlot {
         title: "Complex beam: modal coordinates after initial modal velocities".into(),
         x_label: "t [ms]".into(),
         y_label: "q_f [SI]".into(),
         series,
         log_x: false,
         log_y: false,
-    }
-    .write(&out.join("q_f.png"))?;
+    };
+    plot.write(&out.join("q_f.png"))?;
+    plot.write(&out.join("q_f.svg"))?;
     Ok(res)
 }

@@ -220,15 +220,16 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
             });
         }
     }
-    LinePlot {
+    let plot = LinePlot {
         title: "Cantilever frequencies: |f - f_analytic| / f_analytic".into(),
         x_label: "independent DOFs".into(),
         y_label: "relative difference [%]".into(),
         series,
         log_x: true,
         log_y: true,
-    }
-    .write(&out.join("convergence.png"))?;
+    };
+    plot.write(&out.join("convergence.png"))?;
+    plot.write(&out.join("convergence.svg"))?;
 
     // result: finest solid mesh (hex20r 80x4x4) against the formulas.
     let finest = rows
