@@ -6,6 +6,7 @@
 
 pub mod complex_beam_frequencies;
 pub mod fe_cantilever_modes;
+pub mod slider_crank_2d;
 pub mod result;
 
 pub use result::ValidationResult;
@@ -33,6 +34,11 @@ pub fn cases() -> Vec<Case> {
             name: "complex_beam_frequencies",
             description: "seed 000 §5.1: FFR complex beam, simulated modal frequencies vs the modal analysis",
             run: complex_beam_frequencies::run,
+        },
+        Case {
+            name: "slider_crank_2d",
+            description: "seed 001 §5.1: flexible slider-crank, rod as one FFR body (reference pending)",
+            run: slider_crank_2d::run,
         },
     ]
 }
