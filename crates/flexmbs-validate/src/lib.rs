@@ -6,6 +6,7 @@
 
 pub mod complex_beam_frequencies;
 pub mod fe_cantilever_modes;
+pub mod rotating_beam;
 pub mod slider_crank_2d;
 pub mod result;
 
@@ -39,6 +40,11 @@ pub fn cases() -> Vec<Case> {
             name: "slider_crank_2d",
             description: "seed 001 §5.1: flexible slider-crank, rod as one FFR body (reference pending)",
             run: slider_crank_2d::run,
+        },
+        Case {
+            name: "rotating_beam",
+            description: "seed 001 §5.2: rotating tube, linear FFR body: spin-softened frequency (no geometric stiffening yet)",
+            run: rotating_beam::run,
         },
     ]
 }
