@@ -6,9 +6,9 @@
 
 pub mod complex_beam_frequencies;
 pub mod fe_cantilever_modes;
+pub mod result;
 pub mod rotating_beam;
 pub mod slider_crank_2d;
-pub mod result;
 
 pub use result::ValidationResult;
 use std::path::Path;

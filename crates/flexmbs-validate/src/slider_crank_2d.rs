@@ -10,7 +10,8 @@ use anyhow::{Context, Result};
 use flexmbs_core::ffr::{FfrBody, FfrElement, RotationParam as FfrRot};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::{
-    FrameKinematics, Joint, LocalFrame, ModelSpec, PrescribedMotion, RigidBody, TimeFunction, Workspace,
+    FrameKinematics, Joint, LocalFrame, ModelSpec, PrescribedMotion, RigidBody, TimeFunction,
+    Workspace,
 };
 use flexmbs_fe::constraint::BoundaryConditions;
 use flexmbs_fe::eigen::EigenOptions;
@@ -33,7 +34,11 @@ const ELEMENTS: usize = 20;
 /// Simulates 4 revolutions with `modes` free-free rod modes; returns (crank angle, w_mid) samples and
 /// the largest position-constraint violation.
 pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
-    let material = Material { e: 200e9, nu: 0.3, rho: 7870.0 };
+    let material = Material {
+        e: 200e9,
+        nu: 0.3,
+        rho: 7870.0,
+    };
     let mesh = beam_line(
         [0.0; 3],
         [ROD, 0.0, 0.0],
@@ -44,30 +49,55 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
         material,
         UnitSystem::Si,
     )?;
-    let sys = FeSystem::assemble(&mesh, &BoundaryConditions::default(), MassKind::Lumped, &mut |_, _| {})?;
+    let sys = FeSystem::assemble(
+        &mesh,
+        &BoundaryConditions::default(),
+        MassKind::Lumped,
+        &mut |_, _| {},
+    )?;
     let modal = modal_analysis(&sys, modes, &EigenOptions::default(), &mut |_| {})?;
     let body = reduce_modal(&mesh, &sys, &modal, modes, "rod", Provenance::default())?;
-    let rod_mass: f64 = body.node_masses.as_ref().context("lumped rod masses")?.iter().sum();
+    let rod_mass: f64 = body
+        .node_masses
+        .as_ref()
+        .context("lumped rod masses")?
+        .iter()
+        .sum();
     let rod = FfrElement::new(FfrBody::from_reduced(&body, FfrRot::Cardan)?);
 
     let mut spec = ModelSpec::new();
     let i3 = Matrix3::identity();
-    let crank = spec.add_body("crank", RigidBody::new(0.1, Matrix3::from_diagonal(&Vector3::new(1e-5, 2e-4, 2e-4))));
+    let crank = spec.add_body(
+        "crank",
+        RigidBody::new(0.1, Matrix3::from_diagonal(&Vector3::new(1e-5, 2e-4, 2e-4))),
+    );
     let rod_id = spec.add_body("rod", rod);
     let slider = spec.add_body("slider", RigidBody::new(0.5 * rod_mass, i3 * 1e-6));
     let g0 = spec.add_ground_frame("pivot", Vector3::zeros(), i3);
     let gs = spec.add_ground_frame("guide", Vector3::zeros(), i3);
-    let c0 = spec.add_frame("crank pivot", crank, Vector3::new(-CRANK / 2.0, 0.0, 0.0), i3);
+    let c0 = spec.add_frame(
+        "crank pivot",
+        crank,
+        Vector3::new(-CRANK / 2.0, 0.0, 0.0),
+        i3,
+    );
     let c1 = spec.add_frame("crank pin", crank, Vector3::new(CRANK / 2.0, 0.0, 0.0), i3);
     let r0 = spec.add_node_frame("rod A", rod_id, 0, Vector3::zeros());
     let r1 = spec.add_node_frame("rod B", rod_id, ELEMENTS, Vector3::new(ROD, 0.0, 0.0));
     let s0 = spec.add_frame("slider", slider, Vector3::zeros(), i3);
-    spec.add_joint(Joint::revolute("crank drive", g0, c0).with_prescribed(PrescribedMotion::RevoluteRate {
-        initial_angle: 0.0,
-        rate: TimeFunction::Constant(OMEGA),
-    }));
+    spec.add_joint(Joint::revolute("crank drive", g0, c0).with_prescribed(
+        PrescribedMotion::RevoluteRate {
+            initial_angle: 0.0,
+            rate: TimeFunction::Constant(OMEGA),
+        },
+    ));
     spec.add_joint(Joint::revolute("crank-rod", c1, r0));
-    spec.add_joint(Joint::new("rod-slider", r1, s0, [true, true, false, false, false, false]));
+    spec.add_joint(Joint::new(
+        "rod-slider",
+        r1,
+        s0,
+        [true, true, false, false, false, false],
+    ));
     spec.add_joint(Joint::prismatic("slider guide", gs, s0));
     let model = spec.compile()?;
     let mut s = model.initial_state();
@@ -76,34 +106,65 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
     model.set_body_pose(&mut s, rod_id, Vector3::new(CRANK, 0.0, 0.0), i3);
     model.set_body_pose(&mut s, slider, Vector3::new(CRANK + ROD, 0.0, 0.0), i3);
     let w = Vector3::new(0.0, 0.0, OMEGA);
-    model.set_body_velocity(&mut s, crank, Vector3::new(0.0, OMEGA * CRANK / 2.0, 0.0), w);
-    model.set_body_velocity(&mut s, rod_id, Vector3::new(0.0, OMEGA * CRANK, 0.0), Vector3::new(0.0, 0.0, -OMEGA * CRANK / ROD));
+    model.set_body_velocity(
+        &mut s,
+        crank,
+        Vector3::new(0.0, OMEGA * CRANK / 2.0, 0.0),
+        w,
+    );
+    model.set_body_velocity(
+        &mut s,
+        rod_id,
+        Vector3::new(0.0, OMEGA * CRANK, 0.0),
+        Vector3::new(0.0, 0.0, -OMEGA * CRANK / ROD),
+    );
     let mut ws = Workspace::new(&model);
-    let ga = GenAlpha::new(GenAlphaSettings { rho_inf: 0.8, ..GenAlphaSettings::default() })?;
+    let ga = GenAlpha::new(GenAlphaSettings {
+        rho_inf: 0.8,
+        ..GenAlphaSettings::default()
+    })?;
     ga.initialize(&model, &mut s, &mut ws)?;
     let rb = &model.bodies[rod_id.0];
     let nu = rb.element.nu();
     let mut fk = FrameKinematics::new(nu);
     let mid = ELEMENTS / 2;
     let mut node_pos = |q: &[f64], u: &[f64], n: usize| {
-        let f = LocalFrame { position: Vector3::from(body.nodes[n]), rotation: i3, node: Some(n) };
+        let f = LocalFrame {
+            position: Vector3::from(body.nodes[n]),
+            rotation: i3,
+            node: Some(n),
+        };
         rb.element.frame_kinematics(q, u, &f, &mut fk);
         fk.position
     };
     let mut out = Vec::new();
     let mut g_max: f64 = 0.0;
     let mut k = 0usize;
-    ga.integrate(&model, &mut s, &mut ws, h, 4.0 * 2.0 * PI / OMEGA, |st, stats| {
-        k += 1;
-        g_max = g_max.max(stats.g_max);
-        if k % 10 == 0 {
-            let (q, u) = (&st.q[rb.q_offset..rb.q_offset + rb.element.nq()], &st.u[rb.u_offset..rb.u_offset + nu]);
-            let (a, b, m) = (node_pos(q, u, 0), node_pos(q, u, ELEMENTS), node_pos(q, u, mid));
-            let chord = (b - a).normalize();
-            let normal = Vector3::new(-chord[1], chord[0], 0.0);
-            out.push((OMEGA * st.t, (m - a).dot(&normal)));
-        }
-    })
+    ga.integrate(
+        &model,
+        &mut s,
+        &mut ws,
+        h,
+        4.0 * 2.0 * PI / OMEGA,
+        |st, stats| {
+            k += 1;
+            g_max = g_max.max(stats.g_max);
+            if k % 10 == 0 {
+                let (q, u) = (
+                    &st.q[rb.q_offset..rb.q_offset + rb.element.nq()],
+                    &st.u[rb.u_offset..rb.u_offset + nu],
+                );
+                let (a, b, m) = (
+                    node_pos(q, u, 0),
+                    node_pos(q, u, ELEMENTS),
+                    node_pos(q, u, mid),
+                );
+                let chord = (b - a).normalize();
+                let normal = Vector3::new(-chord[1], chord[0], 0.0);
+                out.push((OMEGA * st.t, (m - a).dot(&normal)));
+            }
+        },
+    )
     .context("time integration of the slider-crank")?;
     Ok((out, g_max))
 }
@@ -120,7 +181,11 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         if !quiet {
             eprintln!("  FFR rod, {modes} modes: w_mid in revolution 1 in [{min:.4e}, {max:.4e}] m, max |g| {g_max:.2e}");
         }
-        let suffix = if modes == 4 { "_ffr".to_string() } else { format!("_ffr_{modes}modes") };
+        let suffix = if modes == 4 {
+            "_ffr".to_string()
+        } else {
+            format!("_ffr_{modes}modes")
+        };
         res.record(&format!("w_mid_max_rev1{suffix}"), max);
         res.record(&format!("w_mid_min_rev1{suffix}"), min);
         res.record(&format!("constraint_violation_max{suffix}"), g_max);
