@@ -149,7 +149,7 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
         |st, stats| {
             k += 1;
             g_max = g_max.max(stats.g_max);
-            if k % 10 == 0 {
+            if k.is_multiple_of(10) {
                 let (q, u) = (
                     &st.q[rb.q_offset..rb.q_offset + rb.element.nq()],
                     &st.u[rb.u_offset..rb.u_offset + nu],
