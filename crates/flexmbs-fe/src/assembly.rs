@@ -143,26 +143,6 @@ pub fn diagonal(a: &SparseMatrix) -> Vec<f64> {
     d
 }
 
-/// Largest relative asymmetry max |A_ij - A_ji| / max |A| of a sparse matrix.
-pub fn asymmetry(a: &SparseMatrix) -> f64 {
-    let mut map = std::collections::HashMap::new();
-    let mut amax = 0.0f64;
-    for (i, j, v) in entries(a) {
-        amax = amax.max(v.abs());
-        *map.entry((i, j)).or_insert(0.0) += v;
-    }
-    let mut worst = 0.0f64;
-    for (&(i, j), &v) in &map {
-        let vt = map.get(&(j, i)).copied().unwrap_or(0.0);
-        worst = worst.max((v - vt).abs());
-    }
-    if amax > 0.0 {
-        worst / amax
-    } else {
-        0.0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

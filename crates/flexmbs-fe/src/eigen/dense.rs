@@ -16,16 +16,7 @@ use crate::FeError;
 /// non-finite entries, [`FeError::NotPositiveDefinite`] if `M` is not positive definite,
 /// [`FeError::EigenNotConverged`] if the symmetric eigen solver fails.
 pub fn dense_generalized(k: MatRef<f64>, m: MatRef<f64>) -> Result<(Vec<f64>, Mat<f64>), FeError> {
-    let n = k.nrows();
-    if k.ncols() != n || m.nrows() != n || m.ncols() != n {
-        return Err(FeError::Invalid(format!(
-            "dense_generalized: K is {}x{}, M is {}x{} (both must be square and equal)",
-            k.nrows(),
-            k.ncols(),
-            m.nrows(),
-            m.ncols()
-        )));
-    }
+    let n = check_pair("dense_generalized", k, m)?;
     for (name, a) in [("K", k), ("M", m)] {
         let scale = a.norm_max();
         if !scale.is_finite() {
@@ -83,16 +74,7 @@ pub fn dense_shift_invert(
     m: MatRef<f64>,
     sigma: f64,
 ) -> Result<(Vec<f64>, Mat<f64>), FeError> {
-    let n = k.nrows();
-    if k.ncols() != n || m.nrows() != n || m.ncols() != n {
-        return Err(FeError::Invalid(format!(
-            "dense_shift_invert: K is {}x{}, M is {}x{} (both must be square and equal)",
-            k.nrows(),
-            k.ncols(),
-            m.nrows(),
-            m.ncols()
-        )));
-    }
+    let n = check_pair("dense_shift_invert", k, m)?;
     let a = Mat::from_fn(n, n, |i, j| k[(i, j)] - sigma * m[(i, j)]);
     let llt = a
         .llt(Side::Lower)
@@ -137,6 +119,21 @@ pub fn dense_shift_invert(
         }
     }
     Ok((lambda, y))
+}
+
+/// Checks that `K` and `M` are square and of equal size; returns the size.
+fn check_pair(what: &str, k: MatRef<f64>, m: MatRef<f64>) -> Result<usize, FeError> {
+    let n = k.nrows();
+    if k.ncols() != n || m.nrows() != n || m.ncols() != n {
+        return Err(FeError::Invalid(format!(
+            "{what}: K is {}x{}, M is {}x{} (both must be square and equal)",
+            k.nrows(),
+            k.ncols(),
+            m.nrows(),
+            m.ncols()
+        )));
+    }
+    Ok(n)
 }
 
 #[cfg(test)]
