@@ -43,14 +43,13 @@ fn strings(v: &[&str]) -> AttrValue {
     AttrValue::VarLenStringArray(v.iter().map(|s| s.to_string()).collect())
 }
 
-/// Serializes a results file.
-pub(crate) fn encode(
-    path: &Path,
+/// Stages a results file (serialized by [`FileBuilder::finish_to`] or [`FileBuilder::finish`]).
+pub(crate) fn build(
     layout: &ResultsLayout,
     attributes: &[(String, String)],
     status: &RunStatus,
     c: &Columns,
-) -> Result<Vec<u8>, ResultsError> {
+) -> FileBuilder {
     let n = c.rows();
     let mut fb = FileBuilder::new();
     fb.set_attr("format", AttrValue::VarLenString(FORMAT_NAME.into()));
@@ -116,7 +115,30 @@ pub(crate) fn encode(
         d.set_attr("components", strings(&comps));
     }
     fb.add_group(g.finish());
-    fb.finish().map_err(|e| hdf5_error(path, "/", e))
+    fb
+}
+
+/// Streams a results file to a temporary sibling of `path` (no whole-file buffer in memory) and
+/// renames it over `path`, so that readers only ever see the old or the new complete file.
+pub(crate) fn write_atomically(path: &Path, fb: FileBuilder) -> Result<(), ResultsError> {
+    let tmp = super::temporary_sibling(path);
+    let result = std::fs::File::create(&tmp)
+        .map_err(hdf5_pure::Error::Io)
+        .and_then(|f| fb.finish_to(f));
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(match e {
+            hdf5_pure::Error::Io(source) => ResultsError::Io { path: tmp, source },
+            e => hdf5_error(path, "/", e),
+        });
+    }
+    std::fs::rename(&tmp, path).map_err(|source| {
+        let _ = std::fs::remove_file(&tmp);
+        ResultsError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })
 }
 
 /// What [`decode`] returns.

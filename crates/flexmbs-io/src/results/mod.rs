@@ -601,26 +601,6 @@ pub(crate) fn temporary_sibling(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.tmp-{}-{k}", std::process::id()))
 }
 
-/// Writes `bytes` to a temporary sibling of `path` and renames it over `path`, so that readers
-/// only ever see the old or the new complete file.
-pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ResultsError> {
-    let tmp = temporary_sibling(path);
-    std::fs::write(&tmp, bytes).map_err(|source| {
-        let _ = std::fs::remove_file(&tmp);
-        ResultsError::Io {
-            path: tmp.clone(),
-            source,
-        }
-    })?;
-    std::fs::rename(&tmp, path).map_err(|source| {
-        let _ = std::fs::remove_file(&tmp);
-        ResultsError::Io {
-            path: path.to_path_buf(),
-            source,
-        }
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::{close_names, edit_distance};

@@ -1,9 +1,6 @@
 //! [`ResultsWriter`]: collects output rows and keeps a complete results file on disk.
 
-use super::{
-    h5, write_atomically, Columns, ResultsError, ResultsLayout, ResultsRow, RunStatus,
-    RESERVED_ATTRIBUTES,
-};
+use super::{h5, Columns, ResultsError, ResultsLayout, ResultsRow, RunStatus, RESERVED_ATTRIBUTES};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -151,14 +148,8 @@ impl ResultsWriter {
 
     fn write(&mut self, status: &RunStatus) -> Result<(), ResultsError> {
         let start = Instant::now();
-        let bytes = h5::encode(
-            &self.path,
-            &self.layout,
-            &self.attributes,
-            status,
-            &self.columns,
-        )?;
-        write_atomically(&self.path, &bytes)?;
+        let fb = h5::build(&self.layout, &self.attributes, status, &self.columns);
+        h5::write_atomically(&self.path, fb)?;
         let took = start.elapsed();
         self.write_time += took;
         self.writes += 1;
