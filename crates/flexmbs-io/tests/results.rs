@@ -561,4 +561,25 @@ fn push_cost() {
          file {:.1} MB; read {read:?}",
         size as f64 / 1e6
     );
+
+    // A run that computes 20 us per row and starts with a zero flush interval: the interval adapts
+    // so that writing stays a small fraction of the wall time.
+    let path = dir.join("adaptive.h5");
+    let mut w = ResultsWriter::create(&path, layout(200, 200, 20, true), &[]).unwrap();
+    w.set_flush_interval(Duration::ZERO);
+    let start = std::time::Instant::now();
+    for i in 0..100_000 {
+        let spin = std::time::Instant::now();
+        while spin.elapsed() < Duration::from_micros(20) {}
+        let mut r = data[i % data.len()].view();
+        r.t = i as f64 * 1e-4;
+        w.push(&r).unwrap();
+    }
+    let total = start.elapsed();
+    let (writes, spent) = w.write_statistics();
+    println!(
+        "adaptive: {total:?} wall, {writes} writes taking {spent:?} ({:.1} %), final interval {:?}",
+        100.0 * spent.as_secs_f64() / total.as_secs_f64(),
+        w.flush_interval()
+    );
 }
