@@ -199,3 +199,53 @@ print('ok', len(sets))
     let out = run_python(code, &[w.pvd_path().to_str().unwrap()]);
     assert_eq!(out.trim(), "ok 4");
 }
+
+/// A results file written from scratch by h5py (libhdf5: contiguous datasets, its own attribute
+/// and string encodings) following docs/formats/results.md is read correctly, as long as it keeps
+/// the documented types; a float32 `q` is refused with a located error.
+#[test]
+fn reads_results_written_by_h5py() {
+    if !python_has(&["h5py", "numpy"], "reads_results_written_by_h5py") {
+        return;
+    }
+    let dir = temp_dir("results-from-h5py");
+    let path = dir.join("py.h5");
+    let code = r#"
+import sys, h5py, numpy as np
+S = h5py.string_dtype()
+with h5py.File(sys.argv[1], 'w') as f:
+    f.attrs.update(format='flexmbs-results', format_version=1, model='pendulum', status='interrupted',
+                   status_time=0.25, status_message='', author='h5py')
+    f['time'] = [0.0, 0.1, 0.2]
+    f['q'] = np.arange(6, dtype=float).reshape(3, 2) / 8
+    f['u'] = np.zeros((3, 1))
+    f['lambda'] = np.zeros((3, 0))
+    f['energy'] = np.ones((3, 4)); f['drift'] = np.zeros((3, 2)); f['step'] = np.full((3, 3), 0.1)
+    f['coordinates'] = np.array(['phi', 'psi'], dtype=S)
+    f['velocities'] = np.array(['dphi'], dtype=S)
+    f['multipliers'] = np.array([], dtype=S)
+    g = f.create_group('signals'); g.attrs['names'] = np.array(['bob.position'], dtype=S)
+    d = g.create_dataset('bob.position', data=np.array([[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]]))
+    d.attrs['unit'] = 'm'; d.attrs['components'] = np.array(['x', 'y'], dtype=S)
+with h5py.File(sys.argv[2], 'w') as f2, h5py.File(sys.argv[1], 'r') as f:
+    for k in f: f.copy(k, f2)
+    f2.attrs.update(f.attrs)
+    del f2['q']; f2['q'] = np.zeros((3, 2), dtype=np.float32)
+"#;
+    let bad = dir.join("f32.h5");
+    run_python(code, &[path.to_str().unwrap(), bad.to_str().unwrap()]);
+    let r = flexmbs_io::results::read_results(&path).unwrap();
+    assert_eq!(r.status, RunStatus::Interrupted { t: 0.25 });
+    assert_eq!(r.layout.model, "pendulum");
+    assert_eq!(r.layout.coordinates, ["phi", "psi"]);
+    assert!(r.layout.multipliers.is_empty());
+    assert_eq!(r.time, [0.0, 0.1, 0.2]);
+    assert_eq!(r.series("q/psi").unwrap(), [0.125, 0.375, 0.625]);
+    assert_eq!(r.series("bob.position.y").unwrap(), [2.0, 4.0, 6.0]);
+    assert_eq!(r.series("energy/total").unwrap(), [4.0; 3]);
+    assert_eq!(r.attribute("author"), Some("h5py"));
+    let err = flexmbs_io::results::read_results(&bad)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("'q'") && err.contains("f64"), "{err}");
+}

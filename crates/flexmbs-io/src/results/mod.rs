@@ -527,14 +527,12 @@ impl Results {
         let width = l.signal_width();
         let mut offset = 0;
         for s in &l.signals {
-            for (k, comp) in s.components.iter().enumerate() {
-                if name.len() == s.name.len() + 1 + comp.len()
-                    && name.starts_with(s.name.as_str())
-                    && name[s.name.len()..].starts_with('.')
-                    && name.ends_with(comp.as_str())
-                {
-                    return Ok(column(&c.signals, width, offset + k));
-                }
+            let component = name
+                .strip_prefix(s.name.as_str())
+                .and_then(|rest| rest.strip_prefix('.'));
+            if let Some(k) = component.and_then(|comp| s.components.iter().position(|x| x == comp))
+            {
+                return Ok(column(&c.signals, width, offset + k));
             }
             offset += s.components.len();
         }
