@@ -202,7 +202,7 @@ print('ok', len(sets))
 
 /// A results file written from scratch by h5py (libhdf5: contiguous datasets, its own attribute
 /// and string encodings) following docs/formats/results.md is read correctly, as long as it keeps
-/// the documented types; a float32 `q` is refused with a located error.
+/// the documented types; a float32 `q` and an impossible row count are refused with located errors.
 #[test]
 fn reads_results_written_by_h5py() {
     if !python_has(&["h5py", "numpy"], "reads_results_written_by_h5py") {
@@ -231,9 +231,21 @@ with h5py.File(sys.argv[2], 'w') as f2, h5py.File(sys.argv[1], 'r') as f:
     for k in f: f.copy(k, f2)
     f2.attrs.update(f.attrs)
     del f2['q']; f2['q'] = np.zeros((3, 2), dtype=np.float32)
+with h5py.File(sys.argv[3], 'w') as f3, h5py.File(sys.argv[1], 'r') as f:
+    for k in f: f.copy(k, f3)
+    f3.attrs.update(f.attrs)
+    del f3['time']; f3.create_dataset('time', shape=(10**12,), dtype='f8', chunks=(1024,))
 "#;
     let bad = dir.join("f32.h5");
-    run_python(code, &[path.to_str().unwrap(), bad.to_str().unwrap()]);
+    let huge = dir.join("huge.h5");
+    run_python(
+        code,
+        &[
+            path.to_str().unwrap(),
+            bad.to_str().unwrap(),
+            huge.to_str().unwrap(),
+        ],
+    );
     let r = flexmbs_io::results::read_results(&path).unwrap();
     assert_eq!(r.status, RunStatus::Interrupted { t: 0.25 });
     assert_eq!(r.layout.model, "pendulum");
@@ -248,4 +260,9 @@ with h5py.File(sys.argv[2], 'w') as f2, h5py.File(sys.argv[1], 'r') as f:
         .unwrap_err()
         .to_string();
     assert!(err.contains("'q'") && err.contains("f64"), "{err}");
+    // A shape of 10^12 rows (legal HDF5, chunks never written) is refused before any allocation.
+    let err = flexmbs_io::results::read_results(&huge)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("'time'") && err.contains("file size"), "{err}");
 }

@@ -154,6 +154,9 @@ pub(crate) struct Decoded {
 struct Reader<'a> {
     path: &'a Path,
     file: File,
+    /// Size of the file in bytes: no dataset of ours can hold more (no compression is written),
+    /// so a larger shape is a corrupted header, refused before any allocation.
+    file_len: u64,
 }
 
 impl Reader<'_> {
@@ -203,8 +206,20 @@ impl Reader<'_> {
             DType::F64 => {}
             other => return Err(self.wrong(name, "f64".into(), other.to_string())),
         }
-        if expected.iter().product::<u64>() == 0 {
-            return Ok(Vec::new());
+        let count = expected
+            .iter()
+            .try_fold(1u64, |a, &b| a.checked_mul(b))
+            .filter(|&c| c.checked_mul(8).is_some_and(|b| b <= self.file_len));
+        match count {
+            Some(0) => return Ok(Vec::new()),
+            Some(_) => {}
+            None => {
+                return Err(self.wrong(
+                    name,
+                    format!("at most {} bytes of data (the file size)", self.file_len),
+                    format!("shape {shape:?}"),
+                ))
+            }
         }
         let v = d.read_f64().map_err(|e| hdf5_error(self.path, name, e))?;
         if v.len() as u64 != expected.iter().product::<u64>() {
@@ -226,6 +241,14 @@ impl Reader<'_> {
         }
         if shape[0] == 0 {
             return Ok(Vec::new());
+        }
+        // A variable-length string takes at least 16 bytes of heap reference in the file.
+        if shape[0].saturating_mul(16) > self.file_len {
+            return Err(self.wrong(
+                name,
+                format!("at most {} strings (the file size)", self.file_len / 16),
+                format!("shape {shape:?}"),
+            ));
         }
         let v = d
             .read_string()
@@ -276,8 +299,13 @@ fn attr_strings(
 
 /// Parses the bytes of a results file.
 pub(crate) fn decode(path: &Path, bytes: Vec<u8>) -> Result<Decoded, ResultsError> {
+    let file_len = bytes.len() as u64;
     let file = File::from_bytes(bytes).map_err(|e| hdf5_error(path, "/", e))?;
-    let r = Reader { path, file };
+    let r = Reader {
+        path,
+        file,
+        file_len,
+    };
     let root = r
         .file
         .root()
