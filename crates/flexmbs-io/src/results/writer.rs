@@ -69,7 +69,8 @@ impl ResultsWriter {
     /// panic). Rewrites the file atomically when the wall time since the last write exceeds the
     /// flush interval (default [`DEFAULT_FLUSH_INTERVAL`], raised automatically to ten times the
     /// duration of the last write so that writing stays below ~10 % of the run time), so a
-    /// crashed or killed run leaves a readable file.
+    /// crashed or killed run leaves a readable file. If that write fails, the row is kept (it is
+    /// written by the next successful write) and the error is returned.
     pub fn push(&mut self, row: &ResultsRow) -> Result<(), ResultsError> {
         let l = &self.layout;
         let checks: [(&'static str, usize, usize); 4] = [
