@@ -20,7 +20,7 @@ mod writer;
 
 pub use animation::{AnimationBody, AnimationWriter};
 pub use export::{plot_series, write_csv};
-pub use writer::ResultsWriter;
+pub use writer::{ResultsWriter, DEFAULT_FLUSH_INTERVAL};
 
 use std::path::{Path, PathBuf};
 use thiserror::Error;
