@@ -289,9 +289,10 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                 }
                 (node, nearest) => {
                     let g = &body.geometry;
+                    let which = if node.is_some() { "node" } else { "nearest" };
                     if !g.fe_nodes {
                         return Err(ctx.err(
-                            &p,
+                            &format!("{p}.{which}"),
                             format!(
                                 "body `{}` is rigid: `node`/`nearest` need an ffr body",
                                 f.body
@@ -299,7 +300,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                         ));
                     }
                     if f.position.is_some() || f.orientation.is_some() {
-                        return Err(ctx.err(&p, "a node frame takes its position from the node and the body's axes: drop `position`/`orientation`"));
+                        return Err(ctx.err(&format!("{p}.{which}"), "a node frame takes its position from the node and the body's axes: drop `position`/`orientation`"));
                     }
                     let n = match (node, nearest) {
                         (Some(id), None) => {
