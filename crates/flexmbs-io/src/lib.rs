@@ -10,6 +10,7 @@ pub mod model;
 pub mod pipeline;
 pub mod plot;
 pub mod report;
+pub mod results;
 pub mod seed;
 pub mod vtk;
 

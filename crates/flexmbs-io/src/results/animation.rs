@@ -1,0 +1,201 @@
+//! ParaView animation of a run: one `.vtu` per output frame and a `.pvd` collection.
+
+use super::{temporary_sibling, ResultsError};
+use crate::vtk::{write_pvd, write_vtu_with, VtuEncoding};
+use flexmbs_fe::reduction::Cell;
+use std::path::{Path, PathBuf};
+
+/// The geometry of one body in the animation: its points in the reference configuration and its
+/// cells (indices into `reference_points`, Abaqus node order as in [`crate::vtk`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnimationBody {
+    /// Body name (informational; bodies are told apart by the cell field `body`).
+    pub name: String,
+    /// Points in the reference configuration (global frame at t = 0).
+    pub reference_points: Vec<[f64; 3]>,
+    /// Cells of the body.
+    pub cells: Vec<Cell>,
+}
+
+/// Writer of a ParaView animation: `dir/<name>.pvd` and `dir/<name>_frames/<name>_NNNNNN.vtu`.
+///
+/// Every frame is one unstructured grid with all bodies merged (points of body 0 first), the point
+/// vector field `displacement` (current minus reference position), the cell field `body` (index of
+/// the body the cell belongs to, as Float64) and the field data `TimeValue` (the frame time, which
+/// ParaView shows). The `.pvd` is rewritten atomically after every frame with file names relative
+/// to its directory, so an interrupted run leaves a loadable animation.
+#[derive(Debug)]
+pub struct AnimationWriter {
+    dir: PathBuf,
+    name: String,
+    bodies: Vec<AnimationBody>,
+    /// Merged reference points.
+    reference: Vec<[f64; 3]>,
+    /// Merged cells (point indices offset by body).
+    cells: Vec<Cell>,
+    /// Body index per merged cell.
+    body_of_cell: Vec<f64>,
+    /// `(time, file relative to dir)` of every frame written.
+    entries: Vec<(f64, String)>,
+}
+
+impl AnimationWriter {
+    /// Creates `dir` and `dir/<name>_frames` if needed and checks the bodies (cells with the
+    /// right number of nodes, indices in range). `name` must be a plain file name stem.
+    pub fn create(
+        dir: &Path,
+        name: &str,
+        bodies: Vec<AnimationBody>,
+    ) -> Result<Self, ResultsError> {
+        let pvd = dir.join(format!("{name}.pvd"));
+        let invalid = |message: String| ResultsError::InvalidAnimation {
+            path: pvd.clone(),
+            message,
+        };
+        if name.is_empty()
+            || name == "."
+            || name == ".."
+            || name.contains(['/', '\\'])
+            || name.chars().any(char::is_control)
+        {
+            return Err(invalid(format!(
+                "animation name {name:?} must be a plain file name"
+            )));
+        }
+        let mut reference = Vec::new();
+        let mut cells = Vec::new();
+        let mut body_of_cell = Vec::new();
+        for (b, body) in bodies.iter().enumerate() {
+            let n = body.reference_points.len();
+            for (ci, c) in body.cells.iter().enumerate() {
+                if c.nodes.len() != c.kind.num_nodes() {
+                    return Err(invalid(format!(
+                        "body {b} ('{}'), cell {ci} ({:?}) has {} nodes, expected {}",
+                        body.name,
+                        c.kind,
+                        c.nodes.len(),
+                        c.kind.num_nodes()
+                    )));
+                }
+                if let Some(&i) = c.nodes.iter().find(|&&i| i >= n) {
+                    return Err(invalid(format!(
+                        "body {b} ('{}'), cell {ci} refers to point {i}, but the body has {n} points",
+                        body.name
+                    )));
+                }
+                cells.push(Cell {
+                    kind: c.kind,
+                    nodes: c.nodes.iter().map(|&i| i + reference.len()).collect(),
+                });
+                body_of_cell.push(b as f64);
+            }
+            if let Some(p) = body
+                .reference_points
+                .iter()
+                .find(|p| !p.iter().all(|x| x.is_finite()))
+            {
+                return Err(invalid(format!(
+                    "body {b} ('{}') has a non-finite reference point {p:?}",
+                    body.name
+                )));
+            }
+            reference.extend_from_slice(&body.reference_points);
+        }
+        let frames = dir.join(format!("{name}_frames"));
+        std::fs::create_dir_all(&frames).map_err(|source| ResultsError::Io {
+            path: frames.clone(),
+            source,
+        })?;
+        Ok(AnimationWriter {
+            dir: dir.to_path_buf(),
+            name: name.to_string(),
+            bodies,
+            reference,
+            cells,
+            body_of_cell,
+            entries: Vec::new(),
+        })
+    }
+
+    /// Writes the frame at time `t` (finite, greater than the previous frame's time);
+    /// `positions[b]` are the current positions of body b's points (same count as its reference
+    /// points). Then rewrites the `.pvd`.
+    pub fn write_frame(&mut self, t: f64, positions: &[&[[f64; 3]]]) -> Result<(), ResultsError> {
+        let invalid = |message: String| ResultsError::InvalidAnimation {
+            path: self.pvd_path(),
+            message,
+        };
+        if !t.is_finite() {
+            return Err(invalid(format!("frame time {t} is not finite")));
+        }
+        if let Some(&(last, _)) = self.entries.last() {
+            if t <= last {
+                return Err(invalid(format!(
+                    "frame time {t} is not after the previous frame's time {last}"
+                )));
+            }
+        }
+        if positions.len() != self.bodies.len() {
+            return Err(invalid(format!(
+                "{} position lists for {} bodies",
+                positions.len(),
+                self.bodies.len()
+            )));
+        }
+        let mut points = Vec::with_capacity(self.reference.len());
+        for (b, (body, p)) in self.bodies.iter().zip(positions).enumerate() {
+            if p.len() != body.reference_points.len() {
+                return Err(invalid(format!(
+                    "body {b} ('{}'): {} positions for {} points",
+                    body.name,
+                    p.len(),
+                    body.reference_points.len()
+                )));
+            }
+            points.extend_from_slice(p);
+        }
+        let displacement: Vec<f64> = points
+            .iter()
+            .zip(&self.reference)
+            .flat_map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]])
+            .collect();
+        let k = self.entries.len();
+        let rel = format!("{0}_frames/{0}_{k:06}.vtu", self.name);
+        let file = self.dir.join(&rel);
+        write_vtu_with(
+            &file,
+            &points,
+            &self.cells,
+            &[("displacement", 3, &displacement)],
+            &[("body", 1, &self.body_of_cell)],
+            &[("TimeValue", 1, &[t])],
+            VtuEncoding::Base64,
+        )?;
+        self.entries.push((t, rel));
+        self.write_pvd_atomically()
+    }
+
+    /// Number of frames written.
+    pub fn frames(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// `dir/<name>.pvd`.
+    pub fn pvd_path(&self) -> PathBuf {
+        self.dir.join(format!("{}.pvd", self.name))
+    }
+
+    fn write_pvd_atomically(&self) -> Result<(), ResultsError> {
+        let pvd = self.pvd_path();
+        let tmp = temporary_sibling(&pvd);
+        let refs: Vec<(f64, &str)> = self.entries.iter().map(|(t, f)| (*t, f.as_str())).collect();
+        if let Err(e) = write_pvd(&tmp, &refs) {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e.into());
+        }
+        std::fs::rename(&tmp, &pvd).map_err(|source| {
+            let _ = std::fs::remove_file(&tmp);
+            ResultsError::Io { path: pvd, source }
+        })
+    }
+}
