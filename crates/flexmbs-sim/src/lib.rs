@@ -8,6 +8,7 @@ pub mod bodies;
 pub mod compile;
 pub mod error;
 pub mod locate;
+pub mod run;
 pub mod schema;
 pub mod signals;
 pub mod units;
