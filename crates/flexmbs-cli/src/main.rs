@@ -148,7 +148,9 @@ fn run(cli: Cli) -> Result<i32> {
 
 fn run_other(command: Command, quiet: bool) -> Result<()> {
     match command {
-        Command::Run { .. } | Command::Plot { .. } => bail!("internal: `run`/`plot` are dispatched in run()"),
+        Command::Run { .. } | Command::Plot { .. } => {
+            bail!("internal: `run`/`plot` are dispatched in run()")
+        }
         Command::Modal { model, modes, json } => cmd_modal(&model, modes, json, quiet),
         Command::Reduce { model, output } => {
             let body = reduce_model(&model, quiet)?;

@@ -34,7 +34,10 @@ fn install_ctrl_c(stop: Arc<AtomicBool>) {
 pub fn cmd_run(model: &Path, out: Option<PathBuf>, quiet: bool) -> Result<i32> {
     let cm = flexmbs_sim::load_model(model)?;
     let out = out.unwrap_or_else(|| {
-        let stem = model.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "run".into());
+        let stem = model
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "run".into());
         Path::new("out").join(stem)
     });
     let opts = RunOptions::new(&out);
@@ -55,7 +58,11 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
             opts.out_dir.display()
         );
     }
-    let bar = if quiet { ProgressBar::hidden() } else { ProgressBar::new(1000) };
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(1000)
+    };
     bar.set_style(
         ProgressStyle::with_template("{bar:30.cyan/blue} {msg} ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
@@ -71,7 +78,10 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
         if t_end > 0.0 {
             bar.set_position((1000.0 * p.t / t_end).clamp(0.0, 1000.0) as u64);
         }
-        bar.set_message(format!("t = {:.4e} / {:.4e} s, {} steps, {:.0} steps/s", p.t, t_end, p.steps, rate));
+        bar.set_message(format!(
+            "t = {:.4e} / {:.4e} s, {} steps, {:.0} steps/s",
+            p.t, t_end, p.steps, rate
+        ));
     };
     let result = run_model(cm, opts, &mut on_progress);
     bar.finish_and_clear();
@@ -137,7 +147,13 @@ pub fn check_multibody(model: &Path) -> Result<()> {
 }
 
 /// `flexmbs plot`.
-pub fn cmd_plot(results: &Path, series: &[String], output: Option<PathBuf>, csv: Option<PathBuf>, list: bool) -> Result<()> {
+pub fn cmd_plot(
+    results: &Path,
+    series: &[String],
+    output: Option<PathBuf>,
+    csv: Option<PathBuf>,
+    list: bool,
+) -> Result<()> {
     let r = read_results(results).with_context(|| format!("reading {}", results.display()))?;
     if list {
         for n in r.series_names() {

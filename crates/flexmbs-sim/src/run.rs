@@ -188,7 +188,13 @@ impl<'a> Recorder<'a> {
     }
 
     /// Called after every accepted step: statistics, output selection, stop flag.
-    fn on_step(&mut self, s: &State, st: &StepStats, stop: &AtomicBool, progress: &mut dyn FnMut(&Progress)) -> ControlFlow<()> {
+    fn on_step(
+        &mut self,
+        s: &State,
+        st: &StepStats,
+        stop: &AtomicBool,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> ControlFlow<()> {
         self.steps += 1;
         self.newton += st.iterations;
         self.last_h = st.h;
@@ -229,7 +235,13 @@ impl<'a> Recorder<'a> {
 }
 
 /// Current global positions of every body's animation points.
-fn body_points(m: &Model, cm: &CompiledModel, s: &State, fk: &mut [FrameKinematics], out: &mut [Vec<[f64; 3]>]) {
+fn body_points(
+    m: &Model,
+    cm: &CompiledModel,
+    s: &State,
+    fk: &mut [FrameKinematics],
+    out: &mut [Vec<[f64; 3]>],
+) {
     for ((info, k), pts) in cm.bodies.iter().zip(fk.iter_mut()).zip(out.iter_mut()) {
         let b = &m.bodies[info.id.0];
         let q = &s.q[b.q_offset..b.q_offset + b.element.nq()];
@@ -250,10 +262,17 @@ fn body_points(m: &Model, cm: &CompiledModel, s: &State, fk: &mut [FrameKinemati
 /// Runs a compiled model. `progress` is called after every accepted step.
 /// Returns the summary of a completed or interrupted run; a solver failure is an error (the
 /// results file is finished with status `failed` first).
-pub fn run_model(cm: &CompiledModel, opts: &RunOptions, progress: &mut dyn FnMut(&Progress)) -> Result<RunSummary, RunError> {
+pub fn run_model(
+    cm: &CompiledModel,
+    opts: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<RunSummary, RunError> {
     let start = Instant::now();
     let out = &opts.out_dir;
-    std::fs::create_dir_all(out).map_err(|source| RunError::Io { path: out.clone(), source })?;
+    std::fs::create_dir_all(out).map_err(|source| RunError::Io {
+        path: out.clone(),
+        source,
+    })?;
     let m = &cm.model;
     let (coordinates, velocities, multipliers) = coordinate_names(m, &cm.bodies);
     let layout = ResultsLayout {
@@ -264,13 +283,19 @@ pub fn run_model(cm: &CompiledModel, opts: &RunOptions, progress: &mut dyn FnMut
         signals: cm
             .signals
             .iter()
-            .map(|s| SignalSpec { name: s.name.clone(), unit: s.unit.clone(), components: s.components.clone() })
+            .map(|s| SignalSpec {
+                name: s.name.clone(),
+                unit: s.unit.clone(),
+                components: s.components.clone(),
+            })
             .collect(),
     };
     let results_path = out.join("results.h5");
     let model_file = cm.file.display().to_string();
     let solver_name = match cm.solver {
-        SolverConfig::GenAlpha { adaptive: Some(_), .. } => "generalized-alpha (adaptive)",
+        SolverConfig::GenAlpha {
+            adaptive: Some(_), ..
+        } => "generalized-alpha (adaptive)",
         SolverConfig::GenAlpha { .. } => "generalized-alpha",
         SolverConfig::Dopri5 { .. } => "dopri5",
         SolverConfig::Statics { .. } => "statics",
@@ -279,14 +304,22 @@ pub fn run_model(cm: &CompiledModel, opts: &RunOptions, progress: &mut dyn FnMut
     let writer = ResultsWriter::create(
         &results_path,
         layout,
-        &[("model_file", model_file.as_str()), ("solver", solver_name), ("program", version.as_str())],
+        &[
+            ("model_file", model_file.as_str()),
+            ("solver", solver_name),
+            ("program", version.as_str()),
+        ],
     )?;
     let mut files = vec![results_path.clone()];
     let anim = if cm.output.animation {
         let bodies = cm
             .bodies
             .iter()
-            .map(|b| AnimationBody { name: b.name.clone(), reference_points: b.geometry.points.clone(), cells: b.geometry.cells.clone() })
+            .map(|b| AnimationBody {
+                name: b.name.clone(),
+                reference_points: b.geometry.points.clone(),
+                cells: b.geometry.cells.clone(),
+            })
             .collect();
         let a = AnimationWriter::create(out, &cm.name, bodies)?;
         files.push(a.pvd_path());
@@ -298,13 +331,27 @@ pub fn run_model(cm: &CompiledModel, opts: &RunOptions, progress: &mut dyn FnMut
         cm,
         writer: Some(writer),
         anim,
-        frames: m.frames.iter().map(|f| match f.owner {
-            flexmbs_core::model::FrameOwner::Ground => FrameKinematics::new(0),
-            flexmbs_core::model::FrameOwner::Body(b) => FrameKinematics::new(m.bodies[b.0].element.nu()),
-        }).collect(),
-        body_fk: cm.bodies.iter().map(|b| FrameKinematics::new(m.bodies[b.id.0].element.nu())).collect(),
+        frames: m
+            .frames
+            .iter()
+            .map(|f| match f.owner {
+                flexmbs_core::model::FrameOwner::Ground => FrameKinematics::new(0),
+                flexmbs_core::model::FrameOwner::Body(b) => {
+                    FrameKinematics::new(m.bodies[b.0].element.nu())
+                }
+            })
+            .collect(),
+        body_fk: cm
+            .bodies
+            .iter()
+            .map(|b| FrameKinematics::new(m.bodies[b.id.0].element.nu()))
+            .collect(),
         signals: Vec::with_capacity(signal_width(&cm.signals)),
-        positions: cm.bodies.iter().map(|b| Vec::with_capacity(b.geometry.points.len())).collect(),
+        positions: cm
+            .bodies
+            .iter()
+            .map(|b| Vec::with_capacity(b.geometry.points.len()))
+            .collect(),
         steps: 0,
         newton: 0,
         next_time: 0.0,
@@ -328,10 +375,21 @@ pub fn run_model(cm: &CompiledModel, opts: &RunOptions, progress: &mut dyn FnMut
             // the final state is always in the file
             if rec.last_t != s.t && cm.solver.t_end() > 0.0 {
                 let (energy, g, gd) = integrator::monitor(m, &s, &mut ws);
-                let st = StepStats { t: s.t, h: rec.last_h, energy, g_max: g, g_dot_max: gd, ..Default::default() };
+                let st = StepStats {
+                    t: s.t,
+                    h: rec.last_h,
+                    energy,
+                    g_max: g,
+                    g_dot_max: gd,
+                    ..Default::default()
+                };
                 rec.record(&s, &st)?;
             }
-            let status = if stopped { RunStatus::Interrupted { t: s.t } } else { RunStatus::Completed };
+            let status = if stopped {
+                RunStatus::Interrupted { t: s.t }
+            } else {
+                RunStatus::Completed
+            };
             (status, rejected)
         }
         Err(source) => {
@@ -340,7 +398,13 @@ pub fn run_model(cm: &CompiledModel, opts: &RunOptions, progress: &mut dyn FnMut
             if let Some(w) = rec.writer.take() {
                 w.finish(&RunStatus::Failed { t, message })?;
             }
-            return Err(RunError::Solver { t, h, residual, source, results: results_path });
+            return Err(RunError::Solver {
+                t,
+                h,
+                residual,
+                source,
+                results: results_path,
+            });
         }
     };
     let rows = rec.writer.as_ref().map_or(0, |w| w.rows());
@@ -374,16 +438,29 @@ fn integrate(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<(usize, bool), SolverError> {
     let m = &cm.model;
-    let first_row = |s: &State, ws: &mut Workspace, rec: &mut Recorder, h: f64| -> Result<(), SolverError> {
-        let (energy, g, gd) = integrator::monitor(m, s, ws);
-        let st = StepStats { t: s.t, h, energy, g_max: g, g_dot_max: gd, ..Default::default() };
-        if let Err(e) = rec.record(s, &st) {
-            rec.error = Some(e);
-        }
-        Ok(())
-    };
+    let first_row =
+        |s: &State, ws: &mut Workspace, rec: &mut Recorder, h: f64| -> Result<(), SolverError> {
+            let (energy, g, gd) = integrator::monitor(m, s, ws);
+            let st = StepStats {
+                t: s.t,
+                h,
+                energy,
+                g_max: g,
+                g_dot_max: gd,
+                ..Default::default()
+            };
+            if let Err(e) = rec.record(s, &st) {
+                rec.error = Some(e);
+            }
+            Ok(())
+        };
     match &cm.solver {
-        SolverConfig::GenAlpha { settings, h, t_end, adaptive } => {
+        SolverConfig::GenAlpha {
+            settings,
+            h,
+            t_end,
+            adaptive,
+        } => {
             let ga = GenAlpha::new(*settings)?;
             ga.initialize(m, s, ws)?;
             first_row(s, ws, rec, 0.0)?;
@@ -392,13 +469,19 @@ fn integrate(
             }
             rec.next_time = next_output_time(cm, s.t);
             if let Some(ctl) = adaptive {
-                let r = ga.integrate_adaptive_controlled(m, s, ws, ctl, *t_end, |s, st| rec.on_step(s, st, stop, progress))?;
+                let r = ga.integrate_adaptive_controlled(m, s, ws, ctl, *t_end, |s, st| {
+                    rec.on_step(s, st, stop, progress)
+                })?;
                 return Ok((r.rejected, r.stopped));
             }
             // fixed step, the loop of GenAlpha::integrate with a stop check after every step
             while t_end - s.t > 1e-6 * h {
                 let remaining = t_end - s.t;
-                let hs = if remaining < h * (1.0 + 1e-6) { remaining } else { *h };
+                let hs = if remaining < h * (1.0 + 1e-6) {
+                    remaining
+                } else {
+                    *h
+                };
                 let st = ga.step(m, s, ws, hs)?;
                 if rec.on_step(s, &st, stop, progress).is_break() {
                     return Ok((0, true));
@@ -413,7 +496,9 @@ fn integrate(
                 return Ok((0, true));
             }
             rec.next_time = next_output_time(cm, s.t);
-            let r = Dopri5::new(*settings).integrate_controlled(m, s, ws, *t_end, |s, st| rec.on_step(s, st, stop, progress))?;
+            let r = Dopri5::new(*settings).integrate_controlled(m, s, ws, *t_end, |s, st| {
+                rec.on_step(s, st, stop, progress)
+            })?;
             Ok((r.rejected, r.stopped))
         }
         SolverConfig::Statics { settings } => {
@@ -422,11 +507,26 @@ fn integrate(
             rec.steps = st.increments;
             rec.newton = st.iterations;
             rec.g_max = g;
-            let stats = StepStats { t: s.t, h: 0.0, iterations: st.iterations, residual: st.residual, energy, g_max: g, g_dot_max: gd, error_estimate: 0.0 };
+            let stats = StepStats {
+                t: s.t,
+                h: 0.0,
+                iterations: st.iterations,
+                residual: st.residual,
+                energy,
+                g_max: g,
+                g_dot_max: gd,
+                error_estimate: 0.0,
+            };
             if let Err(e) = rec.record(s, &stats) {
                 rec.error = Some(e);
             }
-            progress(&Progress { t: 0.0, t_end: 0.0, steps: st.increments, newton_iterations: st.iterations, h: 0.0 });
+            progress(&Progress {
+                t: 0.0,
+                t_end: 0.0,
+                steps: st.increments,
+                newton_iterations: st.iterations,
+                h: 0.0,
+            });
             Ok((0, false))
         }
     }
@@ -440,7 +540,11 @@ fn next_output_time(cm: &CompiledModel, t: f64) -> f64 {
 }
 
 /// CSV and plots requested in `[output]`, from the finished results file.
-fn write_requested_outputs(cm: &CompiledModel, results: &Path, out: &Path) -> Result<Vec<PathBuf>, ResultsError> {
+fn write_requested_outputs(
+    cm: &CompiledModel,
+    results: &Path,
+    out: &Path,
+) -> Result<Vec<PathBuf>, ResultsError> {
     if cm.output.csv.is_empty() && cm.output.plots.is_empty() {
         return Ok(Vec::new());
     }

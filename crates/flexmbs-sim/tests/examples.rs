@@ -14,7 +14,11 @@ fn all_examples_compile() {
             assert!(flexmbs_sim::is_multibody_model(&text), "{}", path.display());
             let cm = flexmbs_sim::load_model(&path)
                 .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            assert!(cm.model.nq > 0 && !cm.bodies.is_empty(), "{}", path.display());
+            assert!(
+                cm.model.nq > 0 && !cm.bodies.is_empty(),
+                "{}",
+                path.display()
+            );
             n += 1;
         }
     }
