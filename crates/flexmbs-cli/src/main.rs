@@ -108,9 +108,10 @@ enum Command {
         #[arg(long, default_value = "validation")]
         dir: PathBuf,
     },
-    /// The main job on an embedded default model: modal analysis and reduction of a steel cantilever,
-    /// then a time simulation of it as an FFR body under a tip force step, with CSV results, plots,
-    /// the reduced-body file and ParaView animations (mode shapes and the simulated motion).
+    /// The main job on embedded models: modal analysis and reduction of a steel cantilever and its
+    /// time simulation as an FFR body under a tip force step (CSV, plots, reduced-body file, ParaView
+    /// animations), then the flexible slider-crank multibody model run end to end like
+    /// `flexmbs run` (results.h5, plots, animation in <output>/slider_crank/).
     Demo {
         /// Output folder.
         #[arg(long, short, default_value = "out/demo")]

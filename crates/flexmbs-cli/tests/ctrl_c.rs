@@ -62,7 +62,10 @@ fn sigint_interrupts_run_with_results_kept() {
     let results = out.join("results.h5");
     let start = Instant::now();
     while !results.exists() {
-        assert!(start.elapsed() < Duration::from_secs(60), "results.h5 never appeared");
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "results.h5 never appeared"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
     std::thread::sleep(Duration::from_millis(500));
@@ -87,7 +90,10 @@ fn sigint_interrupts_run_with_results_kept() {
 fn check_accepts_fe_and_multibody_files() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     for (file, expect) in [
-        ("examples/mbs/slider_crank.toml", "multibody model `slider_crank`"),
+        (
+            "examples/mbs/slider_crank.toml",
+            "multibody model `slider_crank`",
+        ),
         ("examples/mbs/parts/rod.toml", "independent DOFs"),
     ] {
         let o = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
@@ -96,7 +102,11 @@ fn check_accepts_fe_and_multibody_files() {
             .output()
             .unwrap();
         let text = String::from_utf8_lossy(&o.stdout);
-        assert!(o.status.success(), "{file}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            o.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         assert!(text.contains(expect), "{file}: {text}");
     }
     // a bad multibody file: exit code 1, key path and line in the message
@@ -111,6 +121,9 @@ fn check_accepts_fe_and_multibody_files() {
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1));
-    assert!(err.contains("bad.toml:14: at `body[0].mass`") && err.contains("length unit"), "{err}");
+    assert!(
+        err.contains("bad.toml:14: at `body[0].mass`") && err.contains("length unit"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -237,7 +237,7 @@ fn ffr_body(
                 } else {
                     z.clone()
                 };
-                if zeta.iter().any(|x| !(*x >= 0.0)) {
+                if zeta.iter().any(|x| x.is_nan() || *x < 0.0) {
                     return Err(ctx.err(&format!("{dk}.modal"), "damping ratios must be >= 0"));
                 }
                 body.set_modal_damping(&zeta).map_err(|e| {

@@ -6,6 +6,7 @@
 
 pub mod bodies;
 pub mod compile;
+pub mod config;
 pub mod error;
 pub mod locate;
 pub mod run;
