@@ -9,6 +9,26 @@ use std::path::Path;
 
 /// The embedded default model.
 pub const DEFAULT_MODEL: &str = include_str!("../../../examples/cantilever_modal.toml");
+/// The embedded multibody model: the flexible slider-crank.
+pub const SLIDER_CRANK: &str = include_str!("../../../examples/mbs/slider_crank.toml");
+/// Its FE rod (referenced as `parts/rod.toml`).
+pub const SLIDER_CRANK_ROD: &str = include_str!("../../../examples/mbs/parts/rod.toml");
+
+/// Writes the embedded slider-crank model into `out/slider_crank/` and runs it through the same
+/// path as `flexmbs run` (results.h5, CSV, plots, ParaView animation).
+fn run_slider_crank(out: &Path, quiet: bool) -> Result<()> {
+    let dir = out.join("slider_crank");
+    std::fs::create_dir_all(dir.join("parts"))?;
+    let model = dir.join("slider_crank.toml");
+    std::fs::write(&model, SLIDER_CRANK)?;
+    std::fs::write(dir.join("parts/rod.toml"), SLIDER_CRANK_ROD)?;
+    let cm = flexmbs_sim::load_model(&model)?;
+    let opts = flexmbs_sim::run::RunOptions::new(&dir);
+    match crate::run_cmd::run_compiled(&cm, &opts, quiet)? {
+        0 => Ok(()),
+        code => anyhow::bail!("slider-crank run ended with exit code {code}"),
+    }
+}
 
 /// Runs the demo, writing everything into `out`.
 pub fn run(out: &Path, quiet: bool) -> Result<()> {
@@ -75,8 +95,10 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
     }
     .write(&out.join("frequencies.png"))?;
     crate::demo_sim::run(out, &reduced, quiet)?;
+    println!("\nflexible slider-crank (examples/mbs/slider_crank.toml):");
+    run_slider_crank(out, quiet)?;
     println!(
-        "\nwrote {0}/tip.csv, {0}/tip.png, {0}/animation/cantilever.pvd (ParaView), {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes.pvd)",
+        "\nwrote {0}/slider_crank/ (results.h5, slider_crank.pvd, plots), {0}/tip.csv, {0}/tip.png, {0}/animation/cantilever.pvd (ParaView), {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes.pvd)",
         out.display(),
         body_path.display(),
         files.len(),

@@ -2,6 +2,7 @@
 //! prints tables; all work is done by the library crates.
 
 mod progress;
+mod run_cmd;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
@@ -61,10 +62,37 @@ enum Command {
         #[arg(long, short)]
         output: PathBuf,
     },
-    /// Checks a model file without running it (parses, meshes, applies boundary conditions).
+    /// Checks a model file without running it: an FE body file (parses, meshes, applies boundary
+    /// conditions) or a multibody model file (a file with a `[model]` table: compiles it, which
+    /// also reduces its FE bodies).
     Check {
         /// Model file (TOML).
         model: PathBuf,
+    },
+    /// Runs a multibody model file: results.h5, ParaView animation, CSV and plots.
+    /// Exit code 0 completed, 1 failed, 130 interrupted (Ctrl-C; a second Ctrl-C aborts).
+    Run {
+        /// Multibody model file (TOML).
+        model: PathBuf,
+        /// Output folder (default out/<model file stem>).
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+    },
+    /// Plots series of a results file (PNG or SVG by extension) or exports them as CSV.
+    Plot {
+        /// Results file (results.h5).
+        results: PathBuf,
+        /// Series names (see --list), e.g. `tip.position.z`, `energy/total`.
+        series: Vec<String>,
+        /// Output image (default plot.png).
+        #[arg(long, short)]
+        output: Option<PathBuf>,
+        /// Also write the series (or every series if none is given) as CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// List the series names.
+        #[arg(long)]
+        list: bool,
     },
     /// Runs validation cases and writes validation/<case>/result.json.
     Validate {
@@ -80,9 +108,10 @@ enum Command {
         #[arg(long, default_value = "validation")]
         dir: PathBuf,
     },
-    /// The main job on an embedded default model: modal analysis and reduction of a steel cantilever,
-    /// then a time simulation of it as an FFR body under a tip force step, with CSV results, plots,
-    /// the reduced-body file and ParaView animations (mode shapes and the simulated motion).
+    /// The main job on embedded models: modal analysis and reduction of a steel cantilever and its
+    /// time simulation as an FFR body under a tip force step (CSV, plots, reduced-body file, ParaView
+    /// animations), then the flexible slider-crank multibody model run end to end like
+    /// `flexmbs run` (results.h5, plots, animation in <output>/slider_crank/).
     Demo {
         /// Output folder.
         #[arg(long, short, default_value = "out/demo")]
@@ -92,15 +121,37 @@ enum Command {
 
 fn main() {
     let cli = Cli::parse();
-    if let Err(e) = run(cli) {
-        eprintln!("error: {e:#}");
-        std::process::exit(1);
+    match run(cli) {
+        Ok(0) => {}
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::exit(1);
+        }
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+/// Runs a command; returns the exit code.
+fn run(cli: Cli) -> Result<i32> {
     let quiet = cli.quiet;
     match cli.command {
+        Command::Run { model, output } => run_cmd::cmd_run(&model, output, quiet),
+        Command::Plot {
+            results,
+            series,
+            output,
+            csv,
+            list,
+        } => run_cmd::cmd_plot(&results, &series, output, csv, list).map(|_| 0),
+        other => run_other(other, quiet).map(|_| 0),
+    }
+}
+
+fn run_other(command: Command, quiet: bool) -> Result<()> {
+    match command {
+        Command::Run { .. } | Command::Plot { .. } => {
+            bail!("internal: `run`/`plot` are dispatched in run()")
+        }
         Command::Modal { model, modes, json } => cmd_modal(&model, modes, json, quiet),
         Command::Reduce { model, output } => {
             let body = reduce_model(&model, quiet)?;
@@ -149,6 +200,11 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Check { model } => {
+            let text = std::fs::read_to_string(&model)
+                .with_context(|| format!("reading {}", model.display()))?;
+            if flexmbs_sim::is_multibody_model(&text) {
+                return run_cmd::check_multibody(&model);
+            }
             let (body, _) = load(&model, quiet)?;
             println!(
                 "{}: OK: {} nodes, {} elements, {} independent DOFs, {} fixed nodes, {} rigid interfaces",

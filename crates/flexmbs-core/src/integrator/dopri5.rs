@@ -5,12 +5,13 @@
 //! Error norm: RMS of `err_i / (atol + rtol max(|y_i|, |y_new_i|))`; step factor
 //! `clamp(0.9 err^(-1/5), 0.2, 5)` (Hairer, Nørsett & Wanner, Solving ODEs I, II.4).
 
-use super::{monitor, StepStats};
+use super::{monitor, ControlledRun, StepStats};
 use crate::error::SolverError;
 use crate::linsolve::DenseLu;
 use crate::model::Model;
 use crate::state::{State, SystemBuffers, Workspace};
 use crate::system;
+use std::ops::ControlFlow;
 
 /// Settings of [`Dopri5`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -131,6 +132,24 @@ impl Dopri5 {
         t_end: f64,
         mut on_step: impl FnMut(&State, &StepStats),
     ) -> Result<(), SolverError> {
+        self.integrate_controlled(model, s, ws, t_end, |s, st| {
+            on_step(s, st);
+            ControlFlow::Continue(())
+        })
+        .map(|_| ())
+    }
+
+    /// As [`Self::integrate`], but `on_step` may stop the run by returning
+    /// `ControlFlow::Break(())`. Returns the number of rejected steps and whether it was stopped.
+    pub fn integrate_controlled(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        t_end: f64,
+        mut on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
+    ) -> Result<ControlledRun, SolverError> {
+        let mut run = ControlledRun::default();
         if model.nc > 0 {
             return Err(SolverError::ConstraintsUnsupported {
                 integrator: "DOPRI5",
@@ -206,7 +225,12 @@ impl Dopri5 {
                     error_estimate: err,
                 };
                 evals = 0;
-                on_step(s, &stats);
+                if on_step(s, &stats).is_break() {
+                    run.stopped = true;
+                    return Ok(run);
+                }
+            } else {
+                run.rejected += 1;
             }
             let fac = if err > 0.0 { 0.9 * err.powf(-0.2) } else { 5.0 };
             h = (h * fac.clamp(0.2, 5.0)).min(cfg.h_max);
@@ -219,6 +243,6 @@ impl Dopri5 {
                 });
             }
         }
-        Ok(())
+        Ok(run)
     }
 }

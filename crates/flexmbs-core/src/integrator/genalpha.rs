@@ -26,11 +26,14 @@
 //! `alpha_m = (2 rho - 1) / (rho + 1)`, `alpha_f = rho / (rho + 1)`,
 //! `gamma = 1/2 + alpha_f - alpha_m`, `beta = 1/4 (gamma + 1/2)^2`.
 
-use super::{consistent_accelerations, fill_saddle_matrix, monitor, NewtonSettings, StepStats};
+use super::{
+    consistent_accelerations, fill_saddle_matrix, monitor, ControlledRun, NewtonSettings, StepStats,
+};
 use crate::error::SolverError;
 use crate::model::Model;
 use crate::state::{State, StepBuffers, Workspace};
 use crate::system;
+use std::ops::ControlFlow;
 
 /// Settings of the generalized-alpha integrator.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -320,6 +323,26 @@ impl GenAlpha {
         t_end: f64,
         mut on_step: impl FnMut(&State, &StepStats),
     ) -> Result<(), SolverError> {
+        self.integrate_adaptive_controlled(model, s, ws, ctl, t_end, |s, st| {
+            on_step(s, st);
+            ControlFlow::Continue(())
+        })
+        .map(|_| ())
+    }
+
+    /// As [`Self::integrate_adaptive`], but `on_step` may stop the run by returning
+    /// `ControlFlow::Break(())`. Returns the number of rejected steps (error estimate or Newton
+    /// failure) and whether it was stopped.
+    pub fn integrate_adaptive_controlled(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        ctl: &AdaptiveSettings,
+        t_end: f64,
+        mut on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
+    ) -> Result<ControlledRun, SolverError> {
+        let mut run = ControlledRun::default();
         let mut h = ctl.h_init.min(ctl.h_max);
         let err_coeff = (self.params.beta - 1.0 / 6.0).abs();
         while s.t < t_end - 1e-14 * t_end.abs().max(1.0) {
@@ -341,7 +364,12 @@ impl GenAlpha {
                             stats.g_dot_max,
                             stats.error_estimate,
                         ) = (energy, g, gd, err);
-                        on_step(s, &stats);
+                        if on_step(s, &stats).is_break() {
+                            run.stopped = true;
+                            return Ok(run);
+                        }
+                    } else {
+                        run.rejected += 1;
                     }
                     let fac = if err > 0.0 {
                         0.9 * err.powf(-1.0 / 3.0)
@@ -351,6 +379,7 @@ impl GenAlpha {
                     h = (h * fac.clamp(0.2, 2.0)).min(ctl.h_max);
                 }
                 Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => {
+                    run.rejected += 1;
                     h *= 0.5
                 }
                 Err(e) => return Err(e),
@@ -364,7 +393,7 @@ impl GenAlpha {
                 });
             }
         }
-        Ok(())
+        Ok(run)
     }
 }
 

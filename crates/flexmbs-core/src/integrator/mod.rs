@@ -40,6 +40,16 @@ pub struct StepStats {
     pub error_estimate: f64,
 }
 
+/// Outcome of an integration whose step callback can stop it
+/// ([`GenAlpha::integrate_adaptive_controlled`], [`Dopri5::integrate_controlled`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ControlledRun {
+    /// Rejected steps (error estimate too large or Newton failure).
+    pub rejected: usize,
+    /// True if the callback stopped the run before `t_end`.
+    pub stopped: bool,
+}
+
 /// Newton settings of the implicit solvers.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewtonSettings {

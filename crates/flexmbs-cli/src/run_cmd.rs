@@ -1,0 +1,177 @@
+//! `flexmbs run`, `flexmbs plot` and the multibody part of `flexmbs check`: thin wrappers around
+//! `flexmbs_sim` with a progress bar, Ctrl-C handling and a summary.
+
+use anyhow::{Context, Result};
+use flexmbs_io::results::{plot_series, read_results, write_csv, RunStatus};
+use flexmbs_sim::run::{run_model, Progress, RunError, RunOptions, RunSummary};
+use flexmbs_sim::CompiledModel;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Exit code of an interrupted run (128 + SIGINT).
+pub const EXIT_INTERRUPTED: i32 = 130;
+
+/// Installs the Ctrl-C handler: the first Ctrl-C sets `stop`, the second aborts at once.
+fn install_ctrl_c(stop: Arc<AtomicBool>) {
+    let count = AtomicUsize::new(0);
+    let res = ctrlc::set_handler(move || {
+        if count.fetch_add(1, Ordering::SeqCst) == 0 {
+            stop.store(true, Ordering::SeqCst);
+            eprintln!("\ninterrupt: finishing the current step and writing results (Ctrl-C again to abort)");
+        } else {
+            std::process::exit(EXIT_INTERRUPTED);
+        }
+    });
+    if let Err(e) = res {
+        eprintln!("warning: cannot install the Ctrl-C handler: {e}");
+    }
+}
+
+/// `flexmbs run`: returns the process exit code (0 completed, 1 failed, 130 interrupted).
+pub fn cmd_run(model: &Path, out: Option<PathBuf>, quiet: bool) -> Result<i32> {
+    let cm = flexmbs_sim::load_model(model)?;
+    let out = out.unwrap_or_else(|| {
+        let stem = model
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "run".into());
+        Path::new("out").join(stem)
+    });
+    let opts = RunOptions::new(&out);
+    install_ctrl_c(opts.stop.clone());
+    run_compiled(&cm, &opts, quiet)
+}
+
+/// Runs a compiled model with a progress bar and prints the summary; returns the exit code.
+pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Result<i32> {
+    let t_end = cm.solver.t_end();
+    if !quiet {
+        eprintln!(
+            "{}: {} bodies, {} coordinates, {} constraint rows; output to {}",
+            cm.name,
+            cm.bodies.len(),
+            cm.model.nq,
+            cm.model.nc,
+            opts.out_dir.display()
+        );
+    }
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(1000)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30.cyan/blue} {msg} ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let start = Instant::now();
+    let mut last = Instant::now();
+    let mut on_progress = |p: &Progress| {
+        if last.elapsed().as_millis() < 100 {
+            return;
+        }
+        last = Instant::now();
+        let rate = p.steps as f64 / start.elapsed().as_secs_f64().max(1e-9);
+        if t_end > 0.0 {
+            bar.set_position((1000.0 * p.t / t_end).clamp(0.0, 1000.0) as u64);
+        }
+        bar.set_message(format!(
+            "t = {:.4e} / {:.4e} s, {} steps, {:.0} steps/s",
+            p.t, t_end, p.steps, rate
+        ));
+    };
+    let result = run_model(cm, opts, &mut on_progress);
+    bar.finish_and_clear();
+    match result {
+        Ok(summary) => {
+            print_summary(&summary);
+            Ok(match summary.status {
+                RunStatus::Interrupted { .. } => EXIT_INTERRUPTED,
+                _ => 0,
+            })
+        }
+        Err(e @ RunError::Solver { .. }) => {
+            eprintln!("error: {e}");
+            Ok(1)
+        }
+        Err(e) => Err(e.into()),
+    }
+}
+
+fn print_summary(s: &RunSummary) {
+    let status = match &s.status {
+        RunStatus::Completed => "completed".to_string(),
+        RunStatus::Interrupted { t } => format!("interrupted at t = {t} s"),
+        RunStatus::Failed { t, message } => format!("failed at t = {t} s: {message}"),
+        RunStatus::Running => "running".to_string(),
+    };
+    println!("run {status}: t = {:.6e} s", s.t);
+    println!(
+        "  steps {} (rejected {}), Newton iterations {}, wall time {:.2} s ({:.0} steps/s)",
+        s.steps,
+        s.rejected,
+        s.newton_iterations,
+        s.wall_time.as_secs_f64(),
+        s.steps as f64 / s.wall_time.as_secs_f64().max(1e-9)
+    );
+    println!(
+        "  energy: initial {:.6e} J, max |E - E0| {:.3e} J; constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
+        s.energy_initial, s.energy_drift, s.position_drift, s.velocity_drift
+    );
+    println!("  {} output rows; files:", s.rows);
+    for f in &s.files {
+        println!("    {}", f.display());
+    }
+}
+
+/// `flexmbs check` of a multibody model file.
+pub fn check_multibody(model: &Path) -> Result<()> {
+    let cm = flexmbs_sim::load_model(model)?;
+    println!(
+        "{}: OK: multibody model `{}`: {} bodies, {} frames, {} joints ({} constraint rows), {} loads, {} coordinates, {} signals, solver {:?}",
+        model.display(),
+        cm.name,
+        cm.bodies.len(),
+        cm.model.frames.len(),
+        cm.model.joints.len(),
+        cm.model.nc,
+        cm.model.loads.len(),
+        cm.model.nq,
+        cm.signals.len(),
+        cm.solver
+    );
+    Ok(())
+}
+
+/// `flexmbs plot`.
+pub fn cmd_plot(
+    results: &Path,
+    series: &[String],
+    output: Option<PathBuf>,
+    csv: Option<PathBuf>,
+    list: bool,
+) -> Result<()> {
+    let r = read_results(results).with_context(|| format!("reading {}", results.display()))?;
+    if list {
+        for n in r.series_names() {
+            println!("{n}");
+        }
+        return Ok(());
+    }
+    let names: Vec<&str> = series.iter().map(|s| s.as_str()).collect();
+    if let Some(c) = csv {
+        write_csv(&r, &names, &c)?;
+        println!("wrote {}", c.display());
+    }
+    if !names.is_empty() {
+        let out = output.unwrap_or_else(|| PathBuf::from("plot.png"));
+        plot_series(&r, &names, &out)?;
+        println!("wrote {}", out.display());
+    } else if output.is_some() {
+        anyhow::bail!("give at least one series to plot (list them with --list)");
+    }
+    Ok(())
+}

@@ -1,0 +1,129 @@
+//! Ctrl-C ends a run cleanly: SIGINT to the `flexmbs run` process gives exit code 130 and a
+//! readable results file with status `interrupted`. Also: `flexmbs check` on both file kinds.
+
+use flexmbs_io::results::{read_results, RunStatus};
+use std::path::Path;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+const LONG_MODEL: &str = r#"
+[model]
+name = "long_pendulum"
+gravity = [0, -9.81, 0]
+
+[solver]
+type = "generalized-alpha"
+h = "1 ms"
+t_end = "100000 s"
+
+[[body]]
+name = "arm"
+type = "rigid"
+mass = 1
+inertia = [1e-4, 0.0834, 0.0834]
+position = [0.5, 0, 0]
+
+[[frame]]
+name = "hinge"
+body = "ground"
+
+[[frame]]
+name = "top"
+body = "arm"
+position = [-0.5, 0, 0]
+
+[[joint]]
+name = "pin"
+type = "revolute"
+a = "hinge"
+b = "top"
+
+[output]
+every = 10
+animation = false
+"#;
+
+#[cfg(unix)]
+#[test]
+fn sigint_interrupts_run_with_results_kept() {
+    let dir = std::env::temp_dir().join(format!("flexmbs-ctrlc-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("long.toml");
+    std::fs::write(&model, LONG_MODEL).unwrap();
+    let out = dir.join("out");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
+        .args(["--quiet", "run"])
+        .arg(&model)
+        .arg("-o")
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let results = out.join("results.h5");
+    let start = Instant::now();
+    while !results.exists() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "results.h5 never appeared"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "exit status {status:?}");
+    let r = read_results(&results).unwrap();
+    let RunStatus::Interrupted { t } = r.status else {
+        panic!("status {:?}", r.status);
+    };
+    assert!(t > 0.0 && t < 100000.0);
+    assert!(r.time.len() >= 2);
+    assert_eq!(*r.time.last().unwrap(), t, "the final state is in the file");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn check_accepts_fe_and_multibody_files() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    for (file, expect) in [
+        (
+            "examples/mbs/slider_crank.toml",
+            "multibody model `slider_crank`",
+        ),
+        ("examples/mbs/parts/rod.toml", "independent DOFs"),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
+            .args(["--quiet", "check"])
+            .arg(root.join(file))
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(text.contains(expect), "{file}: {text}");
+    }
+    // a bad multibody file: exit code 1, key path and line in the message
+    let dir = std::env::temp_dir().join(format!("flexmbs-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, LONG_MODEL.replace("mass = 1", "mass = \"1 m\"")).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
+        .arg("check")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        err.contains("bad.toml:14: at `body[0].mass`") && err.contains("length unit"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

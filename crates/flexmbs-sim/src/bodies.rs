@@ -1,0 +1,361 @@
+//! Bodies of a model file: rigid bodies (mass, inertia) and FFR bodies from an FE model file, a
+//! reduced-body file or a seed folder (mode selection, damping, SI conversion).
+
+use crate::compile::Ctx;
+use crate::error::SimError;
+use crate::schema::{BodySpec, BodyType, ModeSelection, RotationName};
+use crate::units::Dimension;
+use flexmbs_core::ffr::{self, reduced_body_to_si, FfrBody, FfrElement};
+use flexmbs_core::{RigidBody, RotationParam};
+use flexmbs_fe::reduction::{Cell, ReducedBody};
+use flexmbs_fe::ElementKind;
+use flexmbs_io::pipeline::{prepare, resolve, run_reduction};
+use nalgebra::{Matrix3, Vector3};
+use std::path::Path;
+
+/// An element ready to be added to the model.
+#[derive(Debug)]
+pub enum BuiltElement {
+    /// Rigid body.
+    Rigid(RigidBody),
+    /// FFR body.
+    Ffr(Box<FfrElement>),
+}
+
+/// What the runner needs to know about a body besides its element.
+#[derive(Debug, Clone)]
+pub struct BodyGeometry {
+    /// Points drawn in the animation, body coordinates (SI): FE nodes of an FFR body, the 8
+    /// corners of a box for a rigid body.
+    pub points: Vec<[f64; 3]>,
+    /// True if `points` are FE nodes (followed through the node kinematics).
+    pub fe_nodes: bool,
+    /// FE node ids (ffr).
+    pub node_ids: Vec<u64>,
+    /// Cells over `points`.
+    pub cells: Vec<Cell>,
+    /// Number of elastic modes (0 for rigid bodies).
+    pub modes: usize,
+    /// Rotation parametrization.
+    pub rotation: RotationName,
+}
+
+/// Builds the element of `body[i]`; `base` is the model file's folder.
+pub fn build_body(
+    ctx: &Ctx,
+    i: usize,
+    b: &BodySpec,
+    base: &Path,
+) -> Result<(BuiltElement, BodyGeometry), SimError> {
+    let p = format!("body[{i}]");
+    let present = [
+        ("mass", b.mass.is_some()),
+        ("inertia", b.inertia.is_some()),
+        ("inertia_matrix", b.inertia_matrix.is_some()),
+        ("box", b.box_size.is_some()),
+        ("source", b.source.is_some()),
+        ("units", b.units.is_some()),
+        ("modes", b.modes.is_some()),
+        ("damping", b.damping.is_some()),
+    ];
+    match b.kind {
+        BodyType::Rigid => {
+            ctx.only(
+                &p,
+                "a rigid body",
+                &present,
+                &["mass", "inertia", "inertia_matrix", "box"],
+            )?;
+            rigid_body(ctx, &p, b)
+        }
+        BodyType::Ffr => {
+            ctx.only(
+                &p,
+                "an ffr body",
+                &present,
+                &["source", "units", "modes", "damping"],
+            )?;
+            ffr_body(ctx, &p, b, base)
+        }
+    }
+}
+
+fn rigid_body(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(BuiltElement, BodyGeometry), SimError> {
+    let mass_q = b
+        .mass
+        .as_ref()
+        .ok_or_else(|| ctx.err(p, "a rigid body needs `mass`"))?;
+    let mass = ctx.q(mass_q, Dimension::Mass, &format!("{p}.mass"))?;
+    if !(mass > 0.0 && mass.is_finite()) {
+        return Err(ctx.err(
+            &format!("{p}.mass"),
+            format!("mass must be > 0, got {mass} kg"),
+        ));
+    }
+    let inertia = match (&b.inertia, &b.inertia_matrix) {
+        (Some(d), None) => {
+            Matrix3::from_diagonal(&ctx.vec3(d, Dimension::Inertia, &format!("{p}.inertia"))?)
+        }
+        (None, Some(m)) => {
+            let key = format!("{p}.inertia_matrix");
+            let mut a = Matrix3::zeros();
+            for r in 0..3 {
+                for c in 0..3 {
+                    a[(r, c)] = ctx.q(&m[r][c], Dimension::Inertia, &format!("{key}[{r}][{c}]"))?;
+                }
+            }
+            if (a - a.transpose()).abs().max() > 1e-12 * a.abs().max() {
+                return Err(ctx.err(&key, "the inertia matrix must be symmetric"));
+            }
+            a
+        }
+        (Some(_), Some(_)) => {
+            return Err(ctx.err(
+                &format!("{p}.inertia_matrix"),
+                "give either `inertia` (principal moments) or `inertia_matrix`, not both",
+            ))
+        }
+        (None, None) => {
+            return Err(ctx.err(
+                p,
+                "a rigid body needs `inertia` (principal moments) or `inertia_matrix`",
+            ))
+        }
+    };
+    let key = if b.inertia.is_some() {
+        "inertia"
+    } else {
+        "inertia_matrix"
+    };
+    if !inertia.iter().all(|x| x.is_finite()) || inertia.cholesky().is_none() {
+        return Err(ctx.err(
+            &format!("{p}.{key}"),
+            format!(
+                "the inertia tensor must be positive definite, got {:?} kg m^2",
+                inertia.as_slice()
+            ),
+        ));
+    }
+    let rotation = match b.rotation {
+        RotationName::Cardan => RotationParam::Cardan,
+        RotationName::Quaternion => RotationParam::Quaternion,
+    };
+    let size = match &b.box_size {
+        Some(s) => {
+            let v = ctx.vec3(s, Dimension::Length, &format!("{p}.box"))?;
+            if !v.iter().all(|x| *x > 0.0 && x.is_finite()) {
+                return Err(ctx.err(&format!("{p}.box"), "box edges must be > 0"));
+            }
+            v
+        }
+        None => equivalent_box(mass, &inertia),
+    };
+    let geometry = BodyGeometry {
+        points: box_corners(&size),
+        fe_nodes: false,
+        node_ids: Vec::new(),
+        cells: vec![Cell {
+            kind: ElementKind::Hex8,
+            nodes: (0..8).collect(),
+        }],
+        modes: 0,
+        rotation: b.rotation,
+    };
+    Ok((
+        BuiltElement::Rigid(RigidBody::new(mass, inertia).with_rotation(rotation)),
+        geometry,
+    ))
+}
+
+/// Edge lengths of the homogeneous box with the same mass and principal moments (diagonal of
+/// `inertia`): `I_x = m (l_y^2 + l_z^2) / 12`, so `l_x^2 = 6 (I_y + I_z - I_x) / m`. Edges are
+/// kept at >= 5 % of the longest (>= 1 cm for a point mass) so the box stays visible.
+pub fn equivalent_box(mass: f64, inertia: &Matrix3<f64>) -> Vector3<f64> {
+    let d = inertia.diagonal();
+    let l = Vector3::new(
+        (6.0 * (d.y + d.z - d.x) / mass).max(0.0).sqrt(),
+        (6.0 * (d.x + d.z - d.y) / mass).max(0.0).sqrt(),
+        (6.0 * (d.x + d.y - d.z) / mass).max(0.0).sqrt(),
+    );
+    let lmax = l.max().max(0.01);
+    l.map(|x| x.max(0.05 * lmax))
+}
+
+/// The 8 corners of a centred box in VTK hexahedron order.
+fn box_corners(s: &Vector3<f64>) -> Vec<[f64; 3]> {
+    let (x, y, z) = (s.x / 2.0, s.y / 2.0, s.z / 2.0);
+    vec![
+        [-x, -y, -z],
+        [x, -y, -z],
+        [x, y, -z],
+        [-x, y, -z],
+        [-x, -y, z],
+        [x, -y, z],
+        [x, y, z],
+        [-x, y, z],
+    ]
+}
+
+fn ffr_body(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    base: &Path,
+) -> Result<(BuiltElement, BodyGeometry), SimError> {
+    let source = b.source.as_ref().ok_or_else(|| {
+        ctx.err(
+            p,
+            "an ffr body needs `source` (FE model file, .h5 body file or seed folder)",
+        )
+    })?;
+    let key = format!("{p}.source");
+    let reduced = load_reduced(source, base, &b.name, b.units.unwrap_or_default())
+        .map_err(|m| ctx.err(&key, m))?;
+    let reduced = match &b.modes {
+        Some(sel) => select_modes(ctx, p, &reduced, sel)?,
+        None => reduced,
+    };
+    let si = reduced_body_to_si(&reduced);
+    let rotation = match b.rotation {
+        RotationName::Cardan => ffr::RotationParam::Cardan,
+        RotationName::Quaternion => ffr::RotationParam::Quaternion,
+    };
+    let mut body =
+        FfrBody::from_reduced(&si, rotation).map_err(|e| ctx.err(&key, e.to_string()))?;
+    if let Some(d) = &b.damping {
+        let dk = format!("{p}.damping");
+        match (&d.rayleigh, &d.modal) {
+            (Some([a, bb]), None) => {
+                if !(*a >= 0.0 && *bb >= 0.0) {
+                    return Err(ctx.err(&format!("{dk}.rayleigh"), "alpha and beta must be >= 0"));
+                }
+                body.set_rayleigh_damping(*a, *bb);
+            }
+            (None, Some(z)) => {
+                let zeta = if z.len() == 1 {
+                    vec![z[0]; body.nf()]
+                } else {
+                    z.clone()
+                };
+                if zeta.iter().any(|x| x.is_nan() || *x < 0.0) {
+                    return Err(ctx.err(&format!("{dk}.modal"), "damping ratios must be >= 0"));
+                }
+                body.set_modal_damping(&zeta).map_err(|e| {
+                    ctx.err(
+                        &format!("{dk}.modal"),
+                        format!("{e} (give one ratio per selected mode, or one for all)"),
+                    )
+                })?;
+            }
+            _ => {
+                return Err(ctx.err(
+                    &dk,
+                    "give exactly one of `rayleigh = [alpha, beta]` and `modal = [zeta, ...]`",
+                ))
+            }
+        }
+    }
+    let geometry = BodyGeometry {
+        points: si.nodes.clone(),
+        fe_nodes: true,
+        node_ids: si.node_ids.clone(),
+        cells: si.cells.clone(),
+        modes: si.num_modes(),
+        rotation: b.rotation,
+    };
+    Ok((BuiltElement::Ffr(Box::new(FfrElement::new(body))), geometry))
+}
+
+/// Reads a reduced body: FE model file (`.toml`, reduced through the pipeline), reduced-body
+/// file (`.h5`) or seed 4-file folder. Errors as text (the caller adds the key path).
+pub fn load_reduced(
+    source: &Path,
+    base: &Path,
+    name: &str,
+    units: flexmbs_fe::UnitSystem,
+) -> Result<ReducedBody, String> {
+    let path = resolve(base, source);
+    if path.is_dir() {
+        return flexmbs_io::seed_body::read_seed_body(&path, name, units)
+            .map_err(|e| e.to_string());
+    }
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("toml") => {
+            let spec = flexmbs_io::model::read_fe_model(&path)
+                .map_err(|e| e.to_string())?
+                .body;
+            let fe_base = path.parent().unwrap_or(Path::new("."));
+            if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
+                let dir = resolve(fe_base, dir);
+                return flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)
+                    .map_err(|e| e.to_string());
+            }
+            let prepared = prepare(&spec, fe_base, &mut |_| {})
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            run_reduction(&spec, &prepared, &mut |_| {})
+                .map_err(|e| format!("{}: {e}", path.display()))
+        }
+        Some("h5") => flexmbs_io::body_file::read_body(&path).map_err(|e| e.to_string()),
+        _ => Err(format!(
+            "{}: not an FE model file (.toml), a reduced-body file (.h5) or a seed folder",
+            path.display()
+        )),
+    }
+}
+
+/// The reduced body restricted to the selected basis vectors (1-based numbers).
+fn select_modes(
+    ctx: &Ctx,
+    p: &str,
+    body: &ReducedBody,
+    sel: &ModeSelection,
+) -> Result<ReducedBody, SimError> {
+    let nf = body.num_modes();
+    let cols: Vec<usize> = match sel {
+        ModeSelection::Count(n) => {
+            if *n > nf {
+                return Err(ctx.err(
+                    &format!("{p}.modes"),
+                    format!("{n} modes requested but the body has {nf}"),
+                ));
+            }
+            (0..*n).collect()
+        }
+        ModeSelection::List(list) => {
+            let mut cols = Vec::with_capacity(list.len());
+            for (k, &m) in list.iter().enumerate() {
+                if m == 0 || m > nf {
+                    return Err(ctx.err(
+                        &format!("{p}.modes[{k}]"),
+                        format!("mode {m} out of range: the body has modes 1..={nf}"),
+                    ));
+                }
+                if cols.contains(&(m - 1)) {
+                    return Err(ctx.err(
+                        &format!("{p}.modes[{k}]"),
+                        format!("mode {m} selected twice"),
+                    ));
+                }
+                cols.push(m - 1);
+            }
+            cols
+        }
+    };
+    let pick =
+        |m: &faer::Mat<f64>| faer::Mat::from_fn(m.nrows(), cols.len(), |i, j| m[(i, cols[j])]);
+    let square = |m: &faer::Mat<f64>| {
+        faer::Mat::from_fn(cols.len(), cols.len(), |i, j| m[(cols[i], cols[j])])
+    };
+    let mut out = body.clone();
+    out.modes_t = pick(&body.modes_t);
+    out.modes_r = body.modes_r.as_ref().map(pick);
+    out.k_red = square(&body.k_red);
+    out.m_red = square(&body.m_red);
+    if body.frequencies_hz.len() == nf {
+        out.frequencies_hz = cols.iter().map(|&c| body.frequencies_hz[c]).collect();
+    }
+    if body.labels.len() == nf {
+        out.labels = cols.iter().map(|&c| body.labels[c].clone()).collect();
+    }
+    Ok(out)
+}

@@ -1,0 +1,608 @@
+//! Model file -> [`flexmbs_core::ModelSpec`] -> compiled model, initial state, solver and output
+//! configuration. Every error names the key path and its line.
+
+use crate::bodies::{build_body, BodyGeometry, BuiltElement};
+pub use crate::config::{orientation, time_function, OutputConfig, OutputEvery, SolverConfig};
+use crate::config::{output_config, solver_config};
+use crate::error::SimError;
+use crate::locate::{line_of, line_of_path};
+use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
+use crate::signals::{parse_signals, Signal};
+use crate::units::{Dimension, Quantity};
+use flexmbs_core::{
+    BodyId, FrameId, Joint, Load, LoadCoordinates, Model, ModelSpec, PrescribedMotion, State,
+    TimeFunction,
+};
+use nalgebra::{Matrix3, Vector3};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The text and name of the file being compiled: turns key paths into errors with lines.
+#[derive(Debug)]
+pub struct Ctx<'a> {
+    /// File text.
+    pub text: &'a str,
+    /// File name for messages.
+    pub file: &'a Path,
+}
+
+impl Ctx<'_> {
+    /// Error at key path `path`.
+    pub fn err(&self, path: &str, message: impl Into<String>) -> SimError {
+        SimError::Model {
+            file: self.file.to_path_buf(),
+            line: line_of_path(self.text, path),
+            path: path.to_string(),
+            message: message.into(),
+        }
+    }
+    /// A quantity in SI, finite.
+    pub fn q(&self, q: &Quantity, dim: Dimension, path: &str) -> Result<f64, SimError> {
+        let v = q.to_si(dim).map_err(|m| self.err(path, m))?;
+        if !v.is_finite() {
+            return Err(self.err(path, "must be a finite number"));
+        }
+        Ok(v)
+    }
+    /// A 3-vector in SI.
+    pub fn vec3(
+        &self,
+        v: &[Quantity; 3],
+        dim: Dimension,
+        path: &str,
+    ) -> Result<Vector3<f64>, SimError> {
+        let mut out = Vector3::zeros();
+        for k in 0..3 {
+            out[k] = self.q(&v[k], dim, &format!("{path}[{k}]"))?;
+        }
+        Ok(out)
+    }
+    /// Errors on keys present that the item's type does not use.
+    pub fn only(
+        &self,
+        p: &str,
+        what: &str,
+        present: &[(&str, bool)],
+        allowed: &[&str],
+    ) -> Result<(), SimError> {
+        for (k, is) in present {
+            if *is && !allowed.contains(k) {
+                return Err(self.err(&format!("{p}.{k}"), format!("`{k}` is not used by {what}")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A body of the compiled model with its name and geometry.
+#[derive(Debug, Clone)]
+pub struct BodyInfo {
+    /// Name.
+    pub name: String,
+    /// Id in the model.
+    pub id: BodyId,
+    /// The body's reference frame (named like the body).
+    pub frame: FrameId,
+    /// Animation geometry and FE data.
+    pub geometry: BodyGeometry,
+}
+
+/// A compiled model file: the engine model, its initial state and everything the run needs.
+#[derive(Debug)]
+pub struct CompiledModel {
+    /// Model name.
+    pub name: String,
+    /// The model file.
+    pub file: PathBuf,
+    /// The engine model.
+    pub model: Model,
+    /// Initial state (poses and velocities from the file, accelerations not yet consistent).
+    pub initial: State,
+    /// Solver.
+    pub solver: SolverConfig,
+    /// Output.
+    pub output: OutputConfig,
+    /// Bodies.
+    pub bodies: Vec<BodyInfo>,
+    /// Requested signals.
+    pub signals: Vec<Signal>,
+}
+
+/// Parses model-file text into the schema (errors with key path and line).
+pub fn parse_model_file(text: &str, file: &Path) -> Result<ModelFile, SimError> {
+    let de = toml::Deserializer::parse(text).map_err(|e| SimError::Model {
+        file: file.to_path_buf(),
+        line: e.span().map(|s| line_of(text, s.start)).unwrap_or(0),
+        path: String::new(),
+        message: e.message().to_string(),
+    })?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let line = match inner.span() {
+            Some(s) => line_of(text, s.start),
+            None => line_of_path(text, &path),
+        };
+        SimError::Model {
+            file: file.to_path_buf(),
+            line,
+            path,
+            message: inner.message().to_string(),
+        }
+    })
+}
+
+/// True if `text` is a multibody model file (has a top-level `[model]` table) rather than an FE
+/// body file (top-level `[body]` table).
+pub fn is_multibody_model(text: &str) -> bool {
+    toml::de::DeTable::parse(text)
+        .map(|t| {
+            t.get_ref()
+                .iter()
+                .any(|(k, _)| k.get_ref().as_ref() == "model")
+        })
+        .unwrap_or(false)
+}
+
+/// Reads and compiles a model file.
+pub fn load_model(path: &Path) -> Result<CompiledModel, SimError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SimError::Read {
+        file: path.to_path_buf(),
+        source,
+    })?;
+    compile_model(&text, path)
+}
+
+/// Compiles model-file text; relative sources are resolved against `file`'s folder.
+pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError> {
+    let mf = parse_model_file(text, file)?;
+    let ctx = Ctx { text, file };
+    let base = file.parent().unwrap_or(Path::new("."));
+    check_names(&ctx, &mf)?;
+    let mut spec = ModelSpec::new();
+    if let Some(g) = &mf.model.gravity {
+        spec.set_gravity(ctx.vec3(g, Dimension::Acceleration, "model.gravity")?);
+    }
+    let i3 = Matrix3::identity();
+    let mut frames: HashMap<String, FrameId> = HashMap::new();
+    let mut bodies = Vec::new();
+    for (i, b) in mf.body.iter().enumerate() {
+        let (element, geometry) = build_body(&ctx, i, b, base)?;
+        let id = match element {
+            BuiltElement::Rigid(r) => spec.add_body(&b.name, r),
+            BuiltElement::Ffr(f) => spec.add_body(&b.name, *f),
+        };
+        let frame = spec.add_frame(&b.name, id, Vector3::zeros(), i3);
+        frames.insert(b.name.clone(), frame);
+        bodies.push(BodyInfo {
+            name: b.name.clone(),
+            id,
+            frame,
+            geometry,
+        });
+    }
+    let body_names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+    for (i, f) in mf.frame.iter().enumerate() {
+        let p = format!("frame[{i}]");
+        let rotation = match &f.orientation {
+            Some(o) => orientation(&ctx, o, &format!("{p}.orientation"))?,
+            None => i3,
+        };
+        let id = if f.body == "ground" {
+            if f.node.is_some() || f.nearest.is_some() {
+                return Err(ctx.err(&p, "ground frames cannot refer to FE nodes"));
+            }
+            let pos = opt_vec(
+                &ctx,
+                &f.position,
+                Dimension::Length,
+                &format!("{p}.position"),
+            )?;
+            spec.add_ground_frame(&f.name, pos, rotation)
+        } else {
+            let Some(bi) = bodies.iter().position(|b| b.name == f.body) else {
+                return Err(ctx.err(
+                    &format!("{p}.body"),
+                    format!(
+                        "unknown body `{}` (bodies: ground, {})",
+                        f.body,
+                        body_names.join(", ")
+                    ),
+                ));
+            };
+            let body = &bodies[bi];
+            match (f.node, &f.nearest) {
+                (None, None) => {
+                    let pos = opt_vec(
+                        &ctx,
+                        &f.position,
+                        Dimension::Length,
+                        &format!("{p}.position"),
+                    )?;
+                    spec.add_frame(&f.name, body.id, pos, rotation)
+                }
+                (node, nearest) => {
+                    let g = &body.geometry;
+                    let which = if node.is_some() { "node" } else { "nearest" };
+                    if !g.fe_nodes {
+                        return Err(ctx.err(
+                            &format!("{p}.{which}"),
+                            format!(
+                                "body `{}` is rigid: `node`/`nearest` need an ffr body",
+                                f.body
+                            ),
+                        ));
+                    }
+                    if f.position.is_some() || f.orientation.is_some() {
+                        return Err(ctx.err(&format!("{p}.{which}"), "a node frame takes its position from the node and the body's axes: drop `position`/`orientation`"));
+                    }
+                    let n = match (node, nearest) {
+                        (Some(id), None) => {
+                            g.node_ids.iter().position(|&x| x == id).ok_or_else(|| {
+                                ctx.err(
+                                    &format!("{p}.node"),
+                                    format!("body `{}` has no FE node {id}", f.body),
+                                )
+                            })?
+                        }
+                        (None, Some(x)) => {
+                            let x = ctx.vec3(x, Dimension::Length, &format!("{p}.nearest"))?;
+                            nearest_point(&g.points, &x)
+                        }
+                        _ => return Err(ctx.err(&p, "give `node` or `nearest`, not both")),
+                    };
+                    spec.add_node_frame(&f.name, body.id, n, Vector3::from(g.points[n]))
+                }
+            }
+        };
+        frames.insert(f.name.clone(), id);
+    }
+    let known = || {
+        let mut v: Vec<&str> = frames.keys().map(|s| s.as_str()).collect();
+        v.sort();
+        v.join(", ")
+    };
+    let frame = |name: &str, path: String| -> Result<FrameId, SimError> {
+        frames.get(name).copied().ok_or_else(|| {
+            ctx.err(
+                &path,
+                format!("unknown frame `{name}` (frames: {})", known()),
+            )
+        })
+    };
+    let mut joint_rows = Vec::new();
+    for (i, j) in mf.joint.iter().enumerate() {
+        let p = format!("joint[{i}]");
+        let (a, b) = (
+            frame(&j.a, format!("{p}.a"))?,
+            frame(&j.b, format!("{p}.b"))?,
+        );
+        let mut joint = match j.kind {
+            JointType::Fixed => Joint::fixed(&j.name, a, b),
+            JointType::Revolute => Joint::revolute(&j.name, a, b),
+            JointType::Spherical => Joint::spherical(&j.name, a, b),
+            JointType::Prismatic => Joint::prismatic(&j.name, a, b),
+            JointType::Cylindrical => Joint::cylindrical(&j.name, a, b),
+            JointType::Generic => {
+                let list = j.locked.as_ref().ok_or_else(|| {
+                    ctx.err(
+                        &p,
+                        "a generic joint needs `locked` (any of tx ty tz rx ry rz)",
+                    )
+                })?;
+                let mut mask = [false; 6];
+                for (k, d) in list.iter().enumerate() {
+                    let idx = DOFS.iter().position(|x| x == d).ok_or_else(|| {
+                        ctx.err(
+                            &format!("{p}.locked[{k}]"),
+                            format!("unknown DOF `{d}` (use tx, ty, tz, rx, ry, rz)"),
+                        )
+                    })?;
+                    mask[idx] = true;
+                }
+                Joint::new(&j.name, a, b, mask)
+            }
+        };
+        if j.kind != JointType::Generic && j.locked.is_some() {
+            return Err(ctx.err(
+                &format!("{p}.locked"),
+                "`locked` is only used by generic joints",
+            ));
+        }
+        let motions = [
+            j.angle.is_some(),
+            j.angular_velocity.is_some(),
+            j.displacement.is_some(),
+        ];
+        if motions.iter().filter(|&&m| m).count() > 1 {
+            return Err(ctx.err(
+                &p,
+                "give at most one of `angle`, `angular_velocity`, `displacement`",
+            ));
+        }
+        if j.initial_angle.is_some() && j.angular_velocity.is_none() {
+            return Err(ctx.err(
+                &format!("{p}.initial_angle"),
+                "`initial_angle` needs `angular_velocity`",
+            ));
+        }
+        let free = |d: usize, what: &str| {
+            if joint.locked[d] {
+                Err(ctx.err(
+                    &format!("{p}.{what}"),
+                    format!(
+                        "the joint locks `{}`: prescribed motion needs it free",
+                        DOFS[d]
+                    ),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let prescribed = if let Some(f) = &j.angle {
+            free(5, "angle")?;
+            Some(PrescribedMotion::RevoluteAngle(time_function(
+                &ctx,
+                f,
+                Dimension::Angle,
+                &format!("{p}.angle"),
+            )?))
+        } else if let Some(f) = &j.angular_velocity {
+            free(5, "angular_velocity")?;
+            let initial_angle = match &j.initial_angle {
+                Some(q) => ctx.q(q, Dimension::Angle, &format!("{p}.initial_angle"))?,
+                None => 0.0,
+            };
+            let rate = time_function(
+                &ctx,
+                f,
+                Dimension::AngularVelocity,
+                &format!("{p}.angular_velocity"),
+            )?;
+            Some(PrescribedMotion::RevoluteRate {
+                initial_angle,
+                rate,
+            })
+        } else if let Some(f) = &j.displacement {
+            free(0, "displacement")?;
+            Some(PrescribedMotion::PrismaticDisplacement(time_function(
+                &ctx,
+                f,
+                Dimension::Length,
+                &format!("{p}.displacement"),
+            )?))
+        } else {
+            None
+        };
+        joint.prescribed = prescribed;
+        joint_rows.push(joint.num_rows());
+        spec.add_joint(joint);
+    }
+    for (i, l) in mf.load.iter().enumerate() {
+        let p = format!("load[{i}]");
+        let present = [
+            ("frame", l.frame.is_some()),
+            ("vector", l.vector.is_some()),
+            ("time", l.time.is_some()),
+            ("coordinates", l.coordinates != CoordinatesName::Global),
+            ("a", l.a.is_some()),
+            ("b", l.b.is_some()),
+            ("stiffness", l.stiffness.is_some()),
+            ("damping", l.damping.is_some()),
+            ("free_length", l.free_length.is_some()),
+        ];
+        let load = match l.kind {
+            LoadType::Force | LoadType::Torque => {
+                ctx.only(
+                    &p,
+                    "a force or torque",
+                    &present,
+                    &["frame", "vector", "time", "coordinates"],
+                )?;
+                let f = l
+                    .frame
+                    .as_ref()
+                    .ok_or_else(|| ctx.err(&p, "needs `frame`"))?;
+                let frame = frame(f, format!("{p}.frame"))?;
+                let v = l
+                    .vector
+                    .as_ref()
+                    .ok_or_else(|| ctx.err(&p, "needs `vector`"))?;
+                let dim = if l.kind == LoadType::Force {
+                    Dimension::Force
+                } else {
+                    Dimension::Torque
+                };
+                let vector = ctx.vec3(v, dim, &format!("{p}.vector"))?;
+                let time = match &l.time {
+                    Some(t) => {
+                        time_function(&ctx, t, Dimension::Dimensionless, &format!("{p}.time"))?
+                    }
+                    None => TimeFunction::Constant(1.0),
+                };
+                let coordinates = match l.coordinates {
+                    CoordinatesName::Global => LoadCoordinates::Global,
+                    CoordinatesName::Body => LoadCoordinates::Frame,
+                };
+                if l.kind == LoadType::Force {
+                    Load::Force {
+                        frame,
+                        vector,
+                        time,
+                        coordinates,
+                    }
+                } else {
+                    Load::Torque {
+                        frame,
+                        vector,
+                        time,
+                        coordinates,
+                    }
+                }
+            }
+            LoadType::SpringDamper => {
+                ctx.only(
+                    &p,
+                    "a spring-damper",
+                    &present,
+                    &["a", "b", "stiffness", "damping", "free_length"],
+                )?;
+                let (Some(a), Some(b)) = (&l.a, &l.b) else {
+                    return Err(ctx.err(&p, "a spring-damper needs frames `a` and `b`"));
+                };
+                let (frame_a, frame_b) = (frame(a, format!("{p}.a"))?, frame(b, format!("{p}.b"))?);
+                let nonneg = |q: &Option<Quantity>,
+                              dim,
+                              key: &str,
+                              required: bool|
+                 -> Result<f64, SimError> {
+                    let path = format!("{p}.{key}");
+                    match q {
+                        None if required => {
+                            Err(ctx.err(&p, format!("a spring-damper needs `{key}`")))
+                        }
+                        None => Ok(0.0),
+                        Some(q) => {
+                            let v = ctx.q(q, dim, &path)?;
+                            if v < 0.0 {
+                                return Err(ctx.err(&path, format!("must be >= 0, got {v}")));
+                            }
+                            Ok(v)
+                        }
+                    }
+                };
+                Load::SpringDamper {
+                    frame_a,
+                    frame_b,
+                    stiffness: nonneg(&l.stiffness, Dimension::Stiffness, "stiffness", true)?,
+                    damping: nonneg(&l.damping, Dimension::Damping, "damping", false)?,
+                    free_length: nonneg(&l.free_length, Dimension::Length, "free_length", true)?,
+                }
+            }
+        };
+        spec.add_load(load);
+    }
+    let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
+    let model = spec.compile().map_err(|source| SimError::Engine {
+        file: file.to_path_buf(),
+        source,
+    })?;
+    let mut initial = model.initial_state();
+    for (i, (b, info)) in mf.body.iter().zip(&bodies).enumerate() {
+        let p = format!("body[{i}]");
+        let pos = opt_vec(
+            &ctx,
+            &b.position,
+            Dimension::Length,
+            &format!("{p}.position"),
+        )?;
+        let rot = match &b.orientation {
+            Some(o) => orientation(&ctx, o, &format!("{p}.orientation"))?,
+            None => i3,
+        };
+        model.set_body_pose(&mut initial, info.id, pos, rot);
+        let v = opt_vec(
+            &ctx,
+            &b.velocity,
+            Dimension::Velocity,
+            &format!("{p}.velocity"),
+        )?;
+        let w = opt_vec(
+            &ctx,
+            &b.angular_velocity,
+            Dimension::AngularVelocity,
+            &format!("{p}.angular_velocity"),
+        )?;
+        model.set_body_velocity(&mut initial, info.id, v, w);
+        if initial.q.iter().chain(&initial.u).any(|x| !x.is_finite()) {
+            return Err(ctx.err(&format!("{p}.orientation"), "this orientation is singular for Cardan angles (beta = +-90 deg): use rotation = \"quaternion\""));
+        }
+    }
+    let joint_names: Vec<(String, usize)> = mf
+        .joint
+        .iter()
+        .zip(&joint_rows)
+        .map(|(j, &r)| (j.name.clone(), r))
+        .collect();
+    let signals = parse_signals(
+        &ctx,
+        &mf.output.signals,
+        &model,
+        &frames,
+        &bodies,
+        &joint_names,
+    )?;
+    let output = output_config(&ctx, &mf, &model, &bodies, &signals)?;
+    Ok(CompiledModel {
+        name: mf.model.name.clone(),
+        file: file.to_path_buf(),
+        model,
+        initial,
+        solver,
+        output,
+        bodies,
+        signals,
+    })
+}
+
+/// DOF names in mask order.
+pub const DOFS: [&str; 6] = ["tx", "ty", "tz", "rx", "ry", "rz"];
+
+fn spec_has_joints(mf: &ModelFile) -> bool {
+    !mf.joint.is_empty()
+}
+
+/// Unique names across bodies, frames and joints; `ground` is reserved.
+fn check_names(ctx: &Ctx, mf: &ModelFile) -> Result<(), SimError> {
+    let mut seen: HashMap<&str, String> = HashMap::new();
+    let items = mf
+        .body
+        .iter()
+        .enumerate()
+        .map(|(i, b)| (b.name.as_str(), format!("body[{i}].name")))
+        .chain(
+            mf.frame
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (f.name.as_str(), format!("frame[{i}].name"))),
+        )
+        .chain(
+            mf.joint
+                .iter()
+                .enumerate()
+                .map(|(i, j)| (j.name.as_str(), format!("joint[{i}].name"))),
+        );
+    for (name, path) in items {
+        if name == "ground" || name.is_empty() || name.contains(['.', '/']) {
+            return Err(ctx.err(
+                &path,
+                format!("invalid name `{name}` (`ground` is reserved; no `.` or `/`)"),
+            ));
+        }
+        if let Some(first) = seen.get(name) {
+            return Err(ctx.err(
+                &path,
+                format!("duplicate name `{name}` (first used at `{first}`)"),
+            ));
+        }
+        seen.insert(name, path);
+    }
+    Ok(())
+}
+
+fn opt_vec(
+    ctx: &Ctx,
+    v: &Option<[Quantity; 3]>,
+    dim: Dimension,
+    path: &str,
+) -> Result<Vector3<f64>, SimError> {
+    v.as_ref()
+        .map_or(Ok(Vector3::zeros()), |v| ctx.vec3(v, dim, path))
+}
+
+fn nearest_point(points: &[[f64; 3]], x: &Vector3<f64>) -> usize {
+    let d = |p: &[f64; 3]| (Vector3::from(*p) - x).norm_squared();
+    (0..points.len())
+        .min_by(|&a, &b| d(&points[a]).total_cmp(&d(&points[b])))
+        .unwrap_or(0)
+}

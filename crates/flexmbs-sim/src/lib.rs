@@ -1,0 +1,18 @@
+//! Multibody model files of flexmbs: the TOML schema ([`schema`]), its compilation into the
+//! engine's [`flexmbs_core::ModelSpec`] with names, output signals and animation geometry
+//! ([`compile`]), and the run driver writing results, CSV, plots and a ParaView animation
+//! ([`run`]). Reference of the file format: `docs/model-file.md`, "Multibody models".
+#![warn(missing_docs)]
+
+pub mod bodies;
+pub mod compile;
+pub mod config;
+pub mod error;
+pub mod locate;
+pub mod run;
+pub mod schema;
+pub mod signals;
+pub mod units;
+
+pub use compile::{compile_model, is_multibody_model, load_model, CompiledModel, SolverConfig};
+pub use error::SimError;

@@ -1,0 +1,566 @@
+//! The run driver: integrates a [`CompiledModel`] and writes `results.h5`, the ParaView
+//! animation, and at the end the requested CSV and plots. A stop flag ends the run cleanly
+//! (status `interrupted`); a solver error ends it with status `failed` and a typed error; in
+//! both cases the results written so far stay readable.
+
+use crate::compile::{CompiledModel, OutputEvery, SolverConfig};
+use crate::error::SimError;
+use crate::signals::{coordinate_names, evaluate_signals, signal_width};
+use flexmbs_core::integrator::{self, Dopri5, GenAlpha, Statics, StepStats};
+use flexmbs_core::{system, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace};
+use flexmbs_io::results::{
+    plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
+    ResultsLayout, ResultsRow, ResultsWriter, RunStatus, SignalSpec,
+};
+use nalgebra::{Matrix3, Vector3};
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use thiserror::Error;
+
+/// Options of a run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// Output folder (created if needed).
+    pub out_dir: PathBuf,
+    /// Set to true to stop the run after the current step (status `interrupted`).
+    pub stop: Arc<AtomicBool>,
+}
+
+impl RunOptions {
+    /// Options writing to `out_dir` with a fresh stop flag.
+    pub fn new(out_dir: impl Into<PathBuf>) -> Self {
+        Self {
+            out_dir: out_dir.into(),
+            stop: Arc::new(AtomicBool::new(false)),
+        }
+    }
+}
+
+/// Progress report after every accepted step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Progress {
+    /// Simulated time.
+    pub t: f64,
+    /// End time (0 for statics).
+    pub t_end: f64,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Newton iterations (implicit) or function evaluations (explicit) so far.
+    pub newton_iterations: usize,
+    /// Last step size.
+    pub h: f64,
+}
+
+/// Summary of a finished (completed or interrupted) run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSummary {
+    /// Final status.
+    pub status: RunStatus,
+    /// Final time.
+    pub t: f64,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps (adaptive integrators).
+    pub rejected: usize,
+    /// Newton iterations (implicit) or function evaluations (explicit).
+    pub newton_iterations: usize,
+    /// Wall-clock time of the integration and output.
+    pub wall_time: Duration,
+    /// Total energy at the start.
+    pub energy_initial: f64,
+    /// Largest `|E(t) - E(0)|` over the output rows.
+    pub energy_drift: f64,
+    /// Largest position constraint violation `max |g|`.
+    pub position_drift: f64,
+    /// Largest velocity constraint violation `max |G u + g_t|`.
+    pub velocity_drift: f64,
+    /// Output rows written.
+    pub rows: usize,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// A run that could not be completed.
+#[derive(Debug, Error)]
+pub enum RunError {
+    /// The model file is invalid.
+    #[error(transparent)]
+    Model(#[from] SimError),
+    /// Writing or reading results failed.
+    #[error(transparent)]
+    Results(#[from] ResultsError),
+    /// The output folder could not be created.
+    #[error("{path}: {source}")]
+    Io {
+        /// Path.
+        path: PathBuf,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// The solver failed; the results file holds everything up to the last accepted step and has
+    /// status `failed`.
+    #[error("simulation failed at t = {t} s (step {h:e} s, residual {residual:e}): {source}; results so far in {}", results.display())]
+    Solver {
+        /// Time at the start of the failed step.
+        t: f64,
+        /// Step size of the failed step.
+        h: f64,
+        /// Last residual (NaN if unknown).
+        residual: f64,
+        /// The solver error.
+        source: SolverError,
+        /// The results file (status `failed`).
+        results: PathBuf,
+    },
+}
+
+/// Time, step size and residual of a solver error.
+fn error_point(e: &SolverError) -> (f64, f64, f64) {
+    match *e {
+        SolverError::NewtonFailed { t, h, residual, .. }
+        | SolverError::NonFinite { t, h, residual, .. } => (t, h, residual),
+        SolverError::Singular { t, h, .. } => (t, h, f64::NAN),
+        SolverError::StepTooSmall { t, h, error, .. } => (t, h, error),
+        SolverError::ConstraintsUnsupported { .. } | SolverError::InvalidSetting { .. } => {
+            (0.0, 0.0, f64::NAN)
+        }
+    }
+}
+
+/// Writes output rows and animation frames; owns its own frame buffers so it needs only the
+/// state (the integrators hold the workspace while calling back).
+struct Recorder<'a> {
+    cm: &'a CompiledModel,
+    writer: Option<ResultsWriter>,
+    anim: Option<AnimationWriter>,
+    frames: Vec<FrameKinematics>,
+    body_fk: Vec<FrameKinematics>,
+    signals: Vec<f64>,
+    positions: Vec<Vec<[f64; 3]>>,
+    steps: usize,
+    newton: usize,
+    next_time: f64,
+    energy0: Option<f64>,
+    energy_drift: f64,
+    g_max: f64,
+    g_dot_max: f64,
+    last_t: f64,
+    last_h: f64,
+    error: Option<ResultsError>,
+}
+
+impl<'a> Recorder<'a> {
+    fn record(&mut self, s: &State, st: &StepStats) -> Result<(), ResultsError> {
+        let m = &self.cm.model;
+        system::update_frames(m, &s.q, &s.u, &mut self.frames);
+        evaluate_signals(&self.cm.signals, &self.frames, &s.lambda, &mut self.signals);
+        let e = st.energy;
+        let total = e.total();
+        let e0 = *self.energy0.get_or_insert(total);
+        self.energy_drift = self.energy_drift.max((total - e0).abs());
+        let row = ResultsRow {
+            t: s.t,
+            q: &s.q,
+            u: &s.u,
+            lambda: &s.lambda,
+            energy: [e.kinetic, e.gravity, e.elastic, e.springs],
+            drift: [st.g_max, st.g_dot_max],
+            step: [st.h, st.iterations as f64, st.residual],
+            signals: &self.signals,
+        };
+        let Some(w) = self.writer.as_mut() else {
+            return Ok(());
+        };
+        w.push(&row)?;
+        self.last_t = s.t;
+        let rows = w.rows();
+        if let Some(anim) = self.anim.as_mut() {
+            if (rows - 1) % self.cm.output.animation_every == 0 {
+                body_points(m, self.cm, s, &mut self.body_fk, &mut self.positions);
+                let refs: Vec<&[[f64; 3]]> = self.positions.iter().map(|p| p.as_slice()).collect();
+                anim.write_frame(s.t, &refs)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Called after every accepted step: statistics, output selection, stop flag.
+    fn on_step(
+        &mut self,
+        s: &State,
+        st: &StepStats,
+        stop: &AtomicBool,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> ControlFlow<()> {
+        self.steps += 1;
+        self.newton += st.iterations;
+        self.last_h = st.h;
+        self.g_max = self.g_max.max(st.g_max);
+        self.g_dot_max = self.g_dot_max.max(st.g_dot_max);
+        let due = match self.cm.output.every {
+            OutputEvery::Steps(n) => self.steps.is_multiple_of(n),
+            OutputEvery::Time(dt) => {
+                if s.t >= self.next_time - 1e-9 * dt {
+                    while self.next_time <= s.t + 1e-9 * dt {
+                        self.next_time += dt;
+                    }
+                    true
+                } else {
+                    false
+                }
+            }
+        };
+        if due {
+            if let Err(e) = self.record(s, st) {
+                self.error = Some(e);
+                return ControlFlow::Break(());
+            }
+        }
+        progress(&Progress {
+            t: s.t,
+            t_end: self.cm.solver.t_end(),
+            steps: self.steps,
+            newton_iterations: self.newton,
+            h: st.h,
+        });
+        if stop.load(Ordering::Relaxed) {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+/// Current global positions of every body's animation points.
+fn body_points(
+    m: &Model,
+    cm: &CompiledModel,
+    s: &State,
+    fk: &mut [FrameKinematics],
+    out: &mut [Vec<[f64; 3]>],
+) {
+    for ((info, k), pts) in cm.bodies.iter().zip(fk.iter_mut()).zip(out.iter_mut()) {
+        let b = &m.bodies[info.id.0];
+        let q = &s.q[b.q_offset..b.q_offset + b.element.nq()];
+        let u = &s.u[b.u_offset..b.u_offset + b.element.nu()];
+        pts.clear();
+        for (n, p) in info.geometry.points.iter().enumerate() {
+            let lf = LocalFrame {
+                position: Vector3::from(*p),
+                rotation: Matrix3::identity(),
+                node: info.geometry.fe_nodes.then_some(n),
+            };
+            b.element.frame_kinematics(q, u, &lf, k);
+            pts.push([k.position.x, k.position.y, k.position.z]);
+        }
+    }
+}
+
+/// Runs a compiled model. `progress` is called after every accepted step.
+/// Returns the summary of a completed or interrupted run; a solver failure is an error (the
+/// results file is finished with status `failed` first).
+pub fn run_model(
+    cm: &CompiledModel,
+    opts: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<RunSummary, RunError> {
+    let start = Instant::now();
+    let out = &opts.out_dir;
+    std::fs::create_dir_all(out).map_err(|source| RunError::Io {
+        path: out.clone(),
+        source,
+    })?;
+    let m = &cm.model;
+    let (coordinates, velocities, multipliers) = coordinate_names(m, &cm.bodies);
+    let layout = ResultsLayout {
+        model: cm.name.clone(),
+        coordinates,
+        velocities,
+        multipliers,
+        signals: cm
+            .signals
+            .iter()
+            .map(|s| SignalSpec {
+                name: s.name.clone(),
+                unit: s.unit.clone(),
+                components: s.components.clone(),
+            })
+            .collect(),
+    };
+    let results_path = out.join("results.h5");
+    let model_file = cm.file.display().to_string();
+    let solver_name = match cm.solver {
+        SolverConfig::GenAlpha {
+            adaptive: Some(_), ..
+        } => "generalized-alpha (adaptive)",
+        SolverConfig::GenAlpha { .. } => "generalized-alpha",
+        SolverConfig::Dopri5 { .. } => "dopri5",
+        SolverConfig::Statics { .. } => "statics",
+    };
+    let version = format!("flexmbs {}", env!("CARGO_PKG_VERSION"));
+    let writer = ResultsWriter::create(
+        &results_path,
+        layout,
+        &[
+            ("model_file", model_file.as_str()),
+            ("solver", solver_name),
+            ("program", version.as_str()),
+        ],
+    )?;
+    let mut files = vec![results_path.clone()];
+    let anim = if cm.output.animation {
+        let bodies = cm
+            .bodies
+            .iter()
+            .map(|b| AnimationBody {
+                name: b.name.clone(),
+                reference_points: b.geometry.points.clone(),
+                cells: b.geometry.cells.clone(),
+            })
+            .collect();
+        let a = AnimationWriter::create(out, &cm.name, bodies)?;
+        files.push(a.pvd_path());
+        Some(a)
+    } else {
+        None
+    };
+    let mut rec = Recorder {
+        cm,
+        writer: Some(writer),
+        anim,
+        frames: m
+            .frames
+            .iter()
+            .map(|f| match f.owner {
+                flexmbs_core::model::FrameOwner::Ground => FrameKinematics::new(0),
+                flexmbs_core::model::FrameOwner::Body(b) => {
+                    FrameKinematics::new(m.bodies[b.0].element.nu())
+                }
+            })
+            .collect(),
+        body_fk: cm
+            .bodies
+            .iter()
+            .map(|b| FrameKinematics::new(m.bodies[b.id.0].element.nu()))
+            .collect(),
+        signals: Vec::with_capacity(signal_width(&cm.signals)),
+        positions: cm
+            .bodies
+            .iter()
+            .map(|b| Vec::with_capacity(b.geometry.points.len()))
+            .collect(),
+        steps: 0,
+        newton: 0,
+        next_time: 0.0,
+        energy0: None,
+        energy_drift: 0.0,
+        g_max: 0.0,
+        g_dot_max: 0.0,
+        last_t: f64::NAN,
+        last_h: 0.0,
+        error: None,
+    };
+    let mut s = cm.initial.clone();
+    let mut ws = Workspace::new(m);
+    let stop = opts.stop.clone();
+    let result = integrate(cm, &mut s, &mut ws, &mut rec, &stop, progress);
+    if let Some(e) = rec.error.take() {
+        return Err(e.into());
+    }
+    let (status, rejected) = match result {
+        Ok((rejected, stopped)) => {
+            // the final state is always in the file
+            if rec.last_t != s.t && cm.solver.t_end() > 0.0 {
+                let (energy, g, gd) = integrator::monitor(m, &s, &mut ws);
+                let st = StepStats {
+                    t: s.t,
+                    h: rec.last_h,
+                    energy,
+                    g_max: g,
+                    g_dot_max: gd,
+                    ..Default::default()
+                };
+                rec.record(&s, &st)?;
+            }
+            let status = if stopped {
+                RunStatus::Interrupted { t: s.t }
+            } else {
+                RunStatus::Completed
+            };
+            (status, rejected)
+        }
+        Err(source) => {
+            let (t, h, residual) = error_point(&source);
+            let message = format!("{source} (t = {t} s, step {h:e} s, residual {residual:e})");
+            if let Some(w) = rec.writer.take() {
+                w.finish(&RunStatus::Failed { t, message })?;
+            }
+            return Err(RunError::Solver {
+                t,
+                h,
+                residual,
+                source,
+                results: results_path,
+            });
+        }
+    };
+    let rows = rec.writer.as_ref().map_or(0, |w| w.rows());
+    if let Some(w) = rec.writer.take() {
+        w.finish(&status)?;
+    }
+    files.extend(write_requested_outputs(cm, &results_path, out)?);
+    Ok(RunSummary {
+        status,
+        t: s.t,
+        steps: rec.steps,
+        rejected,
+        newton_iterations: rec.newton,
+        wall_time: start.elapsed(),
+        energy_initial: rec.energy0.unwrap_or(0.0),
+        energy_drift: rec.energy_drift,
+        position_drift: rec.g_max,
+        velocity_drift: rec.g_dot_max,
+        rows,
+        files,
+    })
+}
+
+/// Initializes and integrates; returns (rejected steps, stopped).
+fn integrate(
+    cm: &CompiledModel,
+    s: &mut State,
+    ws: &mut Workspace,
+    rec: &mut Recorder,
+    stop: &AtomicBool,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<(usize, bool), SolverError> {
+    let m = &cm.model;
+    let first_row =
+        |s: &State, ws: &mut Workspace, rec: &mut Recorder, h: f64| -> Result<(), SolverError> {
+            let (energy, g, gd) = integrator::monitor(m, s, ws);
+            let st = StepStats {
+                t: s.t,
+                h,
+                energy,
+                g_max: g,
+                g_dot_max: gd,
+                ..Default::default()
+            };
+            if let Err(e) = rec.record(s, &st) {
+                rec.error = Some(e);
+            }
+            Ok(())
+        };
+    match &cm.solver {
+        SolverConfig::GenAlpha {
+            settings,
+            h,
+            t_end,
+            adaptive,
+        } => {
+            let ga = GenAlpha::new(*settings)?;
+            ga.initialize(m, s, ws)?;
+            first_row(s, ws, rec, 0.0)?;
+            if rec.error.is_some() {
+                return Ok((0, true));
+            }
+            rec.next_time = next_output_time(cm, s.t);
+            if let Some(ctl) = adaptive {
+                let r = ga.integrate_adaptive_controlled(m, s, ws, ctl, *t_end, |s, st| {
+                    rec.on_step(s, st, stop, progress)
+                })?;
+                return Ok((r.rejected, r.stopped));
+            }
+            // fixed step, the loop of GenAlpha::integrate with a stop check after every step
+            while t_end - s.t > 1e-6 * h {
+                let remaining = t_end - s.t;
+                let hs = if remaining < h * (1.0 + 1e-6) {
+                    remaining
+                } else {
+                    *h
+                };
+                let st = ga.step(m, s, ws, hs)?;
+                if rec.on_step(s, &st, stop, progress).is_break() {
+                    return Ok((0, true));
+                }
+            }
+            Ok((0, false))
+        }
+        SolverConfig::Dopri5 { settings, t_end } => {
+            integrator::consistent_accelerations(m, s, ws)?;
+            first_row(s, ws, rec, 0.0)?;
+            if rec.error.is_some() {
+                return Ok((0, true));
+            }
+            rec.next_time = next_output_time(cm, s.t);
+            let r = Dopri5::new(*settings).integrate_controlled(m, s, ws, *t_end, |s, st| {
+                rec.on_step(s, st, stop, progress)
+            })?;
+            Ok((r.rejected, r.stopped))
+        }
+        SolverConfig::Statics { settings } => {
+            let st = Statics::new(*settings).solve(m, s, ws)?;
+            let (energy, g, gd) = integrator::monitor(m, s, ws);
+            rec.steps = st.increments;
+            rec.newton = st.iterations;
+            rec.g_max = g;
+            let stats = StepStats {
+                t: s.t,
+                h: 0.0,
+                iterations: st.iterations,
+                residual: st.residual,
+                energy,
+                g_max: g,
+                g_dot_max: gd,
+                error_estimate: 0.0,
+            };
+            if let Err(e) = rec.record(s, &stats) {
+                rec.error = Some(e);
+            }
+            progress(&Progress {
+                t: 0.0,
+                t_end: 0.0,
+                steps: st.increments,
+                newton_iterations: st.iterations,
+                h: 0.0,
+            });
+            Ok((0, false))
+        }
+    }
+}
+
+fn next_output_time(cm: &CompiledModel, t: f64) -> f64 {
+    match cm.output.every {
+        OutputEvery::Time(dt) => t + dt,
+        OutputEvery::Steps(_) => 0.0,
+    }
+}
+
+/// CSV and plots requested in `[output]`, from the finished results file.
+fn write_requested_outputs(
+    cm: &CompiledModel,
+    results: &Path,
+    out: &Path,
+) -> Result<Vec<PathBuf>, ResultsError> {
+    if cm.output.csv.is_empty() && cm.output.plots.is_empty() {
+        return Ok(Vec::new());
+    }
+    let r = read_results(results)?;
+    let mut files = Vec::new();
+    if !cm.output.csv.is_empty() {
+        let names: Vec<&str> = cm.output.csv.iter().map(|s| s.as_str()).collect();
+        let p = out.join(format!("{}.csv", cm.name));
+        write_csv(&r, &names, &p)?;
+        files.push(p);
+    }
+    for (stem, series) in &cm.output.plots {
+        let names: Vec<&str> = series.iter().map(|s| s.as_str()).collect();
+        let p = out.join(format!("{stem}.png"));
+        plot_series(&r, &names, &p)?;
+        files.push(p);
+    }
+    Ok(files)
+}

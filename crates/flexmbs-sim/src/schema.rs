@@ -1,0 +1,483 @@
+//! The TOML schema of a multibody model file (reference: `docs/model-file.md`, "Multibody
+//! models"). Plain serde structs with `deny_unknown_fields`; variants are flat structs with a
+//! `type` key (not internally tagged enums, which would lose key paths and lines of errors).
+//! Physical values are [`Quantity`]s, converted to SI by [`crate::compile`].
+
+use crate::units::Quantity;
+use flexmbs_fe::UnitSystem;
+use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::PathBuf;
+
+/// A multibody model file. Told apart from an FE body file by the required `[model]` table.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFile {
+    /// Name and gravity.
+    pub model: ModelSection,
+    /// Integrator or static solver.
+    pub solver: SolverSpec,
+    /// Bodies (`[[body]]`).
+    #[serde(default)]
+    pub body: Vec<BodySpec>,
+    /// Frames (`[[frame]]`).
+    #[serde(default)]
+    pub frame: Vec<FrameSpec>,
+    /// Joints (`[[joint]]`).
+    #[serde(default)]
+    pub joint: Vec<JointSpec>,
+    /// Loads (`[[load]]`).
+    #[serde(default)]
+    pub load: Vec<LoadSpec>,
+    /// Output selection.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// `[model]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSection {
+    /// Model name (results file attribute, animation name).
+    pub name: String,
+    /// Free text.
+    pub description: Option<String>,
+    /// Gravitational acceleration (global), default zero.
+    pub gravity: Option<[Quantity; 3]>,
+}
+
+/// Solver names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SolverType {
+    /// Implicit generalized-alpha (index-3 constraints).
+    GeneralizedAlpha,
+    /// Explicit Dormand-Prince 5(4), unconstrained models only.
+    Dopri5,
+    /// Static equilibrium with load steps.
+    Statics,
+}
+
+/// `[solver]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// Solver type.
+    #[serde(rename = "type")]
+    pub kind: SolverType,
+    /// End time (time integrators).
+    pub t_end: Option<Quantity>,
+    /// Step size (generalized-alpha fixed step; first step when adaptive).
+    pub h: Option<Quantity>,
+    /// Spectral radius at infinity (generalized-alpha), default 0.9.
+    pub rho_inf: Option<f64>,
+    /// Adaptive step control (generalized-alpha).
+    pub adaptive: Option<AdaptiveSpec>,
+    /// Newton settings (generalized-alpha, statics).
+    pub newton: Option<NewtonSpec>,
+    /// Relative tolerance (dopri5), default 1e-8.
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (dopri5), default 1e-10.
+    pub atol: Option<f64>,
+    /// Largest step (dopri5), default unlimited.
+    pub h_max: Option<Quantity>,
+    /// Load steps (statics), default 1.
+    pub load_steps: Option<usize>,
+}
+
+/// `[solver.adaptive]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveSpec {
+    /// Relative position tolerance, default 1e-6.
+    pub rtol: Option<f64>,
+    /// Absolute position tolerance, default 1e-6.
+    pub atol: Option<f64>,
+    /// Minimum step, default 1e-12 s.
+    pub h_min: Option<Quantity>,
+    /// Maximum step, default 0.1 s.
+    pub h_max: Option<Quantity>,
+}
+
+/// `[solver.newton]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NewtonSpec {
+    /// Maximum iterations per step, default 25.
+    pub max_iterations: Option<usize>,
+    /// Relative and absolute increment tolerance, default 1e-10.
+    pub tol: Option<f64>,
+}
+
+/// Body types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyType {
+    /// Rigid body.
+    Rigid,
+    /// Floating-frame-of-reference flexible body.
+    Ffr,
+}
+
+/// Rotation parametrizations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum RotationName {
+    /// Cardan angles x-y-z (default).
+    #[default]
+    Cardan,
+    /// Unit quaternion (no singularity).
+    Quaternion,
+}
+
+/// `[[body]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Unique name (also the name of the body's reference frame).
+    pub name: String,
+    /// `rigid` or `ffr`.
+    #[serde(rename = "type")]
+    pub kind: BodyType,
+    /// Mass (rigid).
+    pub mass: Option<Quantity>,
+    /// Principal moments of inertia about the centre of mass (rigid).
+    pub inertia: Option<[Quantity; 3]>,
+    /// Full inertia tensor about the centre of mass in body axes (rigid).
+    pub inertia_matrix: Option<[[Quantity; 3]; 3]>,
+    /// Edge lengths of the box drawn in the animation (rigid; default from the inertia).
+    #[serde(rename = "box")]
+    pub box_size: Option<[Quantity; 3]>,
+    /// FE model file, `.fmb.h5` body file or seed 4-file folder (ffr), relative to the model file.
+    pub source: Option<PathBuf>,
+    /// Units of a seed folder (ffr), default SI.
+    pub units: Option<UnitSystem>,
+    /// Mode count or list of 1-based mode numbers (ffr), default all.
+    pub modes: Option<ModeSelection>,
+    /// Modal damping (ffr).
+    pub damping: Option<DampingSpec>,
+    /// Rotation parametrization.
+    #[serde(default)]
+    pub rotation: RotationName,
+    /// Initial position of the body reference frame (global).
+    pub position: Option<[Quantity; 3]>,
+    /// Initial orientation.
+    pub orientation: Option<OrientationSpec>,
+    /// Initial velocity of the reference frame origin (global).
+    pub velocity: Option<[Quantity; 3]>,
+    /// Initial angular velocity (global).
+    pub angular_velocity: Option<[Quantity; 3]>,
+}
+
+/// Mode selection of an FFR body: a count (the first n) or a list of 1-based mode numbers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ModeSelection {
+    /// The first n modes.
+    Count(usize),
+    /// These modes (1-based).
+    List(Vec<usize>),
+}
+
+impl<'de> Deserialize<'de> for ModeSelection {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = ModeSelection;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a mode count or a list of 1-based mode numbers")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<ModeSelection, E> {
+                usize::try_from(v)
+                    .map(ModeSelection::Count)
+                    .map_err(|_| E::custom(format!("mode count must be >= 0, got {v}")))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<ModeSelection, E> {
+                Ok(ModeSelection::Count(v as usize))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut a: A) -> Result<ModeSelection, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = a.next_element::<usize>()? {
+                    v.push(x);
+                }
+                Ok(ModeSelection::List(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `damping = { rayleigh = [alpha, beta] }` or `{ modal = [zeta, ...] }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// Rayleigh coefficients `alpha` (1/s) and `beta` (s): `D = alpha M_ff + beta K_ff`.
+    pub rayleigh: Option<[f64; 2]>,
+    /// Modal damping ratios (one per selected mode, or one for all).
+    pub modal: Option<Vec<f64>>,
+}
+
+/// An orientation: exactly one of `matrix`, `axis` + `angle`, `cardan`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OrientationSpec {
+    /// Rotation matrix, rows (columns = frame axes in the parent).
+    pub matrix: Option<[[f64; 3]; 3]>,
+    /// Rotation axis (normalized).
+    pub axis: Option<[f64; 3]>,
+    /// Rotation angle about `axis`.
+    pub angle: Option<Quantity>,
+    /// Cardan angles x-y-z.
+    pub cardan: Option<[Quantity; 3]>,
+}
+
+/// `[[frame]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameSpec {
+    /// Unique name.
+    pub name: String,
+    /// Owning body name or `ground`.
+    pub body: String,
+    /// Position in the body reference frame (global for ground).
+    pub position: Option<[Quantity; 3]>,
+    /// Orientation relative to the body reference frame.
+    pub orientation: Option<OrientationSpec>,
+    /// FE node id (ffr bodies): the frame follows this node.
+    pub node: Option<u64>,
+    /// The FE node nearest to this point (body coordinates) (ffr bodies).
+    pub nearest: Option<[Quantity; 3]>,
+}
+
+/// Joint types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointType {
+    /// All six relative DOFs locked.
+    Fixed,
+    /// Rotation about z of frame a free.
+    Revolute,
+    /// All rotations free.
+    Spherical,
+    /// Translation along x of frame a free.
+    Prismatic,
+    /// Translation along and rotation about z of frame a free.
+    Cylindrical,
+    /// The DOFs listed in `locked` are locked.
+    Generic,
+}
+
+/// `[[joint]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// Unique name.
+    pub name: String,
+    /// Joint type.
+    #[serde(rename = "type")]
+    pub kind: JointType,
+    /// First frame (relative motion measured in its axes).
+    pub a: String,
+    /// Second frame.
+    pub b: String,
+    /// Locked DOFs of a generic joint: any of `tx ty tz rx ry rz`.
+    pub locked: Option<Vec<String>>,
+    /// Prescribed relative angle about z (revolute, cylindrical, generic with rz free).
+    pub angle: Option<TimeSpec>,
+    /// Prescribed relative angular velocity about z.
+    pub angular_velocity: Option<TimeSpec>,
+    /// Angle at t = 0 with `angular_velocity`, default 0.
+    pub initial_angle: Option<Quantity>,
+    /// Prescribed relative displacement along x (prismatic).
+    pub displacement: Option<TimeSpec>,
+}
+
+/// Load types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LoadType {
+    /// Point force at a frame origin.
+    Force,
+    /// Torque on a frame.
+    Torque,
+    /// Linear spring-damper between two frame origins.
+    SpringDamper,
+}
+
+/// Load vector axes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum CoordinatesName {
+    /// Global axes (default).
+    #[default]
+    Global,
+    /// Axes of the loaded frame (follower load).
+    Body,
+}
+
+/// `[[load]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// Optional name.
+    pub name: Option<String>,
+    /// Load type.
+    #[serde(rename = "type")]
+    pub kind: LoadType,
+    /// Loaded frame (force, torque).
+    pub frame: Option<String>,
+    /// Force (N) or torque (N m) vector at time-function value 1.
+    pub vector: Option<[Quantity; 3]>,
+    /// Axes of `vector`.
+    #[serde(default)]
+    pub coordinates: CoordinatesName,
+    /// Time function (dimensionless factor), default constant 1.
+    pub time: Option<TimeSpec>,
+    /// First frame (spring-damper).
+    pub a: Option<String>,
+    /// Second frame (spring-damper).
+    pub b: Option<String>,
+    /// Stiffness (spring-damper).
+    pub stiffness: Option<Quantity>,
+    /// Damping coefficient (spring-damper), default 0.
+    pub damping: Option<Quantity>,
+    /// Free length (spring-damper).
+    pub free_length: Option<Quantity>,
+}
+
+/// A time function: a bare quantity (constant) or a table with `type`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TimeSpec {
+    /// Constant value.
+    Constant(Quantity),
+    /// Typed function.
+    Function(Box<TimeFunctionSpec>),
+}
+
+impl<'de> Deserialize<'de> for TimeSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = TimeSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a constant (number or \"value unit\") or a table with `type`")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<TimeSpec, E> {
+                Ok(TimeSpec::Constant(Quantity::si(v as f64)))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<TimeSpec, E> {
+                Ok(TimeSpec::Constant(Quantity::si(v as f64)))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<TimeSpec, E> {
+                Ok(TimeSpec::Constant(Quantity::si(v)))
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> Result<TimeSpec, E> {
+                crate::units::parse_quantity(s)
+                    .map(TimeSpec::Constant)
+                    .map_err(E::custom)
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<TimeSpec, A::Error> {
+                TimeFunctionSpec::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(|f| TimeSpec::Function(Box::new(f)))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// Time function types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TimeType {
+    /// `value`.
+    Constant,
+    /// `v0` until `t0`, linear to `v1` at `t1`.
+    Ramp,
+    /// `before` until `t0`, `after` from `t0`.
+    Step,
+    /// `value` for `t0 <= t < t1`, else 0.
+    Pulse,
+    /// `offset + amplitude sin(2 pi frequency t + phase)`.
+    Harmonic,
+    /// Piecewise linear through (`times`, `values`).
+    Table,
+}
+
+/// A typed time function; values carry the dimension of the quantity it drives.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeFunctionSpec {
+    /// Function type.
+    #[serde(rename = "type")]
+    pub kind: TimeType,
+    /// Constant / pulse value.
+    pub value: Option<Quantity>,
+    /// Start time.
+    pub t0: Option<Quantity>,
+    /// End time.
+    pub t1: Option<Quantity>,
+    /// Ramp start value (default 0).
+    pub v0: Option<Quantity>,
+    /// Ramp end value.
+    pub v1: Option<Quantity>,
+    /// Step value before `t0` (default 0).
+    pub before: Option<Quantity>,
+    /// Step value from `t0`.
+    pub after: Option<Quantity>,
+    /// Harmonic amplitude.
+    pub amplitude: Option<Quantity>,
+    /// Harmonic frequency.
+    pub frequency: Option<Quantity>,
+    /// Harmonic phase (default 0).
+    pub phase: Option<Quantity>,
+    /// Harmonic offset (default 0).
+    pub offset: Option<Quantity>,
+    /// Table times.
+    pub times: Option<Vec<Quantity>>,
+    /// Table values.
+    pub values: Option<Vec<Quantity>>,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Output every n-th step (default 1 unless `dt` is given).
+    pub every: Option<usize>,
+    /// Output whenever the time passes a multiple of `dt`.
+    pub dt: Option<Quantity>,
+    /// Signals: `<frame>.position|velocity|angular_velocity|orientation|deformation`,
+    /// `<joint>.reaction`.
+    #[serde(default)]
+    pub signals: Vec<String>,
+    /// Write a ParaView animation (default true).
+    #[serde(default = "yes")]
+    pub animation: bool,
+    /// Animation frame every n-th output row (default 1).
+    pub animation_every: Option<usize>,
+    /// Plots: file stem -> list of series.
+    #[serde(default)]
+    pub plots: BTreeMap<String, Vec<String>>,
+    /// Series written to `<name>.csv` (first column t); empty: no CSV.
+    #[serde(default)]
+    pub csv: Vec<String>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            every: None,
+            dt: None,
+            signals: Vec::new(),
+            animation: true,
+            animation_every: None,
+            plots: BTreeMap::new(),
+            csv: Vec::new(),
+        }
+    }
+}

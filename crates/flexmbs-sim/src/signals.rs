@@ -1,0 +1,236 @@
+//! Output signals (frame kinematics, node deformation, joint reactions), the names of the
+//! coordinates and multipliers, and the plottable series names of a run.
+
+use crate::compile::{BodyInfo, Ctx, DOFS};
+use crate::error::SimError;
+use crate::schema::RotationName;
+use flexmbs_core::model::FrameOwner;
+use flexmbs_core::{FrameId, FrameKinematics, Model};
+use nalgebra::Vector3;
+use std::collections::HashMap;
+
+/// What a signal measures.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SignalKind {
+    /// Global position of a frame origin (m).
+    Position(FrameId),
+    /// Global velocity of a frame origin (m/s).
+    Velocity(FrameId),
+    /// Global angular velocity of a frame (rad/s).
+    AngularVelocity(FrameId),
+    /// Cardan angles x-y-z of a frame's global orientation (rad).
+    Orientation(FrameId),
+    /// Elastic displacement of a node frame in the axes of its body's reference frame:
+    /// `A^T (r_node - R) - u0` (m).
+    Deformation {
+        /// The node frame.
+        frame: FrameId,
+        /// The body's reference frame.
+        body_frame: FrameId,
+        /// Undeformed node position `u0` (body coordinates).
+        reference: Vector3<f64>,
+    },
+    /// Lagrange multipliers of a joint (for locked translations: minus the force on frame `b`
+    /// along the axes of frame `a`, N).
+    Reaction {
+        /// First row in `lambda`.
+        row: usize,
+        /// Number of rows.
+        rows: usize,
+    },
+}
+
+/// A requested output signal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Signal {
+    /// Name as requested, e.g. `tip.position`.
+    pub name: String,
+    /// Unit of all components.
+    pub unit: String,
+    /// Component names.
+    pub components: Vec<String>,
+    /// What it measures.
+    pub kind: SignalKind,
+}
+
+const XYZ: [&str; 3] = ["x", "y", "z"];
+
+/// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation`
+/// (every body has a frame named like the body) and `<joint>.reaction`.
+pub fn parse_signals(
+    ctx: &Ctx,
+    list: &[String],
+    model: &Model,
+    frames: &HashMap<String, FrameId>,
+    bodies: &[BodyInfo],
+    joints: &[(String, usize)],
+) -> Result<Vec<Signal>, SimError> {
+    let mut out: Vec<Signal> = Vec::new();
+    for (k, s) in list.iter().enumerate() {
+        let path = format!("output.signals[{k}]");
+        let err = |m: String| ctx.err(&path, m);
+        let Some((item, what)) = s.rsplit_once('.') else {
+            return Err(err(format!(
+                "`{s}`: expected `<frame>.<quantity>` or `<joint>.reaction`"
+            )));
+        };
+        if out.iter().any(|o| o.name == *s) {
+            return Err(err(format!("signal `{s}` listed twice")));
+        }
+        let xyz = || XYZ.iter().map(|c| c.to_string()).collect::<Vec<_>>();
+        let (unit, components, kind) = if what == "reaction" {
+            let Some(j) = joints.iter().position(|(n, _)| n == item) else {
+                let names: Vec<&str> = joints.iter().map(|(n, _)| n.as_str()).collect();
+                return Err(err(format!(
+                    "unknown joint `{item}` (joints: {})",
+                    names.join(", ")
+                )));
+            };
+            let joint = &model.joints[j];
+            let mut comps: Vec<String> = (0..6)
+                .filter(|&d| joint.locked[d])
+                .map(|d| DOFS[d].to_string())
+                .collect();
+            if joint.prescribed.is_some() {
+                comps.push("motion".into());
+            }
+            (
+                "N | N m".to_string(),
+                comps,
+                SignalKind::Reaction {
+                    row: model.joint_rows[j],
+                    rows: joints[j].1,
+                },
+            )
+        } else {
+            let Some(&f) = frames.get(item) else {
+                let mut names: Vec<&str> = frames.keys().map(|s| s.as_str()).collect();
+                names.sort();
+                return Err(err(format!(
+                    "unknown frame `{item}` (frames: {})",
+                    names.join(", ")
+                )));
+            };
+            match what {
+                "position" => ("m".into(), xyz(), SignalKind::Position(f)),
+                "velocity" => ("m/s".into(), xyz(), SignalKind::Velocity(f)),
+                "angular_velocity" => ("rad/s".into(), xyz(), SignalKind::AngularVelocity(f)),
+                "orientation" => ("rad".into(), xyz(), SignalKind::Orientation(f)),
+                "deformation" => {
+                    let fr = &model.frames[f.0];
+                    let (Some(_), FrameOwner::Body(b)) = (fr.local.node, fr.owner) else {
+                        return Err(err(format!("`{item}` is not a node frame of an ffr body: `deformation` needs `node` or `nearest`")));
+                    };
+                    let body_frame = bodies.iter().find(|x| x.id == b).map(|x| x.frame).ok_or_else(|| err("internal: body without frame".into()))?;
+                    ("m".into(), xyz(), SignalKind::Deformation { frame: f, body_frame, reference: fr.local.position })
+                }
+                _ => return Err(err(format!("unknown quantity `{what}` (use position, velocity, angular_velocity, orientation, deformation, or reaction for joints)"))),
+            }
+        };
+        out.push(Signal {
+            name: s.clone(),
+            unit,
+            components,
+            kind,
+        });
+    }
+    Ok(out)
+}
+
+/// Number of signal components.
+pub fn signal_width(signals: &[Signal]) -> usize {
+    signals.iter().map(|s| s.components.len()).sum()
+}
+
+/// Evaluates all signals into `out` (cleared first); `frames` must be up to date.
+pub fn evaluate_signals(
+    signals: &[Signal],
+    frames: &[FrameKinematics],
+    lambda: &[f64],
+    out: &mut Vec<f64>,
+) {
+    out.clear();
+    for s in signals {
+        match &s.kind {
+            SignalKind::Position(f) => out.extend(frames[f.0].position.iter()),
+            SignalKind::Velocity(f) => out.extend(frames[f.0].velocity.iter()),
+            SignalKind::AngularVelocity(f) => out.extend(frames[f.0].angular_velocity.iter()),
+            SignalKind::Orientation(f) => {
+                let th = flexmbs_core::rotation::cardan_from_matrix(&frames[f.0].rotation, 0.0)
+                    .unwrap_or(Vector3::repeat(f64::NAN));
+                out.extend(th.iter());
+            }
+            SignalKind::Deformation {
+                frame,
+                body_frame,
+                reference,
+            } => {
+                let (k, b) = (&frames[frame.0], &frames[body_frame.0]);
+                let d = b.rotation.transpose() * (k.position - b.position) - reference;
+                out.extend(d.iter());
+            }
+            SignalKind::Reaction { row, rows } => out.extend(&lambda[*row..row + rows]),
+        }
+    }
+}
+
+/// Names of the position coordinates, velocity coordinates and multipliers
+/// (`rod.R_x`, `rod.q_f3`, `pin.tz`).
+pub fn coordinate_names(
+    model: &Model,
+    bodies: &[BodyInfo],
+) -> (Vec<String>, Vec<String>, Vec<String>) {
+    let (mut q, mut u) = (Vec::new(), Vec::new());
+    for b in bodies {
+        let g = &b.geometry;
+        let mut qn: Vec<String> = XYZ.iter().map(|c| format!("R_{c}")).collect();
+        match g.rotation {
+            RotationName::Cardan => qn.extend(XYZ.iter().map(|c| format!("theta_{c}"))),
+            RotationName::Quaternion => qn.extend((0..4).map(|k| format!("p{k}"))),
+        }
+        qn.extend((1..=g.modes).map(|k| format!("q_f{k}")));
+        let mut un: Vec<String> = XYZ.iter().map(|c| format!("v_{c}")).collect();
+        un.extend(XYZ.iter().map(|c| format!("w_{c}")));
+        un.extend((1..=g.modes).map(|k| format!("qd_f{k}")));
+        let el = &model.bodies[b.id.0].element;
+        if qn.len() != el.nq() {
+            qn = (0..el.nq()).map(|k| format!("q{k}")).collect();
+        }
+        if un.len() != el.nu() {
+            un = (0..el.nu()).map(|k| format!("u{k}")).collect();
+        }
+        q.extend(qn.into_iter().map(|n| format!("{}.{n}", b.name)));
+        u.extend(un.into_iter().map(|n| format!("{}.{n}", b.name)));
+    }
+    let mut lambda = Vec::new();
+    for j in &model.joints {
+        for d in (0..6).filter(|&d| j.locked[d]) {
+            lambda.push(format!("{}.{}", j.name, DOFS[d]));
+        }
+        if j.prescribed.is_some() {
+            lambda.push(format!("{}.motion", j.name));
+        }
+    }
+    (q, u, lambda)
+}
+
+/// Every plottable series of a run (the names `flexmbs_io::results::Results::series_names`
+/// gives for the same layout).
+pub fn series_names(model: &Model, bodies: &[BodyInfo], signals: &[Signal]) -> Vec<String> {
+    let (q, u, l) = coordinate_names(model, bodies);
+    let mut names: Vec<String> = q.iter().map(|n| format!("q/{n}")).collect();
+    names.extend(u.iter().map(|n| format!("u/{n}")));
+    names.extend(l.iter().map(|n| format!("lambda/{n}")));
+    for e in ["kinetic", "gravity", "elastic", "springs", "total"] {
+        names.push(format!("energy/{e}"));
+    }
+    names.push("drift/position".into());
+    names.push("drift/velocity".into());
+    for s in ["h", "iterations", "residual"] {
+        names.push(format!("step/{s}"));
+    }
+    for s in signals {
+        names.extend(s.components.iter().map(|c| format!("{}.{c}", s.name)));
+    }
+    names
+}

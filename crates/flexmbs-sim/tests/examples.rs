@@ -1,0 +1,29 @@
+//! Every example model in `examples/mbs/` compiles (parses, reduces its FE bodies, builds the
+//! engine model and the initial state).
+
+use std::path::Path;
+
+#[test]
+fn all_examples_compile() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/mbs");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            assert!(flexmbs_sim::is_multibody_model(&text), "{}", path.display());
+            let cm = flexmbs_sim::load_model(&path)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert!(
+                cm.model.nq > 0 && !cm.bodies.is_empty(),
+                "{}",
+                path.display()
+            );
+            n += 1;
+        }
+    }
+    assert_eq!(n, 6, "expected 6 example models");
+    // FE body files are not multibody models
+    let fe = std::fs::read_to_string(dir.join("parts/rod.toml")).unwrap();
+    assert!(!flexmbs_sim::is_multibody_model(&fe));
+}

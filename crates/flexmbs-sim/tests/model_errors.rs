@@ -1,0 +1,259 @@
+//! Every kind of model-file error names the key path and the line (table-driven over small bad
+//! variants of one valid model).
+
+use flexmbs_sim::{compile_model, SimError};
+use std::path::{Path, PathBuf};
+
+const BASE: &str = r#"
+[model]
+name = "pendulum"
+gravity = [0, 0, "-9.81 m/s^2"]
+
+[solver]
+type = "generalized-alpha"
+h = "1 ms"
+t_end = "0.01 s"
+
+[[body]]
+name = "arm"
+type = "rigid"
+mass = "1 kg"
+inertia = [0.01, 0.01, 0.001]
+position = [0, 0, -0.5]
+
+[[body]]
+name = "rod"
+type = "ffr"
+source = "parts/rod.toml"
+modes = [1, 2]
+position = [0, 0, -1.0]
+
+[[frame]]
+name = "hinge"
+body = "ground"
+
+[[frame]]
+name = "top"
+body = "arm"
+position = [0, 0, "500 mm"]
+
+[[joint]]
+name = "pin"
+type = "revolute"
+a = "hinge"
+b = "top"
+
+[[load]]
+type = "force"
+frame = "arm"
+vector = ["1 N", 0, 0]
+time = { type = "ramp", t1 = "5 ms", v1 = 1 }
+
+[output]
+signals = ["arm.position", "pin.reaction"]
+"#;
+
+/// The model file path: next to the example FE parts so that `parts/rod.toml` resolves.
+fn model_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/mbs/test_model.toml")
+}
+
+#[test]
+fn base_model_compiles() {
+    let cm = compile_model(BASE, &model_path()).unwrap();
+    assert_eq!(cm.bodies.len(), 2);
+    // rigid body: 6 coordinates; FFR rod with 2 modes and Cardan angles: 3 + 3 + 2
+    assert_eq!(cm.model.nq, 6 + 8);
+    assert_eq!(cm.model.nc, 5);
+    assert_eq!(cm.signals.len(), 2);
+    assert_eq!(cm.initial.q[2], -0.5);
+}
+
+/// (replace this, by this, expected key path, text on the expected line, message fragment)
+const CASES: &[(&str, &str, &str, &str, &str)] = &[
+    (
+        "mass = \"1 kg\"",
+        "masss = \"1 kg\"",
+        "body[0].masss",
+        "masss",
+        "unknown field",
+    ),
+    (
+        "mass = \"1 kg\"",
+        "mass = \"1 mm\"",
+        "body[0].mass",
+        "mass = \"1 mm\"",
+        "length unit",
+    ),
+    (
+        "mass = \"1 kg\"",
+        "mass = \"1 furlong\"",
+        "body[0].mass",
+        "furlong",
+        "unknown unit",
+    ),
+    (
+        "mass = \"1 kg\"",
+        "mass = 0",
+        "body[0].mass",
+        "mass = 0",
+        "must be > 0",
+    ),
+    (
+        "inertia = [0.01, 0.01, 0.001]",
+        "inertia = [0.01, -0.01, 0.001]",
+        "body[0].inertia",
+        "inertia = [0.01, -0.01",
+        "positive definite",
+    ),
+    (
+        "b = \"top\"",
+        "b = \"tpo\"",
+        "joint[0].b",
+        "b = \"tpo\"",
+        "unknown frame `tpo` (frames: arm, hinge, rod, top)",
+    ),
+    (
+        "frame = \"arm\"",
+        "frame = \"leg\"",
+        "load[0].frame",
+        "frame = \"leg\"",
+        "unknown frame `leg`",
+    ),
+    (
+        "name = \"top\"",
+        "name = \"arm\" # dup",
+        "frame[1].name",
+        "# dup",
+        "duplicate name `arm`",
+    ),
+    (
+        "modes = [1, 2]",
+        "modes = [1, 9]",
+        "body[1].modes[1]",
+        "modes = [1, 9]",
+        "mode 9 out of range: the body has modes 1..=4",
+    ),
+    (
+        "modes = [1, 2]",
+        "modes = 7",
+        "body[1].modes",
+        "modes = 7",
+        "7 modes requested but the body has 4",
+    ),
+    (
+        "type = \"generalized-alpha\"",
+        "type = \"dopri5\"",
+        "solver.type",
+        "type = \"dopri5\"",
+        "unconstrained models only",
+    ),
+    (
+        "type = \"generalized-alpha\"",
+        "type = \"rk4\"",
+        "solver.type",
+        "type = \"rk4\"",
+        "unknown variant",
+    ),
+    (
+        "t_end = \"0.01 s\"",
+        "t_end = \"-1 s\"",
+        "solver.t_end",
+        "t_end = \"-1 s\"",
+        "must be > 0",
+    ),
+    (
+        "t_end = \"0.01 s\"",
+        "t_end = \"10 N\"",
+        "solver.t_end",
+        "t_end = \"10 N\"",
+        "force unit",
+    ),
+    ("h = \"1 ms\"", "h = 0", "solver.h", "h = 0", "must be > 0"),
+    (
+        "t1 = \"5 ms\"",
+        "t1 = \"5 ms\", t3 = 2",
+        "load[0].time.t3",
+        "t3 = 2",
+        "unknown field",
+    ),
+    (
+        "t1 = \"5 ms\", v1 = 1",
+        "t1 = \"5 ms\"",
+        "load[0].time",
+        "type = \"ramp\"",
+        "needs `v1`",
+    ),
+    (
+        "signals = [\"arm.position\"",
+        "signals = [\"hand.position\"",
+        "output.signals[0]",
+        "hand.position",
+        "unknown frame `hand`",
+    ),
+    (
+        "signals = [\"arm.position\"",
+        "signals = [\"arm.deformation\"",
+        "output.signals[0]",
+        "arm.deformation",
+        "not a node frame",
+    ),
+    (
+        "source = \"parts/rod.toml\"",
+        "source = \"parts/nothing.toml\"",
+        "body[1].source",
+        "nothing.toml",
+        "nothing.toml",
+    ),
+    (
+        "type = \"rigid\"",
+        "type = \"rigid\"\nsource = \"x.toml\"",
+        "body[0].source",
+        "source = \"x.toml\"",
+        "not used by a rigid body",
+    ),
+    (
+        "name = \"pendulum\"",
+        "name = \"pendulum\"\ncolour = \"red\"",
+        "model.colour",
+        "colour",
+        "unknown field",
+    ),
+    (
+        "position = [0, 0, \"500 mm\"]",
+        "position = [0, 0, \"500 mm\"]\nnode = 3",
+        "frame[1].node",
+        "node = 3",
+        "is rigid",
+    ),
+];
+
+#[test]
+fn every_error_names_key_path_and_line() {
+    let file = model_path();
+    for (from, to, path, line_text, fragment) in CASES {
+        assert!(BASE.contains(from), "case {from}");
+        let text = BASE.replacen(from, to, 1);
+        let err = match compile_model(&text, &file) {
+            Ok(_) => panic!("case `{to}` compiled"),
+            Err(e) => e,
+        };
+        let msg = err.to_string();
+        let SimError::Model { path: p, line, .. } = &err else {
+            panic!("case `{to}`: not a model error: {msg}");
+        };
+        assert_eq!(p, path, "case `{to}`: {msg}");
+        let expected_line = text
+            .lines()
+            .position(|l| l.contains(line_text))
+            .map(|i| i + 1)
+            .unwrap();
+        // a table header line is accepted for errors on the table itself
+        assert!(
+            *line == expected_line,
+            "case `{to}`: line {line}, expected {expected_line}: {msg}"
+        );
+        assert!(msg.contains(fragment), "case `{to}`: {msg}");
+        assert!(msg.contains("test_model.toml:"), "{msg}");
+    }
+}
