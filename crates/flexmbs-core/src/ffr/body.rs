@@ -51,7 +51,7 @@ pub struct FfrBody {
     /// Modal damping matrix d_ff (zero unless set).
     pub d_ff: DMatrix<f64>,
     /// `S_23 - S_32, S_31 - S_13, S_12 - S_21` (2.68), n_f x n_f each.
-    s_skew: [DMatrix<f64>; 3],
+    pub(super) s_skew: [DMatrix<f64>; 3],
 }
 
 /// Per-body work buffers and the evaluated state (created once, reused: no allocation at run time).

@@ -16,6 +16,9 @@ mod element;
 mod invariants;
 mod kinematics;
 mod si;
+mod tangent;
+#[cfg(test)]
+mod tests_tangent;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
@@ -26,6 +29,7 @@ pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
 pub use si::reduced_body_to_si;
+pub use tangent::{FfrTangentScratch, ROTATION_FD_STEP};
 
 use crate::rotation::RotationError;
 use thiserror::Error;
