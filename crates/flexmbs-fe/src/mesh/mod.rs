@@ -6,6 +6,7 @@
 
 pub mod generate;
 pub mod profile;
+pub mod tube;
 pub mod select;
 
 use crate::{FeError, Material, UnitSystem};
