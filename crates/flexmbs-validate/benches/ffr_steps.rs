@@ -9,7 +9,7 @@
 //! Environment:
 //! - `FFR_BENCH_FD=1`: also time the finite-difference tangent (the state before the analytic one);
 //! - `FFR_BENCH_EXPORT=dir`: write the 100-mode reduced data (`nodes.npy`, `masses.npy`,
-//!   `modes.npy`, `kff.npy`) and the tip responses `tip_flexmbs_<n>.csv` for
+//!   `modes.npy`, `kff.npy`) and the tip responses `tip_flexmbs_<n>_{full,modified}.csv` (full / modified Newton) for
 //!   `benches/exudyn/ffr_exudyn.py`;
 //! - `FFR_BENCH_MODES=6,12`: restrict the mode counts.
 
@@ -80,8 +80,15 @@ fn export(dir: &std::path::Path, body: &ReducedBody) {
     write_npy(&dir.join("kff.npy"), &[nf, nf], &k);
 }
 
-/// One timed run; returns (wall seconds of the stepping, tip deflection series every 10 steps).
-fn run(body: &ReducedBody, tip: usize, fd: bool, steps: usize) -> (f64, Vec<(f64, f64)>) {
+/// One timed run; returns (wall seconds of the stepping, mean Newton iterations per step, tip
+/// deflection series every 10 steps).
+fn run(
+    body: &ReducedBody,
+    tip: usize,
+    fd: bool,
+    modified: bool,
+    steps: usize,
+) -> (f64, f64, Vec<(f64, f64)>) {
     let ffr = FfrBody::from_reduced(body, RotationParam::Cardan).expect("ffr");
     let nf = ffr.nf();
     let element = if fd {
@@ -110,23 +117,28 @@ fn run(body: &ReducedBody, tip: usize, fd: bool, steps: usize) -> (f64, Vec<(f64
     let mut ws = Workspace::new(&model);
     let settings = GenAlphaSettings {
         rho_inf: 0.9,
-        newton: NewtonSettings::default(),
+        newton: NewtonSettings {
+            modified,
+            ..NewtonSettings::default()
+        },
     };
     let ga = GenAlpha::new(settings).expect("integrator");
     ga.initialize(&model, &mut s, &mut ws).expect("init");
     let phi_tip: Vec<f64> = (0..nf).map(|a| body.modes_t[(3 * tip + 1, a)]).collect();
     let mut series = Vec::with_capacity(steps / 10 + 1);
-    let mut k = 0usize;
+    let (mut k, mut iterations) = (0usize, 0usize);
     let t0 = Instant::now();
-    ga.integrate(&model, &mut s, &mut ws, H, steps as f64 * H, |st, _| {
+    ga.integrate(&model, &mut s, &mut ws, H, steps as f64 * H, |st, stats| {
         k += 1;
+        iterations += stats.iterations;
         if k.is_multiple_of(10) {
             let qf = &st.q[qo + 6..qo + 6 + nf];
             series.push((st.t, phi_tip.iter().zip(qf).map(|(p, q)| p * q).sum()));
         }
     })
     .expect("run");
-    (t0.elapsed().as_secs_f64(), series)
+    let wall = t0.elapsed().as_secs_f64();
+    (wall, iterations as f64 / k.max(1) as f64, series)
 }
 
 fn main() {
@@ -190,15 +202,15 @@ fn main() {
         println!("exported reduced data to {} (tip node {tip})", dir.display());
     }
     println!(
-        "| modes | tangent | steps | wall [s] | steps/s | us/step | whole process [s] | tip y at 0.2 s [mm] |"
+        "| modes | tangent | Newton | steps | iterations/step | wall [s] | steps/s | us/step | whole process [s] | tip y at 0.2 s [mm] |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
         let t_set = Instant::now();
         let body =
             reduce_modal(&mesh, &sys, &modal, n, "tube", Provenance::default()).expect("reduce");
         let setup = t_set.elapsed().as_secs_f64();
-        let mut variants = vec![(false, STEPS)];
+        let mut variants = vec![(false, false, STEPS), (false, true, STEPS)];
         if with_fd {
             let fd_steps = match n {
                 0..=12 => 1000,
@@ -206,15 +218,16 @@ fn main() {
                 25..=50 => 40,
                 _ => 10,
             };
-            variants.push((true, fd_steps));
+            variants.push((true, false, fd_steps));
         }
-        for (fd, steps) in variants {
-            let (wall, series) = run(&body, tip, fd, steps);
+        for (fd, modified, steps) in variants {
+            let (wall, iters, series) = run(&body, tip, fd, modified, steps);
             let whole = t_mesh + t_modal + setup + wall * STEPS as f64 / steps as f64;
             let last = series.last().map_or(f64::NAN, |x| x.1);
             println!(
-                "| {n} | {} | {steps} | {wall:.3} | {:.0} | {:.1} | {whole:.2} | {} |",
+                "| {n} | {} | {} | {steps} | {iters:.2} | {wall:.3} | {:.0} | {:.1} | {whole:.2} | {} |",
                 if fd { "finite differences" } else { "analytic" },
+                if modified { "modified" } else { "full" },
                 steps as f64 / wall,
                 1e6 * wall / steps as f64,
                 if steps == STEPS {
@@ -224,7 +237,8 @@ fn main() {
                 },
             );
             if let (Some(dir), false) = (&export_dir, fd) {
-                let mut f = std::fs::File::create(dir.join(format!("tip_flexmbs_{n}.csv")))
+                let kind = if modified { "modified" } else { "full" };
+                let mut f = std::fs::File::create(dir.join(format!("tip_flexmbs_{n}_{kind}.csv")))
                     .expect("csv");
                 writeln!(f, "t,tip_y").unwrap();
                 for (t, y) in &series {

@@ -1,7 +1,7 @@
 //! The FFR body as an [`Element`] of the multibody engine: the adapter between the engine's
 //! element contract and the FFR mathematics of [`FfrBody`] (seed 000 (2.73)).
 
-use super::{FfrBody, FfrScratch, FfrTangentScratch, RotationParam};
+use super::{FfrBody, FfrScratch, FfrTangentScratch, MomentCache, RotationParam};
 use crate::element::{
     finite_difference_tangents, Element, FrameKinematics, LocalFrame, TangentScratch,
 };
@@ -20,6 +20,7 @@ pub struct FfrElement {
     zero_u: Vec<f64>,
     tangent: Mutex<FfrTangentScratch>,
     analytic_tangent: bool,
+    moments: Mutex<MomentCache>,
 }
 
 impl FfrElement {
@@ -33,6 +34,7 @@ impl FfrElement {
             zero_u: vec![0.0; nu],
             tangent: Mutex::new(FfrTangentScratch::new(nf)),
             analytic_tangent: true,
+            moments: Mutex::new(MomentCache::new(nf)),
         }
     }
 
@@ -61,7 +63,11 @@ impl FfrElement {
             Ok(s) => s,
             Err(poisoned) => poisoned.into_inner(),
         };
-        self.body.update(q, u, &mut s).ok()?;
+        let mut cache = match self.moments.lock() {
+            Ok(c) => c,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        self.body.update_cached(q, u, &mut s, &mut cache).ok()?;
         Some(f(&self.body, &mut s))
     }
 }

@@ -12,6 +12,7 @@
 //! `docs/notation-ffr.md` for the derivation and the corrected quadratic velocity vector (2.79).
 
 mod body;
+mod cached;
 mod element;
 mod invariants;
 mod kinematics;
@@ -24,6 +25,7 @@ mod tests;
 #[cfg(test)]
 mod tests_dynamics;
 
+pub use cached::MomentCache;
 pub use body::{FfrBody, FfrScratch, RotationParam};
 pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};

@@ -37,6 +37,8 @@ pub const ROTATION_FD_STEP: f64 = 1e-6;
 pub struct FfrTangentScratch {
     /// `y_kl = S_kl q_f_dot`, row `3 k + l` (9 x n_f).
     y: DMatrix<f64>,
+    /// `S_stack q_f_dot` (9 n_f, block `3 k + l` = `S_kl^T q_f_dot = y_lk`).
+    y_flat: DVector<f64>,
     /// `D_k q_f_dot` (3 x n_f).
     dq: DMatrix<f64>,
     /// `K q_f + D q_f_dot` (n_f).
@@ -53,6 +55,7 @@ impl FfrTangentScratch {
     pub fn new(nf: usize) -> Self {
         Self {
             y: DMatrix::zeros(9, nf),
+            y_flat: DVector::zeros(9 * nf),
             dq: DMatrix::zeros(3, nf),
             kd: DVector::zeros(nf),
             col: DVector::zeros(nf),
@@ -91,7 +94,7 @@ impl RotationState {
 impl FfrBody {
     /// Sets `A`, `H`, `H_dot w`, `ω` of `s` for the rotation coordinates `rot` (3 Cardan angles
     /// or 4 quaternion components, any non-zero norm) and the velocity coordinates `w`.
-    fn set_rotation_state(
+    pub(super) fn set_rotation_state(
         &self,
         rot: &[f64],
         w: &Vector3<f64>,
@@ -187,18 +190,12 @@ impl FfrBody {
                 found: ts.kd.len(),
             });
         }
-        let inv = &self.invariants;
         // velocity products: y_kl = S_kl q_f_dot, D_k q_f_dot, K q_f + D q_f_dot
-        ts.y.fill(0.0);
-        for kl in 0..9 {
-            let skl = inv.s_kl[kl].as_slice();
-            for b in 0..nf {
-                let x = s.qfd[b];
-                if x == 0.0 {
-                    continue;
-                }
-                for (c, v) in skl[b * nf..(b + 1) * nf].iter().enumerate() {
-                    ts.y[(kl, c)] += v * x;
+        super::body::mat_vec(&self.s_stack, s.qfd.as_slice(), ts.y_flat.as_mut_slice());
+        for a in 0..nf {
+            for k in 0..3 {
+                for l in 0..3 {
+                    ts.y[(3 * k + l, a)] = ts.y_flat[(3 * l + k) * nf + a];
                 }
             }
         }

@@ -89,3 +89,27 @@ fn tangent_restores_state() {
         Err(FfrError::DimensionMismatch { .. })
     ));
 }
+
+/// The moment cache is transparent: `update_cached` leaves the scratch bitwise equal to `update`,
+/// on a miss (new `q_f`) and on a hit (same `q_f`, new rotation and velocities).
+#[test]
+fn update_cache_is_bitwise_transparent() {
+    let mut seed = 9;
+    let d = random_data(&mut seed, 6, 4, 0.2);
+    for rot in [RotationParam::Cardan, RotationParam::Quaternion] {
+        let body = body_of(&d, rot, false);
+        let mut cache = MomentCache::new(body.nf());
+        let (mut sc, mut sr) = (FfrScratch::new(body.nf()), FfrScratch::new(body.nf()));
+        let (q1, u1) = random_state(&mut seed, &body, 0.3);
+        let (mut q2, u2) = random_state(&mut seed, &body, 0.3);
+        let nr = rot.num_coordinates();
+        q2[3 + nr..].copy_from_slice(&q1[3 + nr..]); // same deformation, new pose
+        for (q, u) in [(&q1, &u1), (&q2, &u2), (&q1, &u2)] {
+            body.update_cached(q, u, &mut sc, &mut cache).unwrap();
+            body.update(q, u, &mut sr).unwrap();
+            assert_eq!((sc.a, sc.h, sc.hdot_w, sc.omega), (sr.a, sr.h, sr.hdot_w, sr.omega));
+            assert_eq!((&sc.qf, &sc.qfd, &sc.p), (&sr.qf, &sr.qfd, &sr.p));
+            assert_eq!((sc.s_t, sc.i_tt, &sc.i_tf), (sr.s_t, sr.i_tt, &sr.i_tf));
+        }
+    }
+}
