@@ -56,12 +56,12 @@ fn simulate(body: &ReducedBody, fd: bool, rot: RotationParam, modified: bool) ->
     let b = spec.add_body("bar", element);
     let g = spec.add_ground_frame("hinge", Vector3::zeros(), Matrix3::identity());
     let f = spec.add_frame("hinge", b, Vector3::zeros(), Matrix3::identity());
-    spec.add_joint(
-        Joint::revolute("drive", g, f).with_prescribed(PrescribedMotion::RevoluteRate {
+    spec.add_joint(Joint::revolute("drive", g, f).with_prescribed(
+        PrescribedMotion::RevoluteRate {
             initial_angle: 0.0,
             rate: TimeFunction::Constant(100.0),
-        }),
-    );
+        },
+    ));
     let model = spec.compile().unwrap();
     let mut s = model.initial_state();
     model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, 100.0));
@@ -108,9 +108,18 @@ fn analytic_tangent_and_modified_newton_reproduce_fd_trajectory() {
         eprintln!(
             "{rot:?}: analytic/full {d_full:e} ({it_full} it), modified {d_mod:e} ({it_mod} it), FD {it_fd} it"
         );
-        assert!(d_full < 1e-8, "{rot:?}: analytic full Newton differs by {d_full:e}");
-        assert!(d_mod < 1e-8, "{rot:?}: modified Newton differs by {d_mod:e}");
+        assert!(
+            d_full < 1e-8,
+            "{rot:?}: analytic full Newton differs by {d_full:e}"
+        );
+        assert!(
+            d_mod < 1e-8,
+            "{rot:?}: modified Newton differs by {d_mod:e}"
+        );
         assert!(it_mod >= it_full - 1e-12);
-        assert!(reference.iter().any(|x| x.abs() > 1e-6), "the bar must deform");
+        assert!(
+            reference.iter().any(|x| x.abs() > 1e-6),
+            "the bar must deform"
+        );
     }
 }

@@ -44,7 +44,9 @@ fn ffr_steps_allocations(modified: bool) -> usize {
     use flexmbs_core::ffr::{FfrBody, FfrElement, FfrInvariants, RotationParam as FfrRot};
     use flexmbs_core::integrator::NewtonSettings;
     let n = 6;
-    let nodes: Vec<[f64; 3]> = (0..n).map(|i| [0.2 * i as f64, 0.01 * (i % 2) as f64, 0.0]).collect();
+    let nodes: Vec<[f64; 3]> = (0..n)
+        .map(|i| [0.2 * i as f64, 0.01 * (i % 2) as f64, 0.0])
+        .collect();
     let masses = vec![0.5; n];
     let nf = 4;
     let modes = faer::Mat::from_fn(3 * n, nf, |r, c| {
@@ -55,9 +57,21 @@ fn ffr_steps_allocations(modified: bool) -> usize {
             0.0
         }
     });
-    let k = faer::Mat::from_fn(nf, nf, |i, j| if i == j { 1e3 * (i + 1) as f64 } else { 0.0 });
+    let k = faer::Mat::from_fn(
+        nf,
+        nf,
+        |i, j| if i == j { 1e3 * (i + 1) as f64 } else { 0.0 },
+    );
     let inv = FfrInvariants::from_lumped(&nodes, &masses, modes.as_ref()).unwrap();
-    let body = FfrBody::new(inv, FfrRot::Cardan, &nodes, modes.as_ref(), None, k.as_ref()).unwrap();
+    let body = FfrBody::new(
+        inv,
+        FfrRot::Cardan,
+        &nodes,
+        modes.as_ref(),
+        None,
+        k.as_ref(),
+    )
+    .unwrap();
     let mut spec = ModelSpec::new();
     spec.set_gravity(Vector3::new(0.0, -9.81, 0.0));
     let b = spec.add_body("ffr", FfrElement::new(body));

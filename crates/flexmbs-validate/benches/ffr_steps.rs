@@ -44,8 +44,7 @@ fn write_npy(path: &std::path::Path, shape: &[usize], data: &[f64]) {
                 .join(", ")
         ),
     };
-    let mut header =
-        format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape_s}, }}");
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape_s}, }}");
     while (10 + header.len() + 1) % 64 != 0 {
         header.push(' ');
     }
@@ -100,12 +99,12 @@ fn run(
     let b = spec.add_body("tube", element);
     let g = spec.add_ground_frame("hinge", Vector3::zeros(), Matrix3::identity());
     let f = spec.add_frame("hinge", b, Vector3::zeros(), Matrix3::identity());
-    spec.add_joint(
-        Joint::revolute("drive", g, f).with_prescribed(PrescribedMotion::RevoluteRate {
+    spec.add_joint(Joint::revolute("drive", g, f).with_prescribed(
+        PrescribedMotion::RevoluteRate {
             initial_angle: 0.0,
             rate: TimeFunction::Constant(OMEGA),
-        }),
-    );
+        },
+    ));
     let model = spec.compile().expect("model");
     let mut s = model.initial_state();
     model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, OMEGA));
@@ -196,10 +195,13 @@ fn main() {
         .map(|v| v.split(',').filter_map(|x| x.trim().parse().ok()).collect())
         .unwrap_or_else(|_| vec![6, 12, 24, 50, 100]);
     if let Some(dir) = &export_dir {
-        let body = reduce_modal(&mesh, &sys, &modal, 100, "tube", Provenance::default())
-            .expect("reduce");
+        let body =
+            reduce_modal(&mesh, &sys, &modal, 100, "tube", Provenance::default()).expect("reduce");
         export(dir, &body);
-        println!("exported reduced data to {} (tip node {tip})", dir.display());
+        println!(
+            "exported reduced data to {} (tip node {tip})",
+            dir.display()
+        );
     }
     println!(
         "| modes | tangent | Newton | steps | iterations/step | wall [s] | steps/s | us/step | whole process [s] | tip y at 0.2 s [mm] |"

@@ -535,14 +535,7 @@ pub(crate) fn mat_vec(a: &DMatrix<f64>, x: &[f64], y: &mut [f64]) {
     let lhs = faer::MatRef::from_column_major_slice(a.as_slice(), r, c);
     let rhs = faer::MatRef::from_column_major_slice(x, c, 1);
     let dst = faer::MatMut::from_column_major_slice_mut(y, r, 1);
-    faer::linalg::matmul::matmul(
-        dst,
-        faer::Accum::Replace,
-        lhs,
-        rhs,
-        1.0,
-        faer::Par::Seq,
-    );
+    faer::linalg::matmul::matmul(dst, faer::Accum::Replace, lhs, rhs, 1.0, faer::Par::Seq);
 }
 
 /// A faer view of a column-major nalgebra matrix (no copy).

@@ -19,14 +19,14 @@ mod kinematics;
 mod si;
 mod tangent;
 #[cfg(test)]
-mod tests_tangent;
-#[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_dynamics;
+#[cfg(test)]
+mod tests_tangent;
 
-pub use cached::MomentCache;
 pub use body::{FfrBody, FfrScratch, RotationParam};
+pub use cached::MomentCache;
 pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;

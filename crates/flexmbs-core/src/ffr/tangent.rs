@@ -323,8 +323,7 @@ impl FfrBody {
                 }
             }
             let ditt = Matrix3::identity() * uc.trace() - uc;
-            let cq =
-                w.cross(&(ditt * w)) + 2.0 * (yc.trace() * w - yc.transpose() * w) + ditt * z;
+            let cq = w.cross(&(ditt * w)) + 2.0 * (yc.trace() * w - yc.transpose() * w) + ditt * z;
             let w_q = ht * (sc.cross(&gb) - cq);
             let w_u = -(ht * (2.0 * (pc.trace() * w - pc.transpose() * w)));
             for i in 0..3 {

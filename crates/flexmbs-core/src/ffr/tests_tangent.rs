@@ -107,7 +107,10 @@ fn update_cache_is_bitwise_transparent() {
         for (q, u) in [(&q1, &u1), (&q2, &u2), (&q1, &u2)] {
             body.update_cached(q, u, &mut sc, &mut cache).unwrap();
             body.update(q, u, &mut sr).unwrap();
-            assert_eq!((sc.a, sc.h, sc.hdot_w, sc.omega), (sr.a, sr.h, sr.hdot_w, sr.omega));
+            assert_eq!(
+                (sc.a, sc.h, sc.hdot_w, sc.omega),
+                (sr.a, sr.h, sr.hdot_w, sr.omega)
+            );
             assert_eq!((&sc.qf, &sc.qfd, &sc.p), (&sr.qf, &sr.qfd, &sr.p));
             assert_eq!((sc.s_t, sc.i_tt, &sc.i_tf), (sr.s_t, sr.i_tt, &sr.i_tf));
         }

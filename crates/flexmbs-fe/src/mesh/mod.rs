@@ -6,8 +6,8 @@
 
 pub mod generate;
 pub mod profile;
-pub mod tube;
 pub mod select;
+pub mod tube;
 
 use crate::{FeError, Material, UnitSystem};
 use serde::{Deserialize, Serialize};

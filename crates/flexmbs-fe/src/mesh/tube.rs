@@ -139,7 +139,16 @@ mod tests {
     #[test]
     fn linear_tube_volume_is_chordal_annulus() {
         let (l, ro, ri, nt) = (1.0, 0.01, 0.009, 20);
-        let m = tube_mesh(l, ro, ri, [99, 1, nt], ElementKind::Hex8I, AL, UnitSystem::Si).unwrap();
+        let m = tube_mesh(
+            l,
+            ro,
+            ri,
+            [99, 1, nt],
+            ElementKind::Hex8I,
+            AL,
+            UnitSystem::Si,
+        )
+        .unwrap();
         m.validate().unwrap();
         assert_eq!(m.num_nodes(), 100 * 2 * 20);
         assert_eq!(m.node_set("xmin").unwrap().len(), 40);
@@ -160,20 +169,24 @@ mod tests {
         let (l, ro, ri) = (1.0, 0.01, 0.009);
         let annulus = PI * (ro * ro - ri * ri) * l;
         let err = |nt: usize| {
-            let m = tube_mesh(l, ro, ri, [4, 2, nt], ElementKind::Hex20, AL, UnitSystem::Si)
-                .unwrap();
+            let m = tube_mesh(
+                l,
+                ro,
+                ri,
+                [4, 2, nt],
+                ElementKind::Hex20,
+                AL,
+                UnitSystem::Si,
+            )
+            .unwrap();
             m.validate().unwrap();
             let rule = crate::element::gauss::hex_rule(4);
             let mut v = 0.0;
             for (i, e) in m.elements.iter().enumerate() {
                 let x: Vec<[f64; 3]> = e.nodes.iter().map(|&n| m.nodes[n]).collect();
-                v += crate::element::solid::volume(
-                    crate::element::hex20::hex20_shape,
-                    &x,
-                    &rule,
-                    i,
-                )
-                .unwrap();
+                v +=
+                    crate::element::solid::volume(crate::element::hex20::hex20_shape, &x, &rule, i)
+                        .unwrap();
             }
             (v / annulus - 1.0).abs()
         };
