@@ -107,6 +107,10 @@ pub struct Workspace {
     pub lu: DenseLu,
     /// Mass-matrix solver (nu) for explicit integration.
     pub lu_mass: DenseLu,
+    /// Factorized iteration matrix kept between steps by modified Newton (nu + nc).
+    pub lu_newton: DenseLu,
+    /// Step size `lu_newton` was built for (NaN: no valid factorization).
+    pub newton_matrix_h: f64,
 }
 
 impl Workspace {
@@ -158,6 +162,8 @@ impl Workspace {
             },
             lu: DenseLu::new(nu + nc),
             lu_mass: DenseLu::new(nu),
+            lu_newton: DenseLu::new(nu + nc),
+            newton_matrix_h: f64::NAN,
         }
     }
 }

@@ -38,8 +38,78 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-/// Generalized-alpha steps (joint, spring, follower force, finite-difference tangents) and a
-/// DOPRI5 run perform zero allocations after the workspace exists. One test function so that
+/// Generalized-alpha steps of an FFR body (analytic tangent, moment cache, full and modified
+/// Newton, prescribed revolute joint, gravity), after the workspace exists and one warm-up step.
+fn ffr_steps_allocations(modified: bool) -> usize {
+    use flexmbs_core::ffr::{FfrBody, FfrElement, FfrInvariants, RotationParam as FfrRot};
+    use flexmbs_core::integrator::NewtonSettings;
+    let n = 6;
+    let nodes: Vec<[f64; 3]> = (0..n)
+        .map(|i| [0.2 * i as f64, 0.01 * (i % 2) as f64, 0.0])
+        .collect();
+    let masses = vec![0.5; n];
+    let nf = 4;
+    let modes = faer::Mat::from_fn(3 * n, nf, |r, c| {
+        let (node, dir) = (r / 3, r % 3);
+        if dir == 1 + c % 2 {
+            (0.2 * node as f64).powi(2 + (c / 2) as i32)
+        } else {
+            0.0
+        }
+    });
+    let k = faer::Mat::from_fn(
+        nf,
+        nf,
+        |i, j| if i == j { 1e3 * (i + 1) as f64 } else { 0.0 },
+    );
+    let inv = FfrInvariants::from_lumped(&nodes, &masses, modes.as_ref()).unwrap();
+    let body = FfrBody::new(
+        inv,
+        FfrRot::Cardan,
+        &nodes,
+        modes.as_ref(),
+        None,
+        k.as_ref(),
+    )
+    .unwrap();
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, -9.81, 0.0));
+    let b = spec.add_body("ffr", FfrElement::new(body));
+    let g = spec.add_ground_frame("g", Vector3::zeros(), Matrix3::identity());
+    let f = spec.add_frame("f", b, Vector3::zeros(), Matrix3::identity());
+    spec.add_joint(Joint::revolute("drive", g, f).with_prescribed(
+        PrescribedMotion::RevoluteRate {
+            initial_angle: 0.0,
+            rate: TimeFunction::Constant(10.0),
+        },
+    ));
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, 10.0));
+    let mut ws = Workspace::new(&model);
+    let settings = GenAlphaSettings {
+        newton: NewtonSettings {
+            modified,
+            ..NewtonSettings::default()
+        },
+        ..GenAlphaSettings::default()
+    };
+    let ga = GenAlpha::new(settings).unwrap();
+    ga.initialize(&model, &mut s, &mut ws).unwrap();
+    ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    ON.with(|c| c.set(true));
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..20 {
+        ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    }
+    let n = ALLOCS.load(Ordering::SeqCst) - before;
+    ON.with(|c| c.set(false));
+    n
+}
+
+/// Generalized-alpha steps (joint, spring, follower force, finite-difference tangents), FFR
+/// body steps (analytic tangent, full and modified Newton) and a DOPRI5 run perform zero
+/// allocations after the workspace exists. One test function so that
 /// no other test thread allocates concurrently.
 #[test]
 fn steps_do_not_allocate() {
@@ -103,9 +173,11 @@ fn steps_do_not_allocate() {
         .integrate(&model, &mut s, &mut ws, 0.5, |_, _| {})
         .unwrap();
     let n_dp = ALLOCS.load(Ordering::SeqCst) - before;
+    ON.with(|c| c.set(false));
+    let (n_ffr_full, n_ffr_mod) = (ffr_steps_allocations(false), ffr_steps_allocations(true));
     assert_eq!(
-        (n_ga, n_dp),
-        (0, 0),
-        "allocations in 20 generalized-alpha steps / a DOPRI5 run"
+        (n_ga, n_dp, n_ffr_full, n_ffr_mod),
+        (0, 0, 0, 0),
+        "allocations in 20 generalized-alpha steps / a DOPRI5 run / 20 FFR steps (full, modified Newton)"
     );
 }

@@ -1,18 +1,144 @@
-//! Steps per second of one FFR body on the rotating-beam model (tube hinged at one end, driven at
-//! 100 rad/s by a prescribed revolute joint), for 6 ... 100 modes. Run:
-//! `cargo bench -p flexmbs-validate --bench ffr_steps`. Not a test: nothing is asserted.
+//! Steps per second of one FFR body on the rotating-beam model, for 6 ... 100 modes: a solid
+//! aluminium tube (outer radius 10 mm, wall 1 mm, L = 1 m; 99 x 1 x 20 hex8i ring sectors, 4000
+//! nodes, 11 880 free DOFs, clamped at x = 0 for the modal analysis), hinged at x = 0 and driven at
+//! 100 rad/s about z by a prescribed revolute joint, started in rigid spin with an initial velocity
+//! 0.05 of the first two (bending) modal coordinates. Generalized-alpha rho_inf 0.9, h = 1e-4 s,
+//! 2000 steps (t_end = 0.2 s).
+//!
+//! Run: `cargo bench -p flexmbs-validate --bench ffr_steps`. Not a test: nothing is asserted.
+//! Environment:
+//! - `FFR_BENCH_FD=1`: also time the finite-difference tangent (the state before the analytic one);
+//! - `FFR_BENCH_EXPORT=dir`: write the 100-mode reduced data (`nodes.npy`, `masses.npy`,
+//!   `modes.npy`, `kff.npy`) and the tip responses `tip_flexmbs_<n>_{full,modified}.csv` (full / modified Newton) for
+//!   `benches/exudyn/ffr_exudyn.py`;
+//! - `FFR_BENCH_MODES=6,12`: restrict the mode counts.
 
 use flexmbs_core::ffr::{FfrBody, FfrElement, RotationParam};
-use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
+use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
 use flexmbs_core::{Joint, ModelSpec, PrescribedMotion, TimeFunction, Workspace};
 use flexmbs_fe::constraint::BoundaryConditions;
 use flexmbs_fe::eigen::EigenOptions;
 use flexmbs_fe::element::MassKind;
-use flexmbs_fe::reduction::{modal_analysis, reduce_modal, Provenance};
+use flexmbs_fe::reduction::{modal_analysis, reduce_modal, Provenance, ReducedBody};
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::{Material, UnitSystem};
 use nalgebra::{Matrix3, Vector3};
+use std::io::Write;
 use std::time::Instant;
+
+const H: f64 = 1e-4;
+const STEPS: usize = 2000;
+const OMEGA: f64 = 100.0;
+const QF_DOT0: f64 = 0.05;
+
+/// Writes a little-endian f64 array as a NumPy `.npy` file (C order).
+fn write_npy(path: &std::path::Path, shape: &[usize], data: &[f64]) {
+    let shape_s = match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(|s| s.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    };
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape_s}, }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut f = std::fs::File::create(path).expect("npy file");
+    f.write_all(b"\x93NUMPY\x01\x00").unwrap();
+    f.write_all(&(header.len() as u16).to_le_bytes()).unwrap();
+    f.write_all(header.as_bytes()).unwrap();
+    for x in data {
+        f.write_all(&x.to_le_bytes()).unwrap();
+    }
+}
+
+fn export(dir: &std::path::Path, body: &ReducedBody) {
+    std::fs::create_dir_all(dir).expect("export dir");
+    let n = body.nodes.len();
+    let nf = body.modes_t.ncols();
+    let nodes: Vec<f64> = body.nodes.iter().flatten().copied().collect();
+    write_npy(&dir.join("nodes.npy"), &[n, 3], &nodes);
+    write_npy(
+        &dir.join("masses.npy"),
+        &[n],
+        body.node_masses.as_ref().expect("lumped masses"),
+    );
+    let modes: Vec<f64> = (0..3 * n)
+        .flat_map(|i| (0..nf).map(move |j| body.modes_t[(i, j)]))
+        .collect();
+    write_npy(&dir.join("modes.npy"), &[3 * n, nf], &modes);
+    let k: Vec<f64> = (0..nf)
+        .flat_map(|i| (0..nf).map(move |j| body.k_red[(i, j)]))
+        .collect();
+    write_npy(&dir.join("kff.npy"), &[nf, nf], &k);
+}
+
+/// One timed run; returns (wall seconds of the stepping, mean Newton iterations per step, tip
+/// deflection series every 10 steps).
+fn run(
+    body: &ReducedBody,
+    tip: usize,
+    fd: bool,
+    modified: bool,
+    steps: usize,
+) -> (f64, f64, Vec<(f64, f64)>) {
+    let ffr = FfrBody::from_reduced(body, RotationParam::Cardan).expect("ffr");
+    let nf = ffr.nf();
+    let element = if fd {
+        FfrElement::new(ffr).with_finite_difference_tangent()
+    } else {
+        FfrElement::new(ffr)
+    };
+    let mut spec = ModelSpec::new();
+    let b = spec.add_body("tube", element);
+    let g = spec.add_ground_frame("hinge", Vector3::zeros(), Matrix3::identity());
+    let f = spec.add_frame("hinge", b, Vector3::zeros(), Matrix3::identity());
+    spec.add_joint(Joint::revolute("drive", g, f).with_prescribed(
+        PrescribedMotion::RevoluteRate {
+            initial_angle: 0.0,
+            rate: TimeFunction::Constant(OMEGA),
+        },
+    ));
+    let model = spec.compile().expect("model");
+    let mut s = model.initial_state();
+    model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, OMEGA));
+    let uo = model.bodies[b.index()].u_offset;
+    let qo = model.bodies[b.index()].q_offset;
+    for i in 0..2.min(nf) {
+        s.u[uo + 6 + i] = QF_DOT0;
+    }
+    let mut ws = Workspace::new(&model);
+    let settings = GenAlphaSettings {
+        rho_inf: 0.9,
+        newton: NewtonSettings {
+            modified,
+            ..NewtonSettings::default()
+        },
+    };
+    let ga = GenAlpha::new(settings).expect("integrator");
+    ga.initialize(&model, &mut s, &mut ws).expect("init");
+    let phi_tip: Vec<f64> = (0..nf).map(|a| body.modes_t[(3 * tip + 1, a)]).collect();
+    let mut series = Vec::with_capacity(steps / 10 + 1);
+    let (mut k, mut iterations) = (0usize, 0usize);
+    let t0 = Instant::now();
+    ga.integrate(&model, &mut s, &mut ws, H, steps as f64 * H, |st, stats| {
+        k += 1;
+        iterations += stats.iterations;
+        if k.is_multiple_of(10) {
+            let qf = &st.q[qo + 6..qo + 6 + nf];
+            series.push((st.t, phi_tip.iter().zip(qf).map(|(p, q)| p * q).sum()));
+        }
+    })
+    .expect("run");
+    let wall = t0.elapsed().as_secs_f64();
+    (wall, iterations as f64 / k.max(1) as f64, series)
+}
 
 fn main() {
     let start = Instant::now();
@@ -21,11 +147,11 @@ fn main() {
         nu: 0.3,
         rho: 2700.0,
     };
-    // solid square aluminium bar 1 m x 20 mm x 20 mm, 100 x 2 x 2 hex8i (a beam-element model has no
-    // node rotary inertia in the FFR body: torsion modes would make its mass matrix singular)
-    let mesh = flexmbs_fe::mesh::generate::box_mesh(
-        [1.0, 0.02, 0.02],
-        [100, 2, 2],
+    let mesh = flexmbs_fe::mesh::tube::tube_mesh(
+        1.0,
+        0.01,
+        0.009,
+        [99, 1, 20],
         flexmbs_fe::ElementKind::Hex8I,
         material,
         UnitSystem::Si,
@@ -36,55 +162,91 @@ fn main() {
         rigid: vec![],
     };
     let sys = FeSystem::assemble(&mesh, &bc, MassKind::Lumped, &mut |_, _| {}).expect("assembly");
+    let t_mesh = start.elapsed().as_secs_f64();
+    // clamped model: K is positive definite, so the shift 0 lies below the spectrum (the automatic
+    // negative shift is far from it and converges slowly for the many double tube modes); the
+    // default residual tolerance 1e-9 is not reached for all 100 modes within the iteration
+    // limit (stalls near 5e-8), hence 1e-6
     let opts = EigenOptions {
-        method: flexmbs_fe::eigen::EigenMethod::Dense, // 2700 DOFs, 150 modes
+        shift: Some(0.0),
+        tol: 1e-6,
         ..EigenOptions::default()
     };
-    let modal = modal_analysis(&sys, 150, &opts, &mut |_| {}).expect("modes");
+    let modal = modal_analysis(&sys, 100, &opts, &mut |_| {}).expect("modes");
+    let t_modal = start.elapsed().as_secs_f64() - t_mesh;
     println!(
-        "FE model: {} nodes, {} DOFs; modal analysis of 150 modes + set-up {:.2} s",
+        "FE model: {} nodes, {} free DOFs; mesh + assembly {t_mesh:.2} s, modal analysis (100 modes) {t_modal:.2} s",
         mesh.num_nodes(),
         sys.len(),
-        start.elapsed().as_secs_f64()
     );
-    println!("| modes | steps | wall [s] | steps/s | us/step |");
-    println!("|---|---|---|---|---|");
-    for n in [6usize, 12, 24, 50, 100] {
+    // tip node: x = L, y = R, z = 0
+    let tip = (0..mesh.num_nodes())
+        .min_by(|&a, &b| {
+            let d = |n: usize| {
+                let x = mesh.nodes[n];
+                (x[0] - 1.0).powi(2) + (x[1] - 0.01).powi(2) + x[2].powi(2)
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .expect("nodes");
+    let export_dir = std::env::var_os("FFR_BENCH_EXPORT").map(std::path::PathBuf::from);
+    let with_fd = std::env::var("FFR_BENCH_FD").is_ok_and(|v| v == "1");
+    let counts: Vec<usize> = std::env::var("FFR_BENCH_MODES")
+        .map(|v| v.split(',').filter_map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or_else(|_| vec![6, 12, 24, 50, 100]);
+    if let Some(dir) = &export_dir {
+        let body =
+            reduce_modal(&mesh, &sys, &modal, 100, "tube", Provenance::default()).expect("reduce");
+        export(dir, &body);
+        println!(
+            "exported reduced data to {} (tip node {tip})",
+            dir.display()
+        );
+    }
+    println!(
+        "| modes | tangent | Newton | steps | iterations/step | wall [s] | steps/s | us/step | whole process [s] | tip y at 0.2 s [mm] |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for n in counts {
+        let t_set = Instant::now();
         let body =
             reduce_modal(&mesh, &sys, &modal, n, "tube", Provenance::default()).expect("reduce");
-        let ffr = FfrBody::from_reduced(&body, RotationParam::Cardan).expect("ffr");
-        let mut spec = ModelSpec::new();
-        let b = spec.add_body("tube", FfrElement::new(ffr));
-        let g = spec.add_ground_frame("hinge", Vector3::zeros(), Matrix3::identity());
-        let f = spec.add_frame("hinge", b, Vector3::zeros(), Matrix3::identity());
-        spec.add_joint(Joint::revolute("drive", g, f).with_prescribed(
-            PrescribedMotion::RevoluteRate {
-                initial_angle: 0.0,
-                rate: TimeFunction::Constant(100.0),
-            },
-        ));
-        let model = spec.compile().expect("model");
-        let mut s = model.initial_state();
-        model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, 100.0));
-        let mut ws = Workspace::new(&model);
-        let ga = GenAlpha::new(GenAlphaSettings::default()).expect("integrator");
-        ga.initialize(&model, &mut s, &mut ws).expect("init");
-        let steps = if n <= 24 { 2000 } else { 400 };
-        let t0 = Instant::now();
-        ga.integrate(
-            &model,
-            &mut s,
-            &mut ws,
-            1e-4,
-            steps as f64 * 1e-4,
-            |_, _| {},
-        )
-        .expect("run");
-        let wall = t0.elapsed().as_secs_f64();
-        println!(
-            "| {n} | {steps} | {wall:.3} | {:.0} | {:.1} |",
-            steps as f64 / wall,
-            1e6 * wall / steps as f64
-        );
+        let setup = t_set.elapsed().as_secs_f64();
+        let mut variants = vec![(false, false, STEPS), (false, true, STEPS)];
+        if with_fd {
+            let fd_steps = match n {
+                0..=12 => 1000,
+                13..=24 => 200,
+                25..=50 => 40,
+                _ => 10,
+            };
+            variants.push((true, false, fd_steps));
+        }
+        for (fd, modified, steps) in variants {
+            let (wall, iters, series) = run(&body, tip, fd, modified, steps);
+            let whole = t_mesh + t_modal + setup + wall * STEPS as f64 / steps as f64;
+            let last = series.last().map_or(f64::NAN, |x| x.1);
+            println!(
+                "| {n} | {} | {} | {steps} | {iters:.2} | {wall:.3} | {:.0} | {:.1} | {whole:.2} | {} |",
+                if fd { "finite differences" } else { "analytic" },
+                if modified { "modified" } else { "full" },
+                steps as f64 / wall,
+                1e6 * wall / steps as f64,
+                if steps == STEPS {
+                    format!("{:.6}", 1e3 * last)
+                } else {
+                    "-".into()
+                },
+            );
+            if let (Some(dir), false) = (&export_dir, fd) {
+                let kind = if modified { "modified" } else { "full" };
+                let mut f = std::fs::File::create(dir.join(format!("tip_flexmbs_{n}_{kind}.csv")))
+                    .expect("csv");
+                writeln!(f, "t,tip_y").unwrap();
+                for (t, y) in &series {
+                    writeln!(f, "{t:.6},{y:.12e}").unwrap();
+                }
+            }
+        }
     }
 }

@@ -51,7 +51,10 @@ pub struct FfrBody {
     /// Modal damping matrix d_ff (zero unless set).
     pub d_ff: DMatrix<f64>,
     /// `S_23 - S_32, S_31 - S_13, S_12 - S_21` (2.68), n_f x n_f each.
-    s_skew: [DMatrix<f64>; 3],
+    pub(super) s_skew: [DMatrix<f64>; 3],
+    /// `[S_11^T; S_12^T; ...; S_33^T]` (9 n_f x n_f, block `3 k + l` = `S_kl^T`): the deformed
+    /// moments are one matrix-vector product `P - Ī = S_stack q_f`.
+    pub(super) s_stack: DMatrix<f64>,
 }
 
 /// Per-body work buffers and the evaluated state (created once, reused: no allocation at run time).
@@ -81,6 +84,8 @@ pub struct FfrScratch {
     pub m: DMatrix<f64>,
     /// Force buffer for [`FfrBody::accelerations`], n_u.
     pub rhs: DVector<f64>,
+    /// `S_stack q_f` (9 n_f, block `3 k + l` = `P_kl - Ī_kl`).
+    pub p_flat: DVector<f64>,
 }
 
 impl FfrScratch {
@@ -99,6 +104,7 @@ impl FfrScratch {
             p: DMatrix::zeros(9, nf),
             m: DMatrix::zeros(6 + nf, 6 + nf),
             rhs: DVector::zeros(6 + nf),
+            p_flat: DVector::zeros(9 * nf),
         }
     }
 }
@@ -144,7 +150,14 @@ impl FfrBody {
             inv.s(2, 0) - inv.s(0, 2),
             inv.s(0, 1) - inv.s(1, 0),
         ];
+        let mut s_stack = DMatrix::zeros(9 * nf, nf);
+        for (kl, skl) in inv.s_kl.iter().enumerate() {
+            s_stack
+                .view_mut((kl * nf, 0), (nf, nf))
+                .copy_from(&skl.transpose());
+        }
         Ok(Self {
+            s_stack,
             rotation,
             u0: u0.iter().map(|x| Vector3::new(x[0], x[1], x[2])).collect(),
             modes_t: copy_modes(modes_t),
@@ -290,15 +303,11 @@ impl FfrBody {
         s.qf.copy_from_slice(&q[3 + nr..]);
         s.qfd.copy_from_slice(&u[6..]);
         let inv = &self.invariants;
-        // P_kl = Ī_kl + q_f^T S_kl
-        for kl in 0..9 {
-            let skl = &inv.s_kl[kl];
-            for a in 0..nf {
-                let mut acc = inv.i_kl_bar[(kl, a)];
-                for b in 0..nf {
-                    acc += s.qf[b] * skl[(b, a)];
-                }
-                s.p[(kl, a)] = acc;
+        // P_kl = Ī_kl + q_f^T S_kl = Ī_kl + S_kl^T q_f: one matrix-vector product
+        mat_vec(&self.s_stack, s.qf.as_slice(), s.p_flat.as_mut_slice());
+        for a in 0..nf {
+            for kl in 0..9 {
+                s.p[(kl, a)] = inv.i_kl_bar[(kl, a)] + s.p_flat[kl * nf + a];
             }
         }
         // S_t = I_bar + S_bar q_f (2.55)
@@ -518,6 +527,15 @@ impl FfrBody {
         s.m = m;
         res
     }
+}
+
+/// `y = A x` for a column-major matrix `A` (faer's SIMD matrix-vector product, sequential).
+pub(crate) fn mat_vec(a: &DMatrix<f64>, x: &[f64], y: &mut [f64]) {
+    let (r, c) = a.shape();
+    let lhs = faer::MatRef::from_column_major_slice(a.as_slice(), r, c);
+    let rhs = faer::MatRef::from_column_major_slice(x, c, 1);
+    let dst = faer::MatMut::from_column_major_slice_mut(y, r, 1);
+    faer::linalg::matmul::matmul(dst, faer::Accum::Replace, lhs, rhs, 1.0, faer::Par::Seq);
 }
 
 /// A faer view of a column-major nalgebra matrix (no copy).

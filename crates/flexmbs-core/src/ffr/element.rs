@@ -1,8 +1,10 @@
 //! The FFR body as an [`Element`] of the multibody engine: the adapter between the engine's
 //! element contract and the FFR mathematics of [`FfrBody`] (seed 000 (2.73)).
 
-use super::{FfrBody, FfrScratch, RotationParam};
-use crate::element::{Element, FrameKinematics, LocalFrame};
+use super::{FfrBody, FfrScratch, FfrTangentScratch, MomentCache, RotationParam};
+use crate::element::{
+    finite_difference_tangents, Element, FrameKinematics, LocalFrame, TangentScratch,
+};
 use crate::rotation::{cardan_from_matrix, cardan_g_bar, quaternion_from_matrix, skew};
 use faer::MatMut;
 use nalgebra::{Matrix3, Vector3};
@@ -16,6 +18,9 @@ pub struct FfrElement {
     body: FfrBody,
     scratch: Mutex<FfrScratch>,
     zero_u: Vec<f64>,
+    tangent: Mutex<FfrTangentScratch>,
+    analytic_tangent: bool,
+    moments: Mutex<MomentCache>,
 }
 
 impl FfrElement {
@@ -27,7 +32,17 @@ impl FfrElement {
             body,
             scratch: Mutex::new(FfrScratch::new(nf)),
             zero_u: vec![0.0; nu],
+            tangent: Mutex::new(FfrTangentScratch::new(nf)),
+            analytic_tangent: true,
+            moments: Mutex::new(MomentCache::new(nf)),
         }
+    }
+
+    /// Uses the central finite-difference tangent of the element contract instead of the
+    /// analytic one ([`FfrBody::force_tangents`]); for cross-checks and benchmarks.
+    pub fn with_finite_difference_tangent(mut self) -> Self {
+        self.analytic_tangent = false;
+        self
     }
 
     /// The wrapped body.
@@ -48,7 +63,11 @@ impl FfrElement {
             Ok(s) => s,
             Err(poisoned) => poisoned.into_inner(),
         };
-        self.body.update(q, u, &mut s).ok()?;
+        let mut cache = match self.moments.lock() {
+            Ok(c) => c,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        self.body.update_cached(q, u, &mut s, &mut cache).ok()?;
         Some(f(&self.body, &mut s))
     }
 }
@@ -141,6 +160,34 @@ impl Element for FfrElement {
         });
         if done.is_none() {
             fill_nan(h);
+        }
+    }
+
+    fn force_tangents(
+        &self,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        gravity: &Vector3<f64>,
+        mut dh_dq: MatMut<'_, f64>,
+        mut dh_du: MatMut<'_, f64>,
+        scratch: &mut TangentScratch,
+    ) {
+        if !self.analytic_tangent {
+            finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, scratch);
+            return;
+        }
+        let mut ts = match self.tangent.lock() {
+            Ok(ts) => ts,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        let done = self.with_state(q, u, |b, s| {
+            b.force_tangents(q, u, gravity, s, &mut ts, dh_dq.as_mut(), dh_du.as_mut())
+                .is_ok()
+        });
+        if done != Some(true) {
+            dh_dq.fill(f64::NAN);
+            dh_du.fill(f64::NAN);
         }
     }
 

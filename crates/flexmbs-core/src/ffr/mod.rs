@@ -12,20 +12,26 @@
 //! `docs/notation-ffr.md` for the derivation and the corrected quadratic velocity vector (2.79).
 
 mod body;
+mod cached;
 mod element;
 mod invariants;
 mod kinematics;
 mod si;
+mod tangent;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_dynamics;
+#[cfg(test)]
+mod tests_tangent;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
+pub use cached::MomentCache;
 pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
 pub use si::reduced_body_to_si;
+pub use tangent::{FfrTangentScratch, ROTATION_FD_STEP};
 
 use crate::rotation::RotationError;
 use thiserror::Error;

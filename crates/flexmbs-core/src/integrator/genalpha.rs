@@ -21,7 +21,10 @@
 //! ```
 //!
 //! (constraint rows scaled by `1 / beta'`; the derivatives of `M u_dot` and `G^T lambda` with
-//! respect to `q` are neglected, which only affects the convergence rate).
+//! respect to `q` are neglected, which only affects the convergence rate). With
+//! [`NewtonSettings::modified`](super::NewtonSettings::modified) the factorized matrix is kept
+//! across iterations and steps (modified Newton, as Exudyn does by default) and rebuilt only on a
+//! step-size change, slow contraction or after a fixed number of reuses.
 //! Parameters from the spectral radius at infinity `rho_inf` in `[0, 1]`:
 //! `alpha_m = (2 rho - 1) / (rho + 1)`, `alpha_f = rho / (rho + 1)`,
 //! `gamma = 1/2 + alpha_f - alpha_m`, `beta = 1/4 (gamma + 1/2)^2`.
@@ -195,6 +198,9 @@ impl GenAlpha {
         b.u_dot_new.copy_from_slice(&s.u_dot); // predictor: constant acceleration
         b.lambda_new.copy_from_slice(&s.lambda);
         let mut increment = f64::INFINITY;
+        // modified Newton: previous increment and solves with the current iteration matrix
+        let mut last_increment = f64::INFINITY;
+        let mut reuse = 0usize;
         let mut residual = f64::NAN;
         for iter in 1..=nt.max_iterations + 1 {
             kinematic_update(model, p, h, s, b);
@@ -250,26 +256,46 @@ impl GenAlpha {
             if iter > nt.max_iterations {
                 break;
             }
-            system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
-            for j in 0..nu {
-                for i in 0..nu {
-                    sys.dh_dq[(i, j)] =
-                        sys.mass[(i, j)] - gamma_p * sys.dh_du[(i, j)] - beta_p * sys.dh_dq[(i, j)];
+            let rate = increment / last_increment;
+            let refresh = !nt.modified
+                || ws.newton_matrix_h.to_bits() != h.to_bits()
+                || rate > super::MODIFIED_NEWTON_CONTRACTION
+                || reuse >= super::MODIFIED_NEWTON_MAX_REUSE;
+            let lu = if nt.modified {
+                &mut ws.lu_newton
+            } else {
+                &mut ws.lu
+            };
+            if refresh {
+                ws.newton_matrix_h = f64::NAN;
+                system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
+                for j in 0..nu {
+                    for i in 0..nu {
+                        sys.dh_dq[(i, j)] = sys.mass[(i, j)]
+                            - gamma_p * sys.dh_du[(i, j)]
+                            - beta_p * sys.dh_dq[(i, j)];
+                    }
                 }
+                fill_saddle_matrix(&mut lu.a, &sys.dh_dq, 1.0, &sys.g_jac);
+                if !lu.factor() {
+                    return Err(SolverError::Singular {
+                        what: "iteration",
+                        t: s.t,
+                        h,
+                    });
+                }
+                if nt.modified {
+                    ws.newton_matrix_h = h;
+                }
+                reuse = 0;
             }
-            fill_saddle_matrix(&mut ws.lu.a, &sys.dh_dq, 1.0, &sys.g_jac);
-            if !ws.lu.factor() {
-                return Err(SolverError::Singular {
-                    what: "iteration",
-                    t: s.t,
-                    h,
-                });
-            }
+            reuse += 1;
             let sol = &mut b.rhs;
             for (k, gk) in sys.g.iter().enumerate() {
                 sol[nu + k] = -gk / beta_p;
             }
-            ws.lu.solve_in_place(sol);
+            lu.solve_in_place(sol);
+            last_increment = increment;
             increment = super::max_abs(&sol[..nu]);
             if sol.iter().any(|x| !x.is_finite()) {
                 return Err(fail("Newton increment", residual));
@@ -281,6 +307,7 @@ impl GenAlpha {
                 *l += d;
             }
         }
+        ws.newton_matrix_h = f64::NAN;
         Err(SolverError::NewtonFailed {
             t: s.t,
             h,

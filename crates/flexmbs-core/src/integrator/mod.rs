@@ -63,7 +63,19 @@ pub struct NewtonSettings {
     /// (Generalized-alpha also accepts an increment with `beta' |du_dot| <= 16 eps max(1, |q|)`,
     /// the round-off floor of the scaled constraint rows.)
     pub constraint_tol: f64,
+    /// Modified Newton (generalized-alpha only): keep the factorized iteration matrix across
+    /// iterations and steps, and rebuild it (tangent + LU) only when the step size changed, the
+    /// increments contract by less than [`MODIFIED_NEWTON_CONTRACTION`] per iteration, or after
+    /// [`MODIFIED_NEWTON_MAX_REUSE`] solves with one matrix. The residual is always evaluated
+    /// exactly, so converged steps agree with full Newton to the Newton tolerances. Default
+    /// `false` (full Newton: a fresh matrix every iteration).
+    pub modified: bool,
 }
+
+/// A stale iteration matrix is rebuilt when `|increment_k| > this * |increment_(k-1)|`.
+pub const MODIFIED_NEWTON_CONTRACTION: f64 = 0.5;
+/// Most solves with one iteration matrix in modified Newton before it is rebuilt.
+pub const MODIFIED_NEWTON_MAX_REUSE: usize = 8;
 
 impl Default for NewtonSettings {
     fn default() -> Self {
@@ -72,6 +84,7 @@ impl Default for NewtonSettings {
             rtol: 1e-10,
             atol: 1e-10,
             constraint_tol: 1e-12,
+            modified: false,
         }
     }
 }

@@ -7,6 +7,7 @@
 pub mod generate;
 pub mod profile;
 pub mod select;
+pub mod tube;
 
 use crate::{FeError, Material, UnitSystem};
 use serde::{Deserialize, Serialize};
