@@ -52,6 +52,8 @@ pub struct FfrBody {
     pub d_ff: DMatrix<f64>,
     /// `S_23 - S_32, S_31 - S_13, S_12 - S_21` (2.68), n_f x n_f each.
     s_skew: [DMatrix<f64>; 3],
+    /// Geometric (centrifugal) stiffening, off (`None`) by default (see `stiffening.rs`).
+    pub(super) geometric: Option<super::GeometricStiffening>,
 }
 
 /// Per-body work buffers and the evaluated state (created once, reused: no allocation at run time).
@@ -153,6 +155,7 @@ impl FfrBody {
             d_ff: DMatrix::zeros(nf, nf),
             s_skew,
             invariants,
+            geometric: None,
         })
     }
 
@@ -416,8 +419,10 @@ impl FfrBody {
         }
     }
 
-    /// Adds the elastic and damping forces `-K q - D u` (2.35)-(2.36) (modal block only) to `out`.
+    /// Adds the elastic and damping forces `-K q - D u` (2.35)-(2.36) (modal block only) to `out`,
+    /// plus the geometric stiffening force `-K_geo(omega_bar) q_f` when switched on.
     pub fn add_internal_forces(&self, s: &FfrScratch, out: &mut [f64]) {
+        self.add_geometric_stiffening_force(s, out);
         let nf = self.nf();
         for a in 0..nf {
             let mut acc = 0.0;
