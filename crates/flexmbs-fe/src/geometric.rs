@@ -245,7 +245,10 @@ pub fn element_stress_stiffness(
         )));
     }
     let prop = mesh.properties.get(el.property).ok_or_else(|| {
-        FeError::Invalid(format!("element {element}: missing property {}", el.property))
+        FeError::Invalid(format!(
+            "element {element}: missing property {}",
+            el.property
+        ))
     })?;
     match (el.kind, prop) {
         (
@@ -432,7 +435,9 @@ pub fn stress_stiffness_matrix(
             sys.len()
         )));
     }
-    let (t, r) = sys.map.expand(faer::MatRef::from_column_major_slice(v, v.len(), 1));
+    let (t, r) = sys
+        .map
+        .expand(faer::MatRef::from_column_major_slice(v, v.len(), 1));
     let dofs = DofMap::from_counts(mesh.node_dofs());
     let mut trip = Vec::new();
     let mut ue = Vec::new();

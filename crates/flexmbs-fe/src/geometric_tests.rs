@@ -136,7 +136,9 @@ fn clamped_hex20_column_buckles_at_euler_load() {
         .iter()
         .map(|&n| {
             let x = mesh.nodes[n];
-            let corner = [x[1], x[2]].iter().all(|c| c.abs() < 1e-9 || (c - a).abs() < 1e-9);
+            let corner = [x[1], x[2]]
+                .iter()
+                .all(|c| c.abs() < 1e-9 || (c - a).abs() < 1e-9);
             (n, if corner { -1.0 / 12.0 } else { 1.0 / 3.0 })
         })
         .collect();
@@ -175,8 +177,13 @@ fn spinning_cantilever(mass: MassKind) -> (Mesh, FeSystem) {
 #[test]
 fn rotating_cantilever_flap_frequency_matches_southwell_and_exact_table() {
     let (mesh, sys) = spinning_cantilever(MassKind::Consistent);
-    let f = inertial_loads(&mesh, &sys, MassKind::Consistent, &[InertialLoad::Centrifugal(2, 2)])
-        .unwrap();
+    let f = inertial_loads(
+        &mesh,
+        &sys,
+        MassKind::Consistent,
+        &[InertialLoad::Centrifugal(2, 2)],
+    )
+    .unwrap();
     let v = static_solve(&sys, &f, &[], "beam").unwrap();
     let col: Vec<f64> = (0..sys.len()).map(|i| v[(i, 0)]).collect();
     let ks = dense(&stress_stiffness_matrix(&mesh, &sys, &col).unwrap());
@@ -186,7 +193,9 @@ fn rotating_cantilever_flap_frequency_matches_southwell_and_exact_table() {
     let scale = (2700.0 * sec.area / (70e9 * sec.iy)).sqrt();
     let flap = |lambda: f64| {
         let om = lambda / scale;
-        let kk = Mat::from_fn(k.nrows(), k.ncols(), |i, j| k[(i, j)] + om * om * ks[(i, j)]);
+        let kk = Mat::from_fn(k.nrows(), k.ncols(), |i, j| {
+            k[(i, j)] + om * om * ks[(i, j)]
+        });
         let (w2, _) = dense_generalized(kk.as_ref(), m.as_ref()).unwrap();
         w2[0].sqrt() * scale
     };
@@ -221,13 +230,20 @@ fn projected_geometric_stiffness_reproduces_the_stiffened_frequency() {
     let kk = Mat::from_fn(4, 4, |i, j| body.k_red[(i, j)] + kg[(i, j)]);
     let (w2, _) = dense_generalized(kk.as_ref(), body.m_red.as_ref()).unwrap();
     // full problem
-    let f = inertial_loads(&mesh, &sys, MassKind::Lumped, &[InertialLoad::Centrifugal(2, 2)])
-        .unwrap();
+    let f = inertial_loads(
+        &mesh,
+        &sys,
+        MassKind::Lumped,
+        &[InertialLoad::Centrifugal(2, 2)],
+    )
+    .unwrap();
     let v = static_solve(&sys, &f, &[], "beam").unwrap();
     let col: Vec<f64> = (0..sys.len()).map(|i| v[(i, 0)]).collect();
     let ks = dense(&stress_stiffness_matrix(&mesh, &sys, &col).unwrap());
     let (k, m) = (dense(&sys.k), dense(&sys.m));
-    let kf = Mat::from_fn(k.nrows(), k.ncols(), |i, j| k[(i, j)] + om * om * ks[(i, j)]);
+    let kf = Mat::from_fn(k.nrows(), k.ncols(), |i, j| {
+        k[(i, j)] + om * om * ks[(i, j)]
+    });
     let (w2f, _) = dense_generalized(kf.as_ref(), m.as_ref()).unwrap();
     let rel = (w2[0] / w2f[0]).sqrt() - 1.0;
     eprintln!(
@@ -265,9 +281,14 @@ fn bad_input_gives_clear_errors() {
     let err = static_solve(&free, &f, &[], "free body").unwrap_err();
     assert!(matches!(err, GeometricError::NoSupports { .. }), "{err}");
     let err = static_solve(&free, &f, &[999], "free body").unwrap_err();
-    assert!(matches!(err, GeometricError::SupportOutOfRange { node: 999, .. }));
+    assert!(matches!(
+        err,
+        GeometricError::SupportOutOfRange { node: 999, .. }
+    ));
     // the same free body held at its first node works
     assert!(static_solve(&free, &f, &[0], "held").is_ok());
-    let err = InertialLoad::Centrifugal(2, 1).acceleration([1.0; 3]).unwrap_err();
+    let err = InertialLoad::Centrifugal(2, 1)
+        .acceleration([1.0; 3])
+        .unwrap_err();
     assert!(matches!(err, GeometricError::BadPattern { .. }));
 }

@@ -204,7 +204,10 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
             if let Some((n0, pk0, om0)) = previous {
                 let r = (n0 * n0) as f64 / ((n * n) as f64 - (n0 * n0) as f64);
                 res.record("reference_tip_w_peak_extrapolated", pk + r * (pk - pk0));
-                res.record("reference_omega_after_pulse_extrapolated", om + r * (om - om0));
+                res.record(
+                    "reference_omega_after_pulse_extrapolated",
+                    om + r * (om - om0),
+                );
             }
         }
         previous = Some((n, pk, om));

@@ -70,11 +70,14 @@ impl ChainModel {
             // psi_i - psi_j = theta_i - theta_j (the hub angle cancels)
             let mut rhs = f * l * ws.c[i];
             for j in 0..n {
-                let a = m * l * l * if i == j {
-                    (n - i) as f64 - 1.0 + 1.0 / 3.0
-                } else {
-                    (n - i.max(j)) as f64 - 1.0 + 0.5
-                };
+                let a = m
+                    * l
+                    * l
+                    * if i == j {
+                        (n - i) as f64 - 1.0 + 1.0 / 3.0
+                    } else {
+                        (n - i.max(j)) as f64 - 1.0 + 0.5
+                    };
                 let cij = ws.c[i] * ws.c[j] + ws.s[i] * ws.s[j];
                 let sij = ws.s[i] * ws.c[j] - ws.c[i] * ws.s[j];
                 ws.m[(i, j)] = a * cij;
@@ -143,7 +146,12 @@ impl ChainModel {
         let (l, _) = self.seg();
         let mut ws = Work::new(n);
         let mut y = vec![0.0; 2 * n];
-        let mut ks = [vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n]];
+        let mut ks = [
+            vec![0.0; 2 * n],
+            vec![0.0; 2 * n],
+            vec![0.0; 2 * n],
+            vec![0.0; 2 * n],
+        ];
         let mut tmp = vec![0.0; 2 * n];
         let mut run = ChainRun {
             t: vec![0.0],

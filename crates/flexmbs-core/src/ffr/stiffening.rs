@@ -163,7 +163,8 @@ impl FfrBody {
             let c = w[a] * w[b];
             let dc_dw: [f64; 3] =
                 std::array::from_fn(|j| coefficient_derivative(a, b, &w, &s.h.column(j).into()));
-            let dc_dth: [f64; 3] = std::array::from_fn(|j| coefficient_derivative(a, b, &w, &dw_dth[j]));
+            let dc_dth: [f64; 3] =
+                std::array::from_fn(|j| coefficient_derivative(a, b, &w, &dw_dth[j]));
             for i in 0..nf {
                 let mut kq = 0.0;
                 for j in 0..nf {

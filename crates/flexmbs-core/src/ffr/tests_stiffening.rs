@@ -102,14 +102,27 @@ fn stiffening_is_off_by_default_and_rejects_bad_input() {
     // wrong size
     let g = random_geometric(&mut seed, 4);
     let err = plain.clone().with_geometric_stiffening(&g).unwrap_err();
-    assert!(matches!(err, FfrError::DimensionMismatch { expected: 3, found: 4, .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            FfrError::DimensionMismatch {
+                expected: 3,
+                found: 4,
+                ..
+            }
+        ),
+        "{err}"
+    );
     // non-centrifugal pattern
     let g = GeometricStiffness {
         load_patterns: vec![InertialLoad::Translation(0)],
         matrices: vec![Mat::zeros(3, 3)],
     };
     let err = plain.with_geometric_stiffening(&g).unwrap_err();
-    assert!(matches!(err, FfrError::UnsupportedLoadPattern { .. }), "{err}");
+    assert!(
+        matches!(err, FfrError::UnsupportedLoadPattern { .. }),
+        "{err}"
+    );
 }
 
 #[test]
@@ -122,8 +135,15 @@ fn spinning_modal_coordinate_oscillates_at_the_southwell_frequency() {
     let modes = Mat::from_fn(3, 1, |i, _| if i == 1 { 1.0 / m.sqrt() } else { 0.0 });
     let inv = FfrInvariants::from_lumped(&u0, &[m], modes.as_ref()).unwrap();
     let k = Mat::from_fn(1, 1, |_, _| w0 * w0);
-    let body = FfrBody::new(inv, RotationParam::Quaternion, &u0, modes.as_ref(), None, k.as_ref())
-        .unwrap();
+    let body = FfrBody::new(
+        inv,
+        RotationParam::Quaternion,
+        &u0,
+        modes.as_ref(),
+        None,
+        k.as_ref(),
+    )
+    .unwrap();
     let g = GeometricStiffness {
         load_patterns: vec![InertialLoad::Centrifugal(2, 2)],
         matrices: vec![Mat::from_fn(1, 1, |_, _| kg)],
@@ -141,5 +161,8 @@ fn spinning_modal_coordinate_oscillates_at_the_southwell_frequency() {
     body.add_internal_forces(&s, &mut h);
     let stiffness = -h[6] / eps;
     let want = w0 * w0 - om * om + om * om * kg;
-    assert!((stiffness / want - 1.0).abs() < 1e-9, "{stiffness} vs {want}");
+    assert!(
+        (stiffness / want - 1.0).abs() < 1e-9,
+        "{stiffness} vs {want}"
+    );
 }
