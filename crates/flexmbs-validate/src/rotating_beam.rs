@@ -101,12 +101,12 @@ fn simulate_ffr(
 /// First peak of the response: the extreme value before the first zero crossing after start.
 pub fn first_peak(w: &[f64]) -> f64 {
     let mut peak = 0.0f64;
-    for i in 1..w.len() {
-        if peak != 0.0 && w[i] * peak < 0.0 {
+    for &x in w.iter().skip(1) {
+        if peak != 0.0 && x * peak < 0.0 {
             break;
         }
-        if w[i].abs() > peak.abs() {
-            peak = w[i];
+        if x.abs() > peak.abs() {
+            peak = x;
         }
     }
     peak

@@ -62,14 +62,14 @@ impl ChainModel {
         let (l, m) = self.seg();
         let k = self.ei / l;
         let f = if t < self.pulse_end { self.force } else { 0.0 };
-        for i in 0..n {
-            ws.c[i] = th[i].cos();
-            ws.s[i] = th[i].sin();
+        for (i, a) in th.iter().enumerate().take(n) {
+            ws.c[i] = a.cos();
+            ws.s[i] = a.sin();
         }
         for i in 0..n {
             // psi_i - psi_j = theta_i - theta_j (the hub angle cancels)
             let mut rhs = f * l * ws.c[i];
-            for j in 0..n {
+            for (j, &thd_j) in thd.iter().enumerate().take(n) {
                 let a = m
                     * l
                     * l
@@ -81,7 +81,7 @@ impl ChainModel {
                 let cij = ws.c[i] * ws.c[j] + ws.s[i] * ws.s[j];
                 let sij = ws.s[i] * ws.c[j] - ws.c[i] * ws.s[j];
                 ws.m[(i, j)] = a * cij;
-                let pd = self.omega + thd[j];
+                let pd = self.omega + thd_j;
                 rhs -= a * sij * pd * pd;
             }
             // dV/dtheta_i
