@@ -12,6 +12,9 @@ pub mod constraint;
 pub mod eigen;
 pub mod element;
 pub mod error;
+pub mod geometric;
+#[cfg(test)]
+mod geometric_tests;
 pub mod material;
 pub mod mesh;
 pub mod modes;

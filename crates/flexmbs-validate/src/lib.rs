@@ -8,6 +8,7 @@ pub mod complex_beam_frequencies;
 pub mod fe_cantilever_modes;
 pub mod result;
 pub mod rotating_beam;
+pub mod rotating_beam_reference;
 pub mod slider_crank_2d;
 
 pub use result::ValidationResult;
@@ -43,7 +44,7 @@ pub fn cases() -> Vec<Case> {
         },
         Case {
             name: "rotating_beam",
-            description: "seed 001 §5.2: rotating tube, linear FFR body: spin-softened frequency (no geometric stiffening yet)",
+            description: "seed 001 §5.2: rotating tube, FFR body with and without geometric stiffening vs a nonlinear finite-segment reference",
             run: rotating_beam::run,
         },
     ]

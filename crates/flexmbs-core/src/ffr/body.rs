@@ -55,6 +55,8 @@ pub struct FfrBody {
     /// `[S_11^T; S_12^T; ...; S_33^T]` (9 n_f x n_f, block `3 k + l` = `S_kl^T`): the deformed
     /// moments are one matrix-vector product `P - Ī = S_stack q_f`.
     pub(super) s_stack: DMatrix<f64>,
+    /// Geometric (centrifugal) stiffening, off (`None`) by default (see `stiffening.rs`).
+    pub(super) geometric: Option<super::GeometricStiffening>,
 }
 
 /// Per-body work buffers and the evaluated state (created once, reused: no allocation at run time).
@@ -166,6 +168,7 @@ impl FfrBody {
             d_ff: DMatrix::zeros(nf, nf),
             s_skew,
             invariants,
+            geometric: None,
         })
     }
 
@@ -425,8 +428,10 @@ impl FfrBody {
         }
     }
 
-    /// Adds the elastic and damping forces `-K q - D u` (2.35)-(2.36) (modal block only) to `out`.
+    /// Adds the elastic and damping forces `-K q - D u` (2.35)-(2.36) (modal block only) to `out`,
+    /// plus the geometric stiffening force `-K_geo(omega_bar) q_f` when switched on.
     pub fn add_internal_forces(&self, s: &FfrScratch, out: &mut [f64]) {
+        self.add_geometric_stiffening_force(s, out);
         let nf = self.nf();
         for a in 0..nf {
             let mut acc = 0.0;

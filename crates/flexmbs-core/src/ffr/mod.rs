@@ -18,12 +18,14 @@ mod invariants;
 mod kinematics;
 mod si;
 mod tangent;
+mod stiffening;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_dynamics;
 #[cfg(test)]
 mod tests_tangent;
+mod tests_stiffening;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
 pub use cached::MomentCache;
@@ -32,6 +34,7 @@ pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
 pub use si::reduced_body_to_si;
 pub use tangent::{FfrTangentScratch, ROTATION_FD_STEP};
+pub use stiffening::GeometricStiffening;
 
 use crate::rotation::RotationError;
 use thiserror::Error;
@@ -107,6 +110,12 @@ pub enum FfrError {
         col: usize,
         /// |off-diagonal| / sqrt(diag_i diag_j).
         relative: f64,
+    },
+    /// A geometric-stiffness load pattern the engine cannot use (only centrifugal patterns).
+    #[error("unsupported geometric stiffness load pattern {pattern} (only centrifugal patterns)")]
+    UnsupportedLoadPattern {
+        /// The pattern (debug form).
+        pattern: String,
     },
     /// Rotation parametrization error (Cardan singularity, zero quaternion).
     #[error(transparent)]

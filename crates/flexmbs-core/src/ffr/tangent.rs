@@ -214,6 +214,7 @@ impl FfrBody {
         dh_du.fill(0.0);
         self.rotation_and_w_columns(q, u, g, s, ts, dh_dq.as_mut(), dh_du.as_mut())?;
         self.modal_columns(g, s, ts, dh_dq.as_mut(), dh_du.as_mut());
+        self.add_geometric_stiffening_tangent(q, u, s, dh_dq.as_mut(), dh_du.as_mut());
         debug_assert_eq!(dh_dq.nrows(), nu);
         Ok(())
     }
