@@ -17,15 +17,16 @@ mod element;
 mod invariants;
 mod kinematics;
 mod si;
-mod tangent;
 mod stiffening;
+mod tangent;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_dynamics;
 #[cfg(test)]
-mod tests_tangent;
 mod tests_stiffening;
+#[cfg(test)]
+mod tests_tangent;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
 pub use cached::MomentCache;
@@ -33,8 +34,8 @@ pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
 pub use si::reduced_body_to_si;
-pub use tangent::{FfrTangentScratch, ROTATION_FD_STEP};
 pub use stiffening::GeometricStiffening;
+pub use tangent::{FfrTangentScratch, ROTATION_FD_STEP};
 
 use crate::rotation::RotationError;
 use thiserror::Error;
