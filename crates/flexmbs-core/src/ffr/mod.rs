@@ -12,6 +12,7 @@
 //! `docs/notation-ffr.md` for the derivation and the corrected quadratic velocity vector (2.79).
 
 mod body;
+mod consistent;
 mod element;
 mod invariants;
 mod kinematics;
@@ -19,9 +20,12 @@ mod si;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_consistent;
+#[cfg(test)]
 mod tests_dynamics;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
+pub use consistent::{consistent_mass_to_si, translational_mass};
 pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
