@@ -25,7 +25,7 @@ mod tests_consistent;
 mod tests_dynamics;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
-pub use consistent::{consistent_mass_to_si, translational_mass};
+pub use consistent::consistent_mass_to_si;
 pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;

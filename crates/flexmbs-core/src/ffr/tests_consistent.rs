@@ -37,8 +37,9 @@ fn cantilever() -> (ReducedBody, SparseMatrix) {
     };
     let modal = modal_analysis(&sys, 6, &opts, &mut |_| {}).unwrap();
     let body = reduce_modal(&mesh, &sys, &modal, 6, "cantilever", Provenance::default()).unwrap();
-    let m = translational_mass(&a.m, &mesh.node_dofs(), body.num_nodes()).unwrap();
-    (body, m)
+    // a solid mesh: 3 translations per node in node order, so M is already the 3N x 3N matrix
+    assert_eq!(a.m.nrows(), 3 * body.num_nodes());
+    (body, a.m)
 }
 
 fn rel(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
@@ -99,34 +100,4 @@ fn consistent_mass_matrix_equals_projection_of_fe_mass() {
             assert!(e < 1e-12, "{rot:?}: {e:e}");
         }
     }
-}
-
-/// `translational_mass` keeps the translational entries of a 6-DOF-per-node matrix in node order,
-/// pads extra nodes with zero rows and rejects a wrong size.
-#[test]
-fn translational_block_of_mixed_dofs() {
-    // node 0: 3 DOFs, node 1: 6 DOFs; entry value encodes (row, col)
-    let trip: Vec<_> = (0..9)
-        .flat_map(|r| (0..9).map(move |c| faer::sparse::Triplet::new(r, c, (10 * r + c) as f64)))
-        .collect();
-    let m = SparseMatrix::try_new_from_triplets(9, 9, &trip).unwrap();
-    let t = translational_mass(&m, &[3, 6], 3).unwrap();
-    assert_eq!((t.nrows(), t.ncols()), (9, 9));
-    let mut d = DMatrix::zeros(9, 9);
-    for c in 0..9 {
-        for idx in t.symbolic().col_range(c) {
-            d[(t.symbolic().row_idx()[idx], c)] = t.val()[idx];
-        }
-    }
-    let eq = [0usize, 1, 2, 3, 4, 5];
-    for (a, &ra) in eq.iter().enumerate() {
-        for (b, &cb) in eq.iter().enumerate() {
-            assert_eq!(d[(a, b)], (10 * ra + cb) as f64);
-        }
-    }
-    assert_eq!(d.view((6, 0), (3, 9)).abs().max(), 0.0);
-    assert!(matches!(
-        translational_mass(&m, &[3, 3], 2),
-        Err(FfrError::DimensionMismatch { .. })
-    ));
 }
