@@ -7,10 +7,10 @@ use crate::calculix::{matrix_export_deck_text, read_ccx_matrices, renumber, run_
 use crate::model::FeBodySpec;
 use crate::pipeline::{prepare_keeping_mass, run_reduction, PipelineError, PreparedBody, Stage};
 use crate::IoError;
-use flexmbs_fe::assembly::Assembled;
-use flexmbs_fe::Mesh;
 use faer::sparse::Triplet;
+use flexmbs_fe::assembly::Assembled;
 use flexmbs_fe::reduction::ReducedBody;
+use flexmbs_fe::Mesh;
 use flexmbs_fe::SparseMatrix;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -49,7 +49,11 @@ pub fn reduced_body() -> Result<ReducedBody> {
 /// Simulates the protocol with step `h` to `t_end` for the lumped-mass FFR body of `body`;
 /// returns time and the first five `q_f`.
 pub fn simulate(body: &ReducedBody, h: f64, t_end: f64) -> Result<(Vec<f64>, Vec<[f64; 5]>)> {
-    simulate_ffr(FfrBody::from_reduced(body, RotationParam::Cardan)?, h, t_end)
+    simulate_ffr(
+        FfrBody::from_reduced(body, RotationParam::Cardan)?,
+        h,
+        t_end,
+    )
 }
 
 /// Simulates the protocol with step `h` to `t_end` for an FFR body (reference frame clamped to the
@@ -164,7 +168,9 @@ fn run_ccx_variant(
     res.record("mff_deviation_ccx", mff_dev);
     if !(mff_dev < 1e-10) {
         res.pass = false;
-        eprintln!("  FAIL: m_ff of the consistent invariants deviates from Phi^T M Phi by {mff_dev:e}");
+        eprintln!(
+            "  FAIL: m_ff of the consistent invariants deviates from Phi^T M Phi by {mff_dev:e}"
+        );
     }
     for k in 0..5 {
         res.check(
@@ -178,11 +184,7 @@ fn run_ccx_variant(
     log("ccx variant simulated");
     let f = measured_frequencies(&t, &q)?;
     check_variant(res, table, "CalculiX", "_ccx", &f, &c.dat_hz, quiet);
-    Ok(Run {
-        name: "ccx",
-        t,
-        q,
-    })
+    Ok(Run { name: "ccx", t, q })
 }
 
 /// Runs the case: the built-in variant always, the CalculiX variant when `ccx` is installed

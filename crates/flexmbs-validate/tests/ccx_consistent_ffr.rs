@@ -50,7 +50,11 @@ fn ccx_beam_consistent_invariants() {
             assert!(d < 1e-12, "m_ff({i},{j}) deviates by {d:e}");
         }
     }
-    for (f, r) in body.frequencies_hz.iter().zip([16.73174, 16.73174, 104.6634]) {
+    for (f, r) in body
+        .frequencies_hz
+        .iter()
+        .zip([16.73174, 16.73174, 104.6634])
+    {
         assert!((f - r).abs() < 1e-6 * r, "{f} vs {r}");
     }
 }
