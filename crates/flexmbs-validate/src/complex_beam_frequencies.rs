@@ -166,7 +166,7 @@ fn run_ccx_variant(
     let (ffr, mff_dev) = crate::complex_beam_ccx::ffr_body(&c)?;
     res.record("mass_isotropy_ccx", c.isotropy_deviation);
     res.record("mff_deviation_ccx", mff_dev);
-    if !(mff_dev < 1e-10) {
+    if mff_dev.is_nan() || mff_dev >= 1e-10 {
         res.pass = false;
         eprintln!(
             "  FAIL: m_ff of the consistent invariants deviates from Phi^T M Phi by {mff_dev:e}"
