@@ -159,6 +159,57 @@ pub fn translational_mass(
         .map_err(|e| format!("translational mass matrix: {e:?}"))
 }
 
+/// The rotational 3 x 3 diagonal block of each node of a mass matrix numbered node by node
+/// (`dofs_per_node[j]` DOFs at node `j`, rotations in DOFs 3..6 of 6-DOF nodes): the lumped node
+/// rotary inertias of beam meshes (global axes = body axes), for
+/// `flexmbs_core::ffr::FfrBody::set_rotary_inertia`. Nodes with fewer than 6 DOFs and nodes beyond
+/// the list (up to `n_nodes`) get zero. Errors (as a message) on inconsistent sizes. Coupling
+/// between translations and rotations (consistent beam masses) is not represented.
+pub fn node_rotary_inertias(
+    m: &SparseMatrix,
+    dofs_per_node: &[usize],
+    n_nodes: usize,
+) -> Result<Vec<nalgebra::Matrix3<f64>>, String> {
+    let total: usize = dofs_per_node.iter().sum();
+    if m.nrows() != total || m.ncols() != total || n_nodes < dofs_per_node.len() {
+        return Err(format!(
+            "mass matrix {} x {}, {total} DOFs, {n_nodes} body nodes for {} mesh nodes",
+            m.nrows(),
+            m.ncols(),
+            dofs_per_node.len()
+        ));
+    }
+    // equation -> (node, rotation axis)
+    let mut map = vec![None; total];
+    let mut first = 0;
+    for (j, &c) in dofs_per_node.iter().enumerate() {
+        if c >= 6 {
+            for d in 0..3 {
+                map[first + 3 + d] = Some((j, d));
+            }
+        }
+        first += c;
+    }
+    let mut out = vec![nalgebra::Matrix3::zeros(); n_nodes];
+    for (r, c, v) in flexmbs_fe::assembly::entries(m) {
+        if let (Some((i, a)), Some((j, b))) = (map[r], map[c]) {
+            if i == j {
+                out[i][(a, b)] += v;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Node rotary inertias converted from `units` to SI (`mass_to_si * length_to_si^2`).
+pub fn rotary_inertias_to_si(
+    inertias: &[nalgebra::Matrix3<f64>],
+    units: flexmbs_fe::UnitSystem,
+) -> Vec<nalgebra::Matrix3<f64>> {
+    let f = units.mass_to_si() * units.length_to_si().powi(2);
+    inertias.iter().map(|i| i * f).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

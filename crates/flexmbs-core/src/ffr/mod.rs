@@ -16,6 +16,7 @@ mod consistent;
 mod element;
 mod invariants;
 mod kinematics;
+mod rotary;
 mod si;
 #[cfg(test)]
 mod tests;
@@ -29,6 +30,7 @@ pub use consistent::consistent_mass_to_si;
 pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
+pub use rotary::{diagonal_inertia, RotaryInertia};
 pub use si::reduced_body_to_si;
 
 use crate::rotation::RotationError;
