@@ -345,6 +345,19 @@ pub fn prepare(
     base: &Path,
     progress: &mut dyn FnMut(Stage),
 ) -> Result<PreparedBody, PipelineError> {
+    prepare_keeping_mass(spec, base, false, progress).map(|(body, _)| body)
+}
+
+/// [`prepare`], also returning the unconstrained mass matrix (mesh DOF numbering,
+/// [`flexmbs_fe::assembly::DofMap::from_counts`]`(mesh.node_dofs())`), built-in or imported.
+/// With `free_export` a CalculiX import runs without the deck's `*BOUNDARY` (which would remove
+/// the fixed nodes' mass from the export); the boundary conditions are applied by flexmbs.
+pub(crate) fn prepare_keeping_mass(
+    spec: &FeBodySpec,
+    base: &Path,
+    free_export: bool,
+    progress: &mut dyn FnMut(Stage),
+) -> Result<(PreparedBody, flexmbs_fe::SparseMatrix), PipelineError> {
     progress(Stage::Started("meshing".into()));
     let mesh = build_mesh(spec, base)?;
     let bc = boundary_conditions(&mesh, &spec.boundary)?;
@@ -352,29 +365,34 @@ pub fn prepare(
         MassName::Lumped => MassKind::Lumped,
         MassName::Consistent => MassKind::Consistent,
     };
-    let system = match &spec.mesh {
+    let assembled = match &spec.mesh {
         MeshSpec::Calculix {
             deck,
             matrices: CcxMatrices::Ccx,
         } => {
             progress(Stage::Started("running ccx (matrix export)".into()));
             let path = resolve(base, deck);
-            let assembled = crate::calculix::import_matrices(&path, &mesh)?;
+            let assembled = if free_export {
+                crate::full_mass::import_free_matrices(&path, &mesh)?
+            } else {
+                crate::calculix::import_matrices(&path, &mesh)?
+            };
             if mass == MassKind::Lumped {
                 progress(Stage::Started(
                     "ccx mass matrices are consistent; lumping not applied".into(),
                 ));
             }
-            FeSystem::from_assembled(&mesh, &assembled, &bc).map_err(fe("body.boundary"))?
+            assembled
         }
         _ => {
             progress(Stage::Started("assembling".into()));
-            FeSystem::assemble(&mesh, &bc, mass, &mut |done, total| {
+            flexmbs_fe::assembly::assemble(&mesh, mass, &[], &mut |done, total| {
                 progress(Stage::Assembly { done, total })
             })
             .map_err(fe("assembly"))?
         }
     };
+    let system = FeSystem::from_assembled(&mesh, &assembled, &bc).map_err(fe("body.boundary"))?;
     let mut interface = Vec::new();
     for (i, sel) in spec.reduction.interface.iter().enumerate() {
         let key = format!("body.reduction.interface[{i}]");
@@ -387,13 +405,16 @@ pub fn prepare(
         interface.extend(select_nodes(&mesh, sel, &key)?);
     }
     let source = describe_source(spec, base);
-    Ok(PreparedBody {
-        mesh,
-        bc,
-        system,
-        interface,
-        source,
-    })
+    Ok((
+        PreparedBody {
+            mesh,
+            bc,
+            system,
+            interface,
+            source,
+        },
+        assembled.m,
+    ))
 }
 
 fn describe_source(spec: &FeBodySpec, base: &Path) -> String {

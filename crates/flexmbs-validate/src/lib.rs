@@ -4,6 +4,7 @@
 //! `../shared/reference/benchmarks.md`).
 #![warn(missing_docs)]
 
+pub mod complex_beam_ccx;
 pub mod complex_beam_frequencies;
 pub mod fe_cantilever_modes;
 pub mod result;
@@ -34,7 +35,7 @@ pub fn cases() -> Vec<Case> {
         },
         Case {
             name: "complex_beam_frequencies",
-            description: "seed 000 §5.1: FFR complex beam, simulated modal frequencies vs the modal analysis",
+            description: "seed 000 §5.1: FFR complex beam (built-in mesh and CalculiX export), simulated modal frequencies vs the modal analysis",
             run: complex_beam_frequencies::run,
         },
         Case {

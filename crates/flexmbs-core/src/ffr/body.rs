@@ -50,6 +50,9 @@ pub struct FfrBody {
     pub k_ff: DMatrix<f64>,
     /// Modal damping matrix d_ff (zero unless set).
     pub d_ff: DMatrix<f64>,
+    /// Lumped node rotary inertia terms added to `M` and `Q_v` (none unless set with
+    /// [`FfrBody::set_rotary_inertia`]).
+    pub rotary: Option<super::RotaryInertia>,
     /// `S_23 - S_32, S_31 - S_13, S_12 - S_21` (2.68), n_f x n_f each.
     pub(super) s_skew: [DMatrix<f64>; 3],
     /// `[S_11^T; S_12^T; ...; S_33^T]` (9 n_f x n_f, block `3 k + l` = `S_kl^T`): the deformed
@@ -166,6 +169,7 @@ impl FfrBody {
             modes_r: modes_r.map(copy_modes),
             k_ff: copy_modes(k_ff),
             d_ff: DMatrix::zeros(nf, nf),
+            rotary: None,
             s_skew,
             invariants,
             geometric: None,
@@ -207,6 +211,17 @@ impl FfrBody {
     /// Length of u: 6 + n_f.
     pub fn nu(&self) -> usize {
         6 + self.nf()
+    }
+
+    /// Adds lumped rotary inertias `node_inertia[j]` (body frame, one per node) to the mass
+    /// matrix and the quadratic velocity vector ([`super::RotaryInertia`]); replaces earlier ones.
+    /// Damping derived from `m_ff` (Rayleigh, modal ratios) uses the translational `m_ff` only.
+    pub fn set_rotary_inertia(
+        &mut self,
+        node_inertia: &[nalgebra::Matrix3<f64>],
+    ) -> Result<(), FfrError> {
+        self.rotary = Some(super::RotaryInertia::new(self, node_inertia)?);
+        Ok(())
     }
 
     /// Rayleigh damping `d_ff = alpha m_ff + beta k_ff` (modal block only).
@@ -375,6 +390,9 @@ impl FfrBody {
                 out[(6 + a, 6 + b)] = inv.m_ff[(a, b)];
             }
         }
+        if let Some(r) = &self.rotary {
+            r.add_mass_matrix(s, out);
+        }
     }
 
     /// Quadratic velocity vector `Q_v = -sum_j m_j J_j^T (J_dot_j u)` (equal to (2.77) for Cardan;
@@ -425,6 +443,9 @@ impl FfrBody {
                 acc -= 2.0 * w[k] * dq;
             }
             out[6 + a] = -acc;
+        }
+        if let Some(r) = &self.rotary {
+            r.add_quadratic_velocity(s, out);
         }
     }
 

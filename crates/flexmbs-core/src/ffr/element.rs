@@ -173,7 +173,8 @@ impl Element for FfrElement {
         mut dh_du: MatMut<'_, f64>,
         scratch: &mut TangentScratch,
     ) {
-        if !self.analytic_tangent {
+        // the analytic tangent does not cover node rotary inertia (`ffr/rotary.rs`) yet
+        if !self.analytic_tangent || self.body.rotary.is_some() {
             finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, scratch);
             return;
         }

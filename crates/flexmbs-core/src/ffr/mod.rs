@@ -13,14 +13,18 @@
 
 mod body;
 mod cached;
+mod consistent;
 mod element;
 mod invariants;
 mod kinematics;
+mod rotary;
 mod si;
 mod stiffening;
 mod tangent;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_consistent;
 #[cfg(test)]
 mod tests_dynamics;
 #[cfg(test)]
@@ -30,9 +34,11 @@ mod tests_tangent;
 
 pub use body::{FfrBody, FfrScratch, RotationParam};
 pub use cached::MomentCache;
+pub use consistent::consistent_mass_to_si;
 pub use element::FfrElement;
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
+pub use rotary::{diagonal_inertia, RotaryInertia};
 pub use si::reduced_body_to_si;
 pub use stiffening::GeometricStiffening;
 pub use tangent::{FfrTangentScratch, ROTATION_FD_STEP};
