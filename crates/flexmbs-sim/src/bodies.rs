@@ -4,6 +4,7 @@
 use crate::compile::Ctx;
 use crate::error::SimError;
 use crate::schema::{BodySpec, BodyType, ModeSelection, RotationName};
+use crate::stiffening::{centrifugal_stiffness, geometric_to_si, select_geometric_modes, FeModel};
 use crate::units::Dimension;
 use flexmbs_core::ffr::{self, reduced_body_to_si, FfrBody, FfrElement};
 use flexmbs_core::{RigidBody, RotationParam};
@@ -40,6 +41,11 @@ pub struct BodyGeometry {
     pub rotation: RotationName,
 }
 
+/// Error of `geometric_stiffening = true` on a source without an FE model.
+const NO_FE_MODEL: &str = "geometric stiffening needs an FE model file (.toml with a built-in \
+     mesh or a CalculiX deck) as `source`; a reduced-body file (.h5) or seed folder has no FE \
+     mesh and system";
+
 /// Builds the element of `body[i]`; `base` is the model file's folder.
 pub fn build_body(
     ctx: &Ctx,
@@ -57,6 +63,7 @@ pub fn build_body(
         ("units", b.units.is_some()),
         ("modes", b.modes.is_some()),
         ("damping", b.damping.is_some()),
+        ("geometric_stiffening", b.geometric_stiffening.is_some()),
     ];
     match b.kind {
         BodyType::Rigid => {
@@ -73,7 +80,13 @@ pub fn build_body(
                 &p,
                 "an ffr body",
                 &present,
-                &["source", "units", "modes", "damping"],
+                &[
+                    "source",
+                    "units",
+                    "modes",
+                    "damping",
+                    "geometric_stiffening",
+                ],
             )?;
             ffr_body(ctx, &p, b, base)
         }
@@ -209,12 +222,32 @@ fn ffr_body(
         )
     })?;
     let key = format!("{p}.source");
-    let reduced = load_reduced(source, base, &b.name, b.units.unwrap_or_default())
+    let stiffening = b.geometric_stiffening.unwrap_or(false);
+    let gkey = format!("{p}.geometric_stiffening");
+    let resolved = resolve(base, source);
+    if stiffening && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml")) {
+        return Err(ctx.err(&gkey, NO_FE_MODEL));
+    }
+    let (reduced, fe) = load_reduced_with_fe(source, base, &b.name, b.units.unwrap_or_default())
         .map_err(|m| ctx.err(&key, m))?;
-    let reduced = match &b.modes {
-        Some(sel) => select_modes(ctx, p, &reduced, sel)?,
-        None => reduced,
+    let geometric = match (stiffening, &fe) {
+        (false, _) => None,
+        (true, None) => return Err(ctx.err(&gkey, NO_FE_MODEL)),
+        (true, Some(fe)) => {
+            Some(centrifugal_stiffness(fe, &reduced).map_err(|m| ctx.err(&gkey, m))?)
+        }
     };
+    let (reduced, geometric) = match &b.modes {
+        Some(sel) => {
+            let cols = mode_columns(ctx, p, reduced.num_modes(), sel)?;
+            (
+                restrict_modes(&reduced, &cols),
+                geometric.map(|g| select_geometric_modes(&g, &cols)),
+            )
+        }
+        None => (reduced, geometric),
+    };
+    let geometric = geometric.map(|g| geometric_to_si(&g, reduced.units));
     let si = reduced_body_to_si(&reduced);
     let rotation = match b.rotation {
         RotationName::Cardan => ffr::RotationParam::Cardan,
@@ -222,6 +255,11 @@ fn ffr_body(
     };
     let mut body =
         FfrBody::from_reduced(&si, rotation).map_err(|e| ctx.err(&key, e.to_string()))?;
+    if let Some(g) = &geometric {
+        body = body
+            .with_geometric_stiffening(g)
+            .map_err(|e| ctx.err(&gkey, e.to_string()))?;
+    }
     if let Some(d) = &b.damping {
         let dk = format!("{p}.damping");
         match (&d.rayleigh, &d.modal) {
@@ -274,9 +312,21 @@ pub fn load_reduced(
     name: &str,
     units: flexmbs_fe::UnitSystem,
 ) -> Result<ReducedBody, String> {
+    load_reduced_with_fe(source, base, name, units).map(|(body, _)| body)
+}
+
+/// [`load_reduced`], also returning the FE model (prepared mesh and system) of an FE model file
+/// with a built-in mesh or a CalculiX deck (`None` for `.h5` files and seed folders).
+pub fn load_reduced_with_fe(
+    source: &Path,
+    base: &Path,
+    name: &str,
+    units: flexmbs_fe::UnitSystem,
+) -> Result<(ReducedBody, Option<FeModel>), String> {
     let path = resolve(base, source);
     if path.is_dir() {
         return flexmbs_io::seed_body::read_seed_body(&path, name, units)
+            .map(|b| (b, None))
             .map_err(|e| e.to_string());
     }
     match path.extension().and_then(|e| e.to_str()) {
@@ -288,14 +338,19 @@ pub fn load_reduced(
             if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
                 let dir = resolve(fe_base, dir);
                 return flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)
+                    .map(|b| (b, None))
                     .map_err(|e| e.to_string());
             }
             let prepared = prepare(&spec, fe_base, &mut |_| {})
                 .map_err(|e| format!("{}: {e}", path.display()))?;
-            run_reduction(&spec, &prepared, &mut |_| {})
-                .map_err(|e| format!("{}: {e}", path.display()))
+            let body = run_reduction(&spec, &prepared, &mut |_| {})
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let mass = FeModel::mass_kind(&spec.mesh, spec.reduction.mass);
+            Ok((body, Some(FeModel { prepared, mass })))
         }
-        Some("h5") => flexmbs_io::body_file::read_body(&path).map_err(|e| e.to_string()),
+        Some("h5") => flexmbs_io::body_file::read_body(&path)
+            .map(|b| (b, None))
+            .map_err(|e| e.to_string()),
         _ => Err(format!(
             "{}: not an FE model file (.toml), a reduced-body file (.h5) or a seed folder",
             path.display()
@@ -303,14 +358,14 @@ pub fn load_reduced(
     }
 }
 
-/// The reduced body restricted to the selected basis vectors (1-based numbers).
-fn select_modes(
+/// The 0-based columns of the selected basis vectors (1-based numbers in the file) of a body
+/// with `nf` of them.
+fn mode_columns(
     ctx: &Ctx,
     p: &str,
-    body: &ReducedBody,
+    nf: usize,
     sel: &ModeSelection,
-) -> Result<ReducedBody, SimError> {
-    let nf = body.num_modes();
+) -> Result<Vec<usize>, SimError> {
     let cols: Vec<usize> = match sel {
         ModeSelection::Count(n) => {
             if *n > nf {
@@ -341,6 +396,12 @@ fn select_modes(
             cols
         }
     };
+    Ok(cols)
+}
+
+/// The reduced body restricted to the basis vectors `cols` (0-based).
+fn restrict_modes(body: &ReducedBody, cols: &[usize]) -> ReducedBody {
+    let nf = body.num_modes();
     let pick =
         |m: &faer::Mat<f64>| faer::Mat::from_fn(m.nrows(), cols.len(), |i, j| m[(i, cols[j])]);
     let square = |m: &faer::Mat<f64>| {
@@ -357,5 +418,5 @@ fn select_modes(
     if body.labels.len() == nf {
         out.labels = cols.iter().map(|&c| body.labels[c].clone()).collect();
     }
-    Ok(out)
+    out
 }

@@ -283,6 +283,15 @@ pub(crate) fn solver_config(
             }
             (newton.rtol, newton.atol) = (t, t);
         }
+        if let Some(m) = n.modified {
+            if m && s.kind != SolverType::GeneralizedAlpha {
+                return Err(ctx.err(
+                    "solver.newton.modified",
+                    "modified Newton is available for generalized-alpha only",
+                ));
+            }
+            newton.modified = m;
+        }
     }
     match s.kind {
         SolverType::GeneralizedAlpha => {

@@ -12,6 +12,7 @@ pub mod locate;
 pub mod run;
 pub mod schema;
 pub mod signals;
+pub mod stiffening;
 pub mod units;
 
 pub use compile::{compile_model, is_multibody_model, load_model, CompiledModel, SolverConfig};

@@ -109,6 +109,9 @@ pub struct NewtonSpec {
     pub max_iterations: Option<usize>,
     /// Relative and absolute increment tolerance, default 1e-10.
     pub tol: Option<f64>,
+    /// Modified Newton (keep the factorized iteration matrix across iterations and steps;
+    /// generalized-alpha only), default false.
+    pub modified: Option<bool>,
 }
 
 /// Body types.
@@ -158,6 +161,9 @@ pub struct BodySpec {
     pub modes: Option<ModeSelection>,
     /// Modal damping (ffr).
     pub damping: Option<DampingSpec>,
+    /// Centrifugal geometric stiffening (ffr, FE model-file source with fixed nodes), default
+    /// false.
+    pub geometric_stiffening: Option<bool>,
     /// Rotation parametrization.
     #[serde(default)]
     pub rotation: RotationName,

@@ -72,6 +72,41 @@ fn base_model_compiles() {
 /// (replace this, by this, expected key path, text on the expected line, message fragment)
 const CASES: &[(&str, &str, &str, &str, &str)] = &[
     (
+        "modes = [1, 2]",
+        "modes = [1, 2]\ngeometric_stiffening = true",
+        "body[1].geometric_stiffening",
+        "geometric_stiffening = true",
+        "geometric stiffening needs supports (fixed nodes in the FE model)",
+    ),
+    (
+        "source = \"parts/rod.toml\"",
+        "source = \"parts/rod.fmb.h5\"\ngeometric_stiffening = true",
+        "body[1].geometric_stiffening",
+        "geometric_stiffening = true",
+        "needs an FE model file",
+    ),
+    (
+        "source = \"parts/rod.toml\"",
+        "source = \"parts\"\ngeometric_stiffening = true",
+        "body[1].geometric_stiffening",
+        "geometric_stiffening = true",
+        "seed folder has no FE",
+    ),
+    (
+        "mass = \"1 kg\"",
+        "mass = \"1 kg\"\ngeometric_stiffening = false",
+        "body[0].geometric_stiffening",
+        "geometric_stiffening = false",
+        "not used by a rigid body",
+    ),
+    (
+        "t_end = \"0.01 s\"",
+        "t_end = \"0.01 s\"\nnewton = { modified = \"yes\" }",
+        "solver.newton.modified",
+        "modified = \"yes\"",
+        "invalid type",
+    ),
+    (
         "mass = \"1 kg\"",
         "masss = \"1 kg\"",
         "body[0].masss",
