@@ -51,6 +51,10 @@ const NO_FE_MODEL: &str = "geometric stiffening needs an FE model file (.toml wi
      mesh or a CalculiX deck) as `source`; a reduced-body file (.h5) or seed folder has no FE \
      mesh and system";
 
+/// Error of `rotary_inertia = true` without a beam mesh.
+const NO_BEAM_MESH: &str = "node rotary inertias need an FE model file (.toml) with a beam mesh \
+     (nodes with rotational DOFs)";
+
 /// Builds the element of `body[i]`; `base` is the model file's folder.
 pub fn build_body(
     ctx: &Ctx,
@@ -69,6 +73,7 @@ pub fn build_body(
         ("modes", b.modes.is_some()),
         ("damping", b.damping.is_some()),
         ("geometric_stiffening", b.geometric_stiffening.is_some()),
+        ("rotary_inertia", b.rotary_inertia.is_some()),
     ];
     match b.kind {
         BodyType::Rigid => {
@@ -92,6 +97,7 @@ pub fn build_body(
                     "damping",
                     "geometric_stiffening",
                     "inertia",
+                    "rotary_inertia",
                 ],
             )?;
             ffr_body(ctx, &p, b, base)
@@ -261,6 +267,10 @@ fn ffr_body(
     if consistent && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml")) {
         return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL));
     }
+    let not_fe_file = resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml");
+    if b.rotary_inertia == Some(true) && not_fe_file {
+        return Err(ctx.err(&format!("{p}.rotary_inertia"), NO_BEAM_MESH));
+    }
     let loaded = load_fe_body(
         source,
         base,
@@ -278,9 +288,15 @@ fn ffr_body(
         }
         (true, _, _) => return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL)),
     };
-    let rotary = match &fe {
-        Some(fe) => beam_rotary_inertias(fe, &reduced).map_err(|m| ctx.err(&key, m))?,
-        None => None,
+    let rkey = format!("{p}.rotary_inertia");
+    let rotary = match (&fe, b.rotary_inertia) {
+        (_, Some(false)) => None,
+        (Some(fe), r) => match beam_rotary_inertias(fe, &reduced).map_err(|m| ctx.err(&key, m))? {
+            None if r == Some(true) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
+            found => found,
+        },
+        (None, Some(true)) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
+        (None, None) => None,
     };
     let geometric = match (stiffening, &fe) {
         (false, _) => None,

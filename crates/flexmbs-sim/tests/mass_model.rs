@@ -218,7 +218,8 @@ mass = "{mass}"
 /// mass the modes are normalised with (`m_ff = 1`), the free vibration after a 0.2 ms tip pulse
 /// has the FE frequency of the respective discretisation (0.5 %). The lumped model on the
 /// consistent FE mass (no lumped node masses) and the consistent model on the lumped FE mass are
-/// rejected at `body[0].inertia` / `body[0].source` with a hint to the other choice.
+/// rejected at `body[0].inertia` / `body[0].source` with a hint to the other choice; consistent
+/// invariants compile together with `geometric_stiffening` and a mode list.
 #[test]
 fn consistent_and_lumped_solid_body_both_run() {
     let dir = work_dir("solid");
@@ -248,6 +249,18 @@ fn consistent_and_lumped_solid_body_both_run() {
         f_fe.push(f1);
     }
     eprintln!("FE f1: consistent {} Hz, lumped {} Hz", f_fe[0], f_fe[1]);
+    // consistent invariants with geometric stiffening and a reordered mode selection: compiles
+    // with the two selected modes (3 + 3 + 2 coordinates)
+    let part = dir.join("consistent.toml");
+    let text = format!(
+        "[model]\nname = \"x\"\n[solver]\ntype = \"generalized-alpha\"\nh = \"1 ms\"\n\
+         t_end = \"1 ms\"\n[[body]]\nname = \"b\"\ntype = \"ffr\"\nsource = \"{}\"\n\
+         inertia = \"consistent\"\ngeometric_stiffening = true\nmodes = [3, 1]\n",
+        part.display()
+    );
+    let cm = compile_model(&text, &dir.join("model.toml")).unwrap();
+    assert_eq!(cm.bodies[0].geometry.modes, 2);
+    assert_eq!(cm.model.nq, 8);
     // crossed choices are rejected with a hint
     for (fe_mass, model, path, fragment) in [
         (

@@ -128,6 +128,13 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
         "unknown mass model",
     ),
     (
+        "source = \"parts/rod.toml\"",
+        "source = \"parts/rod.fmb.h5\"\nrotary_inertia = true",
+        "body[1].rotary_inertia",
+        "rotary_inertia = true",
+        "need an FE model file (.toml) with a beam mesh",
+    ),
+    (
         "inertia = [0.01, 0.01, 0.001]",
         "inertia = \"lumped\"",
         "body[0].inertia",
