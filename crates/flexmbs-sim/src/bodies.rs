@@ -3,13 +3,18 @@
 
 use crate::compile::Ctx;
 use crate::error::SimError;
-use crate::schema::{BodySpec, BodyType, ModeSelection, RotationName};
+use crate::mass_model::{
+    beam_rotary_inertias, check_consistent_source, full_mass_to_si, CONSISTENT_NEEDS_FE_MODEL,
+};
+use crate::schema::{BodySpec, BodyType, InertiaSpec, MassModel, ModeSelection, RotationName};
 use crate::stiffening::{centrifugal_stiffness, geometric_to_si, select_geometric_modes, FeModel};
 use crate::units::Dimension;
 use flexmbs_core::ffr::{self, reduced_body_to_si, FfrBody, FfrElement};
 use flexmbs_core::{RigidBody, RotationParam};
+use flexmbs_fe::element::MassKind;
 use flexmbs_fe::reduction::{Cell, ReducedBody};
 use flexmbs_fe::ElementKind;
+use flexmbs_fe::SparseMatrix;
 use flexmbs_io::pipeline::{prepare, resolve, run_reduction};
 use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
@@ -46,6 +51,10 @@ const NO_FE_MODEL: &str = "geometric stiffening needs an FE model file (.toml wi
      mesh or a CalculiX deck) as `source`; a reduced-body file (.h5) or seed folder has no FE \
      mesh and system";
 
+/// Error of `rotary_inertia = true` without a beam mesh.
+const NO_BEAM_MESH: &str = "node rotary inertias need an FE model file (.toml) with a beam mesh \
+     (nodes with rotational DOFs)";
+
 /// Builds the element of `body[i]`; `base` is the model file's folder.
 pub fn build_body(
     ctx: &Ctx,
@@ -64,6 +73,7 @@ pub fn build_body(
         ("modes", b.modes.is_some()),
         ("damping", b.damping.is_some()),
         ("geometric_stiffening", b.geometric_stiffening.is_some()),
+        ("rotary_inertia", b.rotary_inertia.is_some()),
     ];
     match b.kind {
         BodyType::Rigid => {
@@ -86,6 +96,8 @@ pub fn build_body(
                     "modes",
                     "damping",
                     "geometric_stiffening",
+                    "inertia",
+                    "rotary_inertia",
                 ],
             )?;
             ffr_body(ctx, &p, b, base)
@@ -105,7 +117,18 @@ fn rigid_body(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(BuiltElement, BodyGeo
             format!("mass must be > 0, got {mass} kg"),
         ));
     }
-    let inertia = match (&b.inertia, &b.inertia_matrix) {
+    let principal = match &b.inertia {
+        Some(InertiaSpec::Principal(d)) => Some(d),
+        Some(InertiaSpec::Model(_)) => {
+            return Err(ctx.err(
+                &format!("{p}.inertia"),
+                "a rigid body takes three principal moments as `inertia`; \"lumped\" and \
+                 \"consistent\" are mass models of ffr bodies",
+            ))
+        }
+        None => None,
+    };
+    let inertia = match (principal, &b.inertia_matrix) {
         (Some(d), None) => {
             Matrix3::from_diagonal(&ctx.vec3(d, Dimension::Inertia, &format!("{p}.inertia"))?)
         }
@@ -228,8 +251,53 @@ fn ffr_body(
     if stiffening && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml")) {
         return Err(ctx.err(&gkey, NO_FE_MODEL));
     }
-    let (reduced, fe) = load_reduced_with_fe(source, base, &b.name, b.units.unwrap_or_default())
-        .map_err(|m| ctx.err(&key, m))?;
+    let ikey = format!("{p}.inertia");
+    let mass_model = match &b.inertia {
+        None => MassModel::Lumped,
+        Some(InertiaSpec::Model(m)) => *m,
+        Some(InertiaSpec::Principal(_)) => {
+            return Err(ctx.err(
+                &ikey,
+                "an ffr body takes `inertia = \"lumped\"` or `\"consistent\"` (its inertia \
+                 comes from the FE model); principal moments are for rigid bodies",
+            ))
+        }
+    };
+    let consistent = mass_model == MassModel::Consistent;
+    if consistent && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml")) {
+        return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL));
+    }
+    let not_fe_file = resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml");
+    if b.rotary_inertia == Some(true) && not_fe_file {
+        return Err(ctx.err(&format!("{p}.rotary_inertia"), NO_BEAM_MESH));
+    }
+    let loaded = load_fe_body(
+        source,
+        base,
+        &b.name,
+        b.units.unwrap_or_default(),
+        consistent,
+    )
+    .map_err(|m| ctx.err(&key, m))?;
+    let (reduced, fe) = (loaded.reduced, loaded.fe);
+    let full_mass = match (consistent, &fe, loaded.full_mass) {
+        (false, _, _) => None,
+        (true, Some(fe), Some(m)) => {
+            check_consistent_source(fe).map_err(|m| ctx.err(&ikey, m))?;
+            Some(m)
+        }
+        (true, _, _) => return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL)),
+    };
+    let rkey = format!("{p}.rotary_inertia");
+    let rotary = match (&fe, b.rotary_inertia) {
+        (_, Some(false)) => None,
+        (Some(fe), r) => match beam_rotary_inertias(fe, &reduced).map_err(|m| ctx.err(&key, m))? {
+            None if r == Some(true) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
+            found => found,
+        },
+        (None, Some(true)) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
+        (None, None) => None,
+    };
     let geometric = match (stiffening, &fe) {
         (false, _) => None,
         (true, None) => return Err(ctx.err(&gkey, NO_FE_MODEL)),
@@ -253,8 +321,23 @@ fn ffr_body(
         RotationName::Cardan => ffr::RotationParam::Cardan,
         RotationName::Quaternion => ffr::RotationParam::Quaternion,
     };
-    let mut body =
-        FfrBody::from_reduced(&si, rotation).map_err(|e| ctx.err(&key, e.to_string()))?;
+    let mut body = match &full_mass {
+        None => FfrBody::from_reduced(&si, rotation).map_err(|e| {
+            let hint = match &fe {
+                Some(fe) if fe.mass == MassKind::Consistent => {
+                    " (the FE model's mass is consistent: set `inertia = \"consistent\"`)"
+                }
+                _ => "",
+            };
+            ctx.err(&key, format!("{e}{hint}"))
+        })?,
+        Some(m) => FfrBody::from_reduced_consistent(&si, &full_mass_to_si(m, &reduced), rotation)
+            .map_err(|e| ctx.err(&ikey, e.to_string()))?,
+    };
+    if let Some(r) = &rotary {
+        body.set_rotary_inertia(r)
+            .map_err(|e| ctx.err(&key, format!("node rotary inertias: {e}")))?;
+    }
     if let Some(g) = &geometric {
         body = body
             .with_geometric_stiffening(g)
@@ -323,10 +406,40 @@ pub fn load_reduced_with_fe(
     name: &str,
     units: flexmbs_fe::UnitSystem,
 ) -> Result<(ReducedBody, Option<FeModel>), String> {
+    load_fe_body(source, base, name, units, false).map(|l| (l.reduced, l.fe))
+}
+
+/// A body source as loaded: the reduced body, its FE model (FE model files with a built-in mesh
+/// or a CalculiX deck) and, if asked for, the full translational FE mass matrix (body units).
+#[derive(Debug, Clone)]
+pub struct LoadedBody {
+    /// The reduced body.
+    pub reduced: ReducedBody,
+    /// Prepared mesh and system of an FE model file.
+    pub fe: Option<FeModel>,
+    /// Full translational mass matrix over the body's nodes
+    /// ([`flexmbs_io::full_mass::prepare_with_mass`]).
+    pub full_mass: Option<SparseMatrix>,
+}
+
+/// [`load_reduced_with_fe`], with the full translational mass matrix of an FE model when
+/// `full_mass` is true (CalculiX decks are then exported once, without `*BOUNDARY` cards).
+pub fn load_fe_body(
+    source: &Path,
+    base: &Path,
+    name: &str,
+    units: flexmbs_fe::UnitSystem,
+    full_mass: bool,
+) -> Result<LoadedBody, String> {
+    let plain = |reduced| LoadedBody {
+        reduced,
+        fe: None,
+        full_mass: None,
+    };
     let path = resolve(base, source);
     if path.is_dir() {
         return flexmbs_io::seed_body::read_seed_body(&path, name, units)
-            .map(|b| (b, None))
+            .map(plain)
             .map_err(|e| e.to_string());
     }
     match path.extension().and_then(|e| e.to_str()) {
@@ -338,18 +451,28 @@ pub fn load_reduced_with_fe(
             if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
                 let dir = resolve(fe_base, dir);
                 return flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)
-                    .map(|b| (b, None))
+                    .map(plain)
                     .map_err(|e| e.to_string());
             }
-            let prepared = prepare(&spec, fe_base, &mut |_| {})
-                .map_err(|e| format!("{}: {e}", path.display()))?;
-            let body = run_reduction(&spec, &prepared, &mut |_| {})
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let located =
+                |e: flexmbs_io::pipeline::PipelineError| format!("{}: {e}", path.display());
+            let (prepared, m_full) = if full_mass {
+                let (p, m) = flexmbs_io::full_mass::prepare_with_mass(&spec, fe_base, &mut |_| {})
+                    .map_err(located)?;
+                (p, Some(m))
+            } else {
+                (prepare(&spec, fe_base, &mut |_| {}).map_err(located)?, None)
+            };
+            let body = run_reduction(&spec, &prepared, &mut |_| {}).map_err(located)?;
             let mass = FeModel::mass_kind(&spec.mesh, spec.reduction.mass);
-            Ok((body, Some(FeModel { prepared, mass })))
+            Ok(LoadedBody {
+                reduced: body,
+                fe: Some(FeModel { prepared, mass }),
+                full_mass: m_full,
+            })
         }
         Some("h5") => flexmbs_io::body_file::read_body(&path)
-            .map(|b| (b, None))
+            .map(plain)
             .map_err(|e| e.to_string()),
         _ => Err(format!(
             "{}: not an FE model file (.toml), a reduced-body file (.h5) or a seed folder",

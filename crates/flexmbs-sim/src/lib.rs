@@ -9,6 +9,7 @@ pub mod compile;
 pub mod config;
 pub mod error;
 pub mod locate;
+pub mod mass_model;
 pub mod run;
 pub mod schema;
 pub mod signals;

@@ -146,8 +146,9 @@ pub struct BodySpec {
     pub kind: BodyType,
     /// Mass (rigid).
     pub mass: Option<Quantity>,
-    /// Principal moments of inertia about the centre of mass (rigid).
-    pub inertia: Option<[Quantity; 3]>,
+    /// Principal moments of inertia about the centre of mass (rigid), or the mass model
+    /// `"lumped"` / `"consistent"` of the inertia invariants (ffr, default lumped).
+    pub inertia: Option<InertiaSpec>,
     /// Full inertia tensor about the centre of mass in body axes (rigid).
     pub inertia_matrix: Option<[[Quantity; 3]; 3]>,
     /// Edge lengths of the box drawn in the animation (rigid; default from the inertia).
@@ -164,6 +165,9 @@ pub struct BodySpec {
     /// Centrifugal geometric stiffening (ffr, FE model-file source with fixed nodes), default
     /// false.
     pub geometric_stiffening: Option<bool>,
+    /// Lumped node rotary inertias of a beam mesh (ffr, FE model-file source), default true for
+    /// beam meshes; false reproduces the translational-only node masses of seed 000/001.
+    pub rotary_inertia: Option<bool>,
     /// Rotation parametrization.
     #[serde(default)]
     pub rotation: RotationName,
@@ -175,6 +179,61 @@ pub struct BodySpec {
     pub velocity: Option<[Quantity; 3]>,
     /// Initial angular velocity (global).
     pub angular_velocity: Option<[Quantity; 3]>,
+}
+
+/// The `inertia` key: three principal moments (rigid body) or a mass model name (ffr body).
+#[derive(Debug, Clone, PartialEq)]
+pub enum InertiaSpec {
+    /// Principal moments of inertia about the centre of mass (rigid).
+    Principal([Quantity; 3]),
+    /// Mass model of the inertia invariants (ffr).
+    Model(MassModel),
+}
+
+/// Mass model of the inertia invariants of an FFR body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MassModel {
+    /// Lumped node masses of the reduced body (seed 000 §2.4, default).
+    #[default]
+    Lumped,
+    /// The full consistent FE mass matrix projected on the rigid fields and modes
+    /// (seed 000 §6.2 outlook; [`flexmbs_core::ffr::FfrInvariants::from_consistent`]).
+    Consistent,
+}
+
+impl<'de> Deserialize<'de> for InertiaSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = InertiaSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(
+                    "three principal moments (rigid body) or \"lumped\" / \"consistent\" (ffr body)",
+                )
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<InertiaSpec, E> {
+                match v {
+                    "lumped" => Ok(InertiaSpec::Model(MassModel::Lumped)),
+                    "consistent" => Ok(InertiaSpec::Model(MassModel::Consistent)),
+                    _ => Err(E::custom(format!(
+                        "unknown mass model \"{v}\": expected \"lumped\" or \"consistent\" \
+                         (ffr body), or three principal moments (rigid body)"
+                    ))),
+                }
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut a: A) -> Result<InertiaSpec, A::Error> {
+                let mut v = Vec::with_capacity(3);
+                while let Some(x) = a.next_element::<Quantity>()? {
+                    v.push(x);
+                }
+                let n = v.len();
+                <[Quantity; 3]>::try_from(v)
+                    .map(InertiaSpec::Principal)
+                    .map_err(|_| de::Error::invalid_length(n, &"three principal moments"))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// Mode selection of an FFR body: a count (the first n) or a list of 1-based mode numbers.
