@@ -388,11 +388,14 @@ impl FfrBody {
                 out[(6 + a, 3 + i)] = wf;
             }
         }
-        for a in 0..nf {
-            for b in 0..nf {
-                out[(6 + a, 6 + b)] = inv.m_ff[(a, b)];
-            }
-        }
+        // constant modal block: a vectorized column copy
+        out.as_mut()
+            .submatrix_mut(6, 6, nf, nf)
+            .copy_from(faer::MatRef::from_column_major_slice(
+                inv.m_ff.as_slice(),
+                nf,
+                nf,
+            ));
         if let Some(r) = &self.rotary {
             r.add_mass_matrix(s, out);
         }

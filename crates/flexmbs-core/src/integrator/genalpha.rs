@@ -231,15 +231,25 @@ impl GenAlpha {
                 &mut sys.g_bias,
             );
             // residual r = M u_dot - h + G^T lambda,  g / beta'
+            // accumulated column by column (contiguous columns of M); per entry the terms are
+            // added in the same order as a row-wise loop: -h_i, M_i0 u_dot_0, ..., G_0i lambda_0, ...
             let (mut r_max, mut g_max) = (0.0_f64, 0.0_f64);
+            let r_acc = &mut b.rhs[..nu];
+            for (r, h) in r_acc.iter_mut().zip(&sys.h) {
+                *r = -h;
+            }
+            for (j, x) in b.u_dot_new.iter().enumerate() {
+                for (r, m) in r_acc.iter_mut().zip(sys.mass.col_as_slice(j)) {
+                    *r += m * x;
+                }
+            }
+            for (k, l) in b.lambda_new.iter().enumerate() {
+                for (i, r) in r_acc.iter_mut().enumerate() {
+                    *r += sys.g_jac[(k, i)] * l;
+                }
+            }
             for i in 0..nu {
-                let mut r = -sys.h[i];
-                for j in 0..nu {
-                    r += sys.mass[(i, j)] * b.u_dot_new[j];
-                }
-                for (k, l) in b.lambda_new.iter().enumerate() {
-                    r += sys.g_jac[(k, i)] * l;
-                }
+                let r = b.rhs[i];
                 if !r.is_finite() {
                     return Err(fail("force residual", residual));
                 }
