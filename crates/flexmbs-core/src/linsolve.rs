@@ -141,7 +141,11 @@ mod tests {
         let n = 9;
         let f = |i: usize, j: usize| {
             let v = ((i * 7 + j * 13) % 11) as f64 - 5.0 + if i == j { 0.5 } else { 0.0 };
-            if i + j == 3 { 0.0 } else { v }
+            if i + j == 3 {
+                0.0
+            } else {
+                v
+            }
         };
         let mut lu = DenseLu::new(n);
         for j in 0..n {
@@ -153,8 +157,8 @@ mod tests {
         let b: Vec<f64> = (0..n).map(|i| (i as f64 - 3.0) * 0.7).collect();
         let mut x = b.clone();
         lu.solve_in_place(&mut x);
-        for i in 0..n {
-            let r: f64 = (0..n).map(|j| f(i, j) * x[j]).sum::<f64>() - b[i];
+        for (i, bi) in b.iter().enumerate() {
+            let r: f64 = (0..n).map(|j| f(i, j) * x[j]).sum::<f64>() - bi;
             assert!(r.abs() < 1e-12, "row {i}: residual {r}");
         }
     }
