@@ -223,12 +223,10 @@ pub fn assemble_constraints(
                 if let FrameOwner::Body(b) = model.frames[frame.0].owner {
                     let off = model.bodies[b.0].u_offset;
                     let k = &frames[frame.0];
-                    // row r of G: c_t^T J_T + c_r^T J_R, Jacobian columns as contiguous slices
                     for j in 0..k.jac_t.ncols() {
-                        let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
                         let mut s = 0.0;
                         for d in 0..3 {
-                            s += ct[d] * jt[d] + cr[d] * jr[d];
+                            s += ct[d] * k.jac_t[(d, j)] + cr[d] * k.jac_r[(d, j)];
                         }
                         g_jac[(r, off + j)] += s;
                     }

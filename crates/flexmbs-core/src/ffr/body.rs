@@ -445,7 +445,7 @@ impl FfrBody {
                 let d_row = &self.s_skew_t[k].as_slice()[a * nf..(a + 1) * nf];
                 let dq = d_row
                     .iter()
-                    .zip(s.qfd.iter())
+                    .zip(s.qfd.as_slice())
                     .fold(0.0, |acc, (d, q)| acc + d * q);
                 acc -= 2.0 * w[k] * dq;
             }
