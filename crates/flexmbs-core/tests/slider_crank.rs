@@ -75,4 +75,19 @@ fn slider_position_matches_analytic_solution() {
     assert_eq!(checks, 8);
     assert!(max_err < 1e-8);
     assert!(g_max < 1e-10);
+    // The step monitor reuses the converged Newton evaluation (frames, constraints): its drift
+    // and energies are bitwise those of a fresh `monitor` at the committed state; without
+    // per-step energies the drift is unchanged and the energy field is zero.
+    for on in [true, false] {
+        let ga = ga.with_step_energy(on);
+        for _ in 0..5 {
+            let st = ga.step(&model, &mut s, &mut ws, h).unwrap();
+            let (e, g, gd) = flexmbs_core::integrator::monitor(&model, &s, &mut ws);
+            assert_eq!(st.g_max.to_bits(), g.to_bits());
+            assert_eq!(st.g_dot_max.to_bits(), gd.to_bits());
+            assert!(gd > 0.0 && e.kinetic > 0.0, "{gd} {e:?}");
+            let expected = if on { e } else { system::Energy::default() };
+            assert_eq!(st.energy, expected);
+        }
+    }
 }

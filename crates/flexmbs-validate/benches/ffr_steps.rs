@@ -11,7 +11,9 @@
 //! - `FFR_BENCH_EXPORT=dir`: write the 100-mode reduced data (`nodes.npy`, `masses.npy`,
 //!   `modes.npy`, `kff.npy`) and the tip responses `tip_flexmbs_<n>_{full,modified}.csv` (full / modified Newton) for
 //!   `benches/exudyn/ffr_exudyn.py`;
-//! - `FFR_BENCH_MODES=6,12`: restrict the mode counts.
+//! - `FFR_BENCH_MODES=6,12`: restrict the mode counts;
+//! - `FFR_BENCH_NEWTON=modified` (or `full`): run only that Newton variant (for profiling with
+//!   `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*GenAlpha*integrate*'`).
 
 use flexmbs_core::ffr::{FfrBody, FfrElement, RotationParam};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
@@ -121,7 +123,11 @@ fn run(
             ..NewtonSettings::default()
         },
     };
-    let ga = GenAlpha::new(settings).expect("integrator");
+    // energies are not evaluated per step (as in the `flexmbs run` driver, which computes them at
+    // output rows only; Exudyn does not compute them either)
+    let ga = GenAlpha::new(settings)
+        .expect("integrator")
+        .with_step_energy(false);
     ga.initialize(&model, &mut s, &mut ws).expect("init");
     let phi_tip: Vec<f64> = (0..nf).map(|a| body.modes_t[(3 * tip + 1, a)]).collect();
     let mut series = Vec::with_capacity(steps / 10 + 1);
@@ -213,6 +219,11 @@ fn main() {
             reduce_modal(&mesh, &sys, &modal, n, "tube", Provenance::default()).expect("reduce");
         let setup = t_set.elapsed().as_secs_f64();
         let mut variants = vec![(false, false, STEPS), (false, true, STEPS)];
+        match std::env::var("FFR_BENCH_NEWTON").as_deref() {
+            Ok("modified") => variants.retain(|v| v.1),
+            Ok("full") => variants.retain(|v| !v.1),
+            _ => {}
+        }
         if with_fd {
             let fd_steps = match n {
                 0..=12 => 1000,

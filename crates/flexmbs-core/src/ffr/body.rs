@@ -55,6 +55,8 @@ pub struct FfrBody {
     pub rotary: Option<super::RotaryInertia>,
     /// `S_23 - S_32, S_31 - S_13, S_12 - S_21` (2.68), n_f x n_f each.
     pub(super) s_skew: [DMatrix<f64>; 3],
+    /// Transposes of `s_skew` (a row of `D_k` as a contiguous column, for `D_k q_f_dot`).
+    pub(super) s_skew_t: [DMatrix<f64>; 3],
     /// `[S_11^T; S_12^T; ...; S_33^T]` (9 n_f x n_f, block `3 k + l` = `S_kl^T`): the deformed
     /// moments are one matrix-vector product `P - Ī = S_stack q_f`.
     pub(super) s_stack: DMatrix<f64>,
@@ -170,6 +172,7 @@ impl FfrBody {
             k_ff: copy_modes(k_ff),
             d_ff: DMatrix::zeros(nf, nf),
             rotary: None,
+            s_skew_t: s_skew.clone().map(|d| d.transpose()),
             s_skew,
             invariants,
             geometric: None,
@@ -385,11 +388,14 @@ impl FfrBody {
                 out[(6 + a, 3 + i)] = wf;
             }
         }
-        for a in 0..nf {
-            for b in 0..nf {
-                out[(6 + a, 6 + b)] = inv.m_ff[(a, b)];
-            }
-        }
+        // constant modal block: a vectorized column copy
+        out.as_mut()
+            .submatrix_mut(6, 6, nf, nf)
+            .copy_from(faer::MatRef::from_column_major_slice(
+                inv.m_ff.as_slice(),
+                nf,
+                nf,
+            ));
         if let Some(r) = &self.rotary {
             r.add_mass_matrix(s, out);
         }
@@ -435,11 +441,12 @@ impl FfrBody {
                 }
                 acc -= w2 * s.p[(4 * k, a)];
                 acc += s.i_tf[(k, a)] * z[k];
-                let d = &self.s_skew[k];
-                let mut dq = 0.0;
-                for b in 0..nf {
-                    dq += d[(a, b)] * s.qfd[b];
-                }
+                // row a of D_k (column a of its stored transpose) times q_f_dot
+                let d_row = &self.s_skew_t[k].as_slice()[a * nf..(a + 1) * nf];
+                let dq = d_row
+                    .iter()
+                    .zip(s.qfd.as_slice())
+                    .fold(0.0, |acc, (d, q)| acc + d * q);
                 acc -= 2.0 * w[k] * dq;
             }
             out[6 + a] = -acc;

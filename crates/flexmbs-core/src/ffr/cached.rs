@@ -10,11 +10,16 @@ use super::{FfrBody, FfrError, FfrScratch};
 use crate::rotation::RotationError;
 use nalgebra::{Vector3, Vector4};
 
-/// The `q_f` for which the moments in an [`FfrScratch`] were computed.
+/// The `q_f` for which the moments in an [`FfrScratch`] were computed, and the rotation
+/// coordinates and velocities of its rotation state (`A`, `H`, `omega_bar`, `H_dot w`, `q_f_dot`).
 #[derive(Debug, Clone)]
 pub struct MomentCache {
     qf: Vec<f64>,
     valid: bool,
+    /// Rotation coordinates (bits) of `A`, `H` in the scratch; valid with `valid`.
+    rot: [u64; 4],
+    /// Velocities (bits) of `omega_bar`, `H_dot w`, `q_f_dot` in the scratch.
+    u: Vec<u64>,
 }
 
 impl MomentCache {
@@ -23,12 +28,16 @@ impl MomentCache {
         Self {
             qf: vec![f64::NAN; nf],
             valid: false,
+            rot: [u64::MAX; 4],
+            u: vec![u64::MAX; 6 + nf],
         }
     }
 
     /// Forgets the cached deformation (the next update recomputes the moments).
     pub fn invalidate(&mut self) {
         self.qf.fill(f64::NAN);
+        self.rot = [u64::MAX; 4];
+        self.u.fill(u64::MAX);
         self.valid = false;
     }
 }
@@ -43,6 +52,22 @@ impl FfrBody {
         s: &mut FfrScratch,
         cache: &mut MomentCache,
     ) -> Result<(), FfrError> {
+        self.update_cached_parts(q, u, true, s, cache)
+    }
+
+    /// [`Self::update_cached`] that also skips the rotation state when the rotation coordinates
+    /// (and, with `velocity`, all of `u`) equal the cached ones bitwise. With `velocity = false`
+    /// only the `q`-dependent quantities (`A`, `H`, moments) are guaranteed current (enough for
+    /// the mass matrix and the gravity potential); `u` is then used only if the moments must be
+    /// recomputed, and the velocity-dependent quantities stay those of the cached `u`.
+    pub fn update_cached_parts(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        velocity: bool,
+        s: &mut FfrScratch,
+        cache: &mut MomentCache,
+    ) -> Result<(), FfrError> {
         let nf = self.nf();
         let nr = self.rotation.num_coordinates();
         let hit = cache.valid
@@ -50,14 +75,21 @@ impl FfrBody {
             && u.len() == self.nu()
             && s.qf.len() == nf
             && cache.qf.len() == nf
+            && cache.u.len() == u.len()
             && cache.qf.as_slice() == &q[3 + nr..];
         if !hit {
             cache.invalidate();
             self.update(q, u, s)?;
-            if cache.qf.len() == nf {
+            if cache.qf.len() == nf && cache.u.len() == u.len() {
                 cache.qf.copy_from_slice(&q[3 + nr..]);
+                store_bits(&q[3..3 + nr], &mut cache.rot[..nr]);
+                store_bits(u, &mut cache.u);
                 cache.valid = true;
             }
+            return Ok(());
+        }
+        let rot_hit = same_bits(&q[3..3 + nr], &cache.rot[..nr]);
+        if rot_hit && (!velocity || same_bits(u, &cache.u)) {
             return Ok(());
         }
         if self.rotation == super::RotationParam::Quaternion {
@@ -66,8 +98,31 @@ impl FfrBody {
                 return Err(RotationError::DegenerateQuaternion { norm }.into());
             }
         }
-        self.set_rotation_state(&q[3..3 + nr], &Vector3::new(u[3], u[4], u[5]), s)?;
-        s.qfd.copy_from_slice(&u[6..]);
+        // the velocity state to (re)build: the new `u`, or the cached one (q-only request)
+        let w = if velocity {
+            Vector3::new(u[3], u[4], u[5])
+        } else {
+            Vector3::from_fn(|i, _| f64::from_bits(cache.u[3 + i]))
+        };
+        // on error the scratch is partly overwritten: forget the keys first
+        cache.valid = false;
+        self.set_rotation_state(&q[3..3 + nr], &w, s)?;
+        store_bits(&q[3..3 + nr], &mut cache.rot[..nr]);
+        if velocity {
+            s.qfd.copy_from_slice(&u[6..]);
+            store_bits(u, &mut cache.u);
+        }
+        cache.valid = true;
         Ok(())
     }
+}
+
+fn store_bits(x: &[f64], out: &mut [u64]) {
+    for (o, v) in out.iter_mut().zip(x) {
+        *o = v.to_bits();
+    }
+}
+
+fn same_bits(x: &[f64], key: &[u64]) -> bool {
+    x.len() == key.len() && x.iter().zip(key).all(|(v, k)| v.to_bits() == *k)
 }

@@ -59,6 +59,26 @@ impl FfrElement {
         u: &[f64],
         f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R,
     ) -> Option<R> {
+        self.with_state_parts(q, u, true, f)
+    }
+
+    /// [`Self::with_state`] for functions that need only the `q`-dependent part of the state
+    /// (`A`, `H`, moments; see [`FfrBody::update_cached_parts`]); `u` should then be zero.
+    fn with_q_state<R>(
+        &self,
+        q: &[f64],
+        f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R,
+    ) -> Option<R> {
+        self.with_state_parts(q, &self.zero_u, false, f)
+    }
+
+    fn with_state_parts<R>(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        velocity: bool,
+        f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R,
+    ) -> Option<R> {
         let mut s = match self.scratch.lock() {
             Ok(s) => s,
             Err(poisoned) => poisoned.into_inner(),
@@ -67,7 +87,9 @@ impl FfrElement {
             Ok(c) => c,
             Err(poisoned) => poisoned.into_inner(),
         };
-        self.body.update_cached(q, u, &mut s, &mut cache).ok()?;
+        self.body
+            .update_cached_parts(q, u, velocity, &mut s, &mut cache)
+            .ok()?;
         Some(f(&self.body, &mut s))
     }
 }
@@ -118,7 +140,7 @@ impl Element for FfrElement {
         omega: &Vector3<f64>,
     ) {
         u[..3].copy_from_slice(velocity.as_slice());
-        let ok = self.with_state(q, &self.zero_u, |_, s| s.a.transpose() * omega);
+        let ok = self.with_q_state(q, |_, s| s.a.transpose() * omega);
         let Some(omega_bar) = ok else {
             u[3..6].fill(f64::NAN);
             return;
@@ -146,7 +168,7 @@ impl Element for FfrElement {
     }
 
     fn mass_matrix(&self, q: &[f64], mut m: MatMut<'_, f64>) {
-        let done = self.with_state(q, &self.zero_u, |b, s| b.mass_matrix(s, m.as_mut()));
+        let done = self.with_q_state(q, |b, s| b.mass_matrix(s, m.as_mut()));
         if done.is_none() {
             m.fill(f64::NAN);
         }
@@ -230,7 +252,7 @@ impl Element for FfrElement {
 
     fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64 {
         // V = -sum_j m_j g . r_j = -g . (I1 R + A S_t), S_t = sum_j m_j u_bar_j (deformed)
-        self.with_state(q, &self.zero_u, |b, s| {
+        self.with_q_state(q, |b, s| {
             let r = Vector3::new(q[0], q[1], q[2]);
             -gravity.dot(&(b.invariants.i1 * r + s.a * s.s_t))
         })
