@@ -120,6 +120,7 @@ enum Command {
 }
 
 fn main() {
+    restore_default_sigpipe();
     let cli = Cli::parse();
     match run(cli) {
         Ok(0) => {}
@@ -128,6 +129,19 @@ fn main() {
             eprintln!("error: {e:#}");
             std::process::exit(1);
         }
+    }
+}
+
+/// Restores the default action of SIGPIPE (terminate quietly), as every Unix filter does. The Rust
+/// runtime ignores SIGPIPE, so `flexmbs plot ... --list | head -1` would otherwise end in a panic
+/// of `println!` on the closed pipe. Files being written are unaffected (results files are written
+/// by atomic rename, so the last complete one stays readable).
+fn restore_default_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in `main`, before any thread exists; `signal` with `SIG_DFL`
+    // only resets the disposition of one signal.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -127,3 +127,28 @@ fn check_accepts_fe_and_multibody_files() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Output into a closed pipe (`flexmbs check ... | head -0`) ends the process by SIGPIPE, as Unix
+/// filters do, never with a Rust panic about a broken pipe.
+#[cfg(unix)]
+#[test]
+fn closed_stdout_pipe_ends_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader); // every write to the pipe now fails with EPIPE
+    let o = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
+        .args(["--quiet", "check"])
+        .arg(root.join("examples/mbs/slider_crank.toml"))
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "stderr: {err}");
+    assert_eq!(
+        o.status.signal(),
+        Some(libc::SIGPIPE),
+        "status {:?}, stderr: {err}",
+        o.status
+    );
+}
