@@ -47,7 +47,7 @@ pub fn cmd_run(model: &Path, out: Option<PathBuf>, quiet: bool) -> Result<i32> {
 
 /// Runs a compiled model with a progress bar and prints the summary; returns the exit code.
 pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Result<i32> {
-    let t_end = cm.solver.t_end();
+    let statics = matches!(cm.solver, flexmbs_sim::config::SolverConfig::Statics { .. });
     if !quiet {
         eprintln!(
             "{}: {} bodies, {} coordinates, {} constraint rows; output to {}",
@@ -75,19 +75,26 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
         }
         last = Instant::now();
         let rate = p.steps as f64 / start.elapsed().as_secs_f64().max(1e-9);
-        if t_end > 0.0 {
-            bar.set_position((1000.0 * p.t / t_end).clamp(0.0, 1000.0) as u64);
+        if p.t_end > 0.0 {
+            bar.set_position((1000.0 * p.t / p.t_end).clamp(0.0, 1000.0) as u64);
         }
-        bar.set_message(format!(
-            "t = {:.4e} / {:.4e} s, {} steps, {:.0} steps/s",
-            p.t, t_end, p.steps, rate
-        ));
+        bar.set_message(if statics {
+            format!(
+                "load factor {:.3}, {} increments, {} Newton iterations",
+                p.t, p.steps, p.newton_iterations
+            )
+        } else {
+            format!(
+                "t = {:.4e} / {:.4e} s, {} steps, {:.0} steps/s",
+                p.t, p.t_end, p.steps, rate
+            )
+        });
     };
     let result = run_model(cm, opts, &mut on_progress);
     bar.finish_and_clear();
     match result {
         Ok(summary) => {
-            print_summary(&summary);
+            print_summary(&summary, statics);
             Ok(match summary.status {
                 RunStatus::Interrupted { .. } => EXIT_INTERRUPTED,
                 _ => 0,
@@ -101,7 +108,24 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
     }
 }
 
-fn print_summary(s: &RunSummary) {
+fn print_summary(s: &RunSummary, statics: bool) {
+    if statics {
+        println!(
+            "statics completed: full load in {} load increments, {} Newton iterations, wall time {:.2} s",
+            s.steps,
+            s.newton_iterations,
+            s.wall_time.as_secs_f64()
+        );
+        println!(
+            "  constraint residual max |g| {:.3e}; one output row per increment (time column = load factor)",
+            s.position_drift
+        );
+        println!("  {} output rows; files:", s.rows);
+        for f in &s.files {
+            println!("    {}", f.display());
+        }
+        return;
+    }
     let status = match &s.status {
         RunStatus::Completed => "completed".to_string(),
         RunStatus::Interrupted { t } => format!("interrupted at t = {t} s"),

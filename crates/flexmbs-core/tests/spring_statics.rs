@@ -86,6 +86,43 @@ fn hanging_mass_static_deflection() {
     }
 }
 
+/// The load path of [`Statics::solve_with`]: with 5 load steps the hanging mass reports the
+/// equilibria at mu = 0.2, 0.4, ..., 1 with deflection mu m g / k (to 1e-10), in order.
+#[test]
+fn hanging_mass_load_path() {
+    let (m, k, l0, g) = (3.0, 500.0, 1.0, 9.81);
+    let down =
+        Rotation3::from_axis_angle(&Vector3::z_axis(), -std::f64::consts::FRAC_PI_2).into_inner();
+    let (model, body) = spring_mass(m, k, l0, Vector3::new(0.0, -g, 0.0), down);
+    let mut s = model.initial_state();
+    model.set_body_pose(
+        &mut s,
+        body,
+        Vector3::new(0.0, -l0, 0.0),
+        Matrix3::identity(),
+    );
+    let mut ws = Workspace::new(&model);
+    let mut path = Vec::new();
+    let st = Statics::new(StaticsSettings {
+        load_steps: 5,
+        ..Default::default()
+    })
+    .solve_with(&model, &mut s, &mut ws, |s, mu, st| {
+        path.push((mu, model.body_q(body, &s.q)[1], st.increments))
+    })
+    .unwrap();
+    assert_eq!(path.len(), 5);
+    for (i, &(mu, y, inc)) in path.iter().enumerate() {
+        let mu_expected = (i + 1) as f64 / 5.0;
+        assert!((mu - mu_expected).abs() < 1e-14, "mu {mu}");
+        assert_eq!(inc, i + 1);
+        let err = (y + l0 + mu * m * g / k).abs();
+        assert!(err < 1e-10, "mu {mu}: y {y}, error {err:e}");
+    }
+    assert_eq!(path[4].1, model.body_q(body, &s.q)[1]);
+    assert_eq!(st.increments, 5);
+}
+
 /// Pendulum pushed by a horizontal force F = 2 m g at its centre of mass: equilibrium angle
 /// atan(F / (m g)) = atan 2 to 1e-10 (nonlinear; 4 load steps).
 #[test]

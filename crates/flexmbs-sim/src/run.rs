@@ -39,18 +39,18 @@ impl RunOptions {
     }
 }
 
-/// Progress report after every accepted step.
+/// Progress report after every accepted step (statics: after every load increment).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Progress {
-    /// Simulated time.
+    /// Simulated time (statics: load factor).
     pub t: f64,
-    /// End time (0 for statics).
+    /// End time (statics: 1, the full load).
     pub t_end: f64,
     /// Accepted steps.
     pub steps: usize,
     /// Newton iterations (implicit) or function evaluations (explicit) so far.
     pub newton_iterations: usize,
-    /// Last step size.
+    /// Last step size (statics: load increment).
     pub h: f64,
 }
 
@@ -154,6 +154,11 @@ struct Recorder<'a> {
 
 impl<'a> Recorder<'a> {
     fn record(&mut self, s: &State, st: &StepStats) -> Result<(), ResultsError> {
+        self.record_at(s, s.t, st)
+    }
+
+    /// [`Recorder::record`] with the row's time column `t` given (statics: the load factor).
+    fn record_at(&mut self, s: &State, t: f64, st: &StepStats) -> Result<(), ResultsError> {
         let m = &self.cm.model;
         system::update_frames(m, &s.q, &s.u, &mut self.frames);
         evaluate_signals(&self.cm.signals, &self.frames, &s.lambda, &mut self.signals);
@@ -164,7 +169,7 @@ impl<'a> Recorder<'a> {
         let e0 = *self.energy0.get_or_insert(total);
         self.energy_drift = self.energy_drift.max((total - e0).abs());
         let row = ResultsRow {
-            t: s.t,
+            t,
             q: &s.q,
             u: &s.u,
             lambda: &s.lambda,
@@ -177,13 +182,13 @@ impl<'a> Recorder<'a> {
             return Ok(());
         };
         w.push(&row)?;
-        self.last_t = s.t;
+        self.last_t = t;
         let rows = w.rows();
         if let Some(anim) = self.anim.as_mut() {
             if (rows - 1) % self.cm.output.animation_every == 0 {
                 body_points(m, self.cm, s, &mut self.body_fk, &mut self.positions);
                 let refs: Vec<&[[f64; 3]]> = self.positions.iter().map(|p| p.as_slice()).collect();
-                anim.write_frame(s.t, &refs)?;
+                anim.write_frame(t, &refs)?;
             }
         }
         Ok(())
@@ -505,31 +510,38 @@ fn integrate(
             Ok((r.rejected, r.stopped))
         }
         SolverConfig::Statics { settings } => {
-            let st = Statics::new(*settings).solve(m, s, ws)?;
-            let (energy, g, gd) = integrator::monitor(m, s, ws);
+            // one output row per converged load increment, at "time" = load factor mu
+            let (mut mu_prev, mut it_prev) = (0.0, 0);
+            let st = Statics::new(*settings).solve_with(m, s, ws, |s, mu, st| {
+                rec.steps = st.increments;
+                rec.newton = st.iterations;
+                rec.g_max = rec.g_max.max(st.g_max);
+                let dmu = mu - mu_prev;
+                rec.last_h = dmu;
+                let stats = StepStats {
+                    t: mu,
+                    h: dmu,
+                    iterations: st.iterations - it_prev,
+                    residual: st.residual,
+                    g_max: st.g_max,
+                    ..Default::default()
+                };
+                (mu_prev, it_prev) = (mu, st.iterations);
+                if rec.error.is_none() {
+                    if let Err(e) = rec.record_at(s, mu, &stats) {
+                        rec.error = Some(e);
+                    }
+                }
+                progress(&Progress {
+                    t: mu,
+                    t_end: 1.0,
+                    steps: st.increments,
+                    newton_iterations: st.iterations,
+                    h: dmu,
+                });
+            })?;
             rec.steps = st.increments;
             rec.newton = st.iterations;
-            rec.g_max = g;
-            let stats = StepStats {
-                t: s.t,
-                h: 0.0,
-                iterations: st.iterations,
-                residual: st.residual,
-                energy,
-                g_max: g,
-                g_dot_max: gd,
-                error_estimate: 0.0,
-            };
-            if let Err(e) = rec.record(s, &stats) {
-                rec.error = Some(e);
-            }
-            progress(&Progress {
-                t: 0.0,
-                t_end: 0.0,
-                steps: st.increments,
-                newton_iterations: st.iterations,
-                h: 0.0,
-            });
             Ok((0, false))
         }
     }

@@ -71,6 +71,20 @@ impl Statics {
         s: &mut State,
         ws: &mut Workspace,
     ) -> Result<StaticStats, SolverError> {
+        self.solve_with(model, s, ws, |_, _, _| {})
+    }
+
+    /// [`Statics::solve`], calling `on_increment(state, mu, stats)` after every converged load
+    /// increment (load factor `mu` in `(0, 1]`, the last call at `mu = 1`): the equilibrium path
+    /// of a load-stepped solution, e.g. a load-deflection curve. Bisected increments that fail
+    /// are not reported.
+    pub fn solve_with(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        mut on_increment: impl FnMut(&State, f64, &StaticStats),
+    ) -> Result<StaticStats, SolverError> {
         let cfg = &self.settings;
         if cfg.load_steps == 0 {
             return Err(SolverError::InvalidSetting {
@@ -104,6 +118,7 @@ impl Statics {
                         residual: res,
                         g_max: g,
                     };
+                    on_increment(s, mu, &stats);
                 }
                 Err(e @ SolverError::NewtonFailed { .. })
                 | Err(e @ SolverError::Singular { .. }) => {
