@@ -10,8 +10,8 @@ use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
 use crate::units::{Dimension, Quantity};
 use flexmbs_core::{
-    BodyId, FrameId, Joint, Load, LoadCoordinates, Model, ModelSpec, PrescribedMotion, State,
-    TimeFunction,
+    system, BodyId, FrameId, Joint, Load, LoadCoordinates, Model, ModelSpec, PrescribedMotion,
+    State, TimeFunction, Workspace,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
@@ -378,6 +378,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         joint_rows.push(joint.num_rows());
         spec.add_joint(joint);
     }
+    let mut free_length_from_initial = Vec::new();
     for (i, l) in mf.load.iter().enumerate() {
         let p = format!("load[{i}]");
         let present = [
@@ -476,14 +477,18 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                     frame_b,
                     stiffness: nonneg(&l.stiffness, Dimension::Stiffness, "stiffness", true)?,
                     damping: nonneg(&l.damping, Dimension::Damping, "damping", false)?,
-                    free_length: nonneg(&l.free_length, Dimension::Length, "free_length", true)?,
+                    // absent: the distance of `a` and `b` in the initial state, set below
+                    free_length: nonneg(&l.free_length, Dimension::Length, "free_length", false)?,
                 }
             }
         };
-        spec.add_load(load);
+        let id = spec.add_load(load);
+        if matches!(l.kind, LoadType::SpringDamper) && l.free_length.is_none() {
+            free_length_from_initial.push(id.0);
+        }
     }
     let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
-    let model = spec.compile().map_err(|source| SimError::Engine {
+    let mut model = spec.compile().map_err(|source| SimError::Engine {
         file: file.to_path_buf(),
         source,
     })?;
@@ -518,6 +523,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             return Err(ctx.err(&format!("{p}.orientation"), "this orientation is singular for Cardan angles (beta = +-90 deg): use rotation = \"quaternion\""));
         }
     }
+    spring_free_lengths_from_initial_state(&mut model, &initial, &free_length_from_initial);
+    let model = model;
     let joint_names: Vec<(String, usize)> = mf
         .joint
         .iter()
@@ -543,6 +550,29 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         bodies,
         signals,
     })
+}
+
+/// Spring-dampers given without `free_length` are unstressed in the initial state: their free
+/// length is the initial distance of their frames. Part of compiling the model file (the model
+/// is not handed out before), since the distance needs the compiled frames and initial poses.
+fn spring_free_lengths_from_initial_state(model: &mut Model, initial: &State, loads: &[usize]) {
+    if loads.is_empty() {
+        return;
+    }
+    let mut ws = Workspace::new(model);
+    system::update_frames(model, &initial.q, &initial.u, &mut ws.sys.frames);
+    for &i in loads {
+        if let Load::SpringDamper {
+            frame_a,
+            frame_b,
+            free_length,
+            ..
+        } = &mut model.loads[i]
+        {
+            let f = &ws.sys.frames;
+            *free_length = (f[frame_b.0].position - f[frame_a.0].position).norm();
+        }
+    }
 }
 
 /// DOF names in mask order.

@@ -222,3 +222,34 @@ fn energies_are_written_at_every_output_row() {
     }
     assert!((summary.energy_initial - total[0]).abs() <= 1e-12 * drop);
 }
+
+/// A spring-damper without `free_length` is unstressed in the initial state: the spring example
+/// with its `free_length` line removed starts 1.1 m from the anchor and stays there (no gravity),
+/// while the example itself (free length 1 m) oscillates with amplitude 0.1 m.
+#[test]
+fn spring_free_length_defaults_to_initial_distance() {
+    let text = std::fs::read_to_string(example("spring_damper.toml")).unwrap();
+    let dir = out_dir("spring_default");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("spring_default.toml");
+    std::fs::write(&file, text.replace("free_length = \"1 m\"\n", "")).unwrap();
+    let cm = flexmbs_sim::load_model(&file).unwrap();
+    let flexmbs_core::Load::SpringDamper { free_length, .. } = cm.model.loads[0] else {
+        panic!("load 0 is not a spring-damper");
+    };
+    assert!(
+        (free_length - 1.1).abs() < 1e-15,
+        "free length {free_length}"
+    );
+    run_model(&cm, &RunOptions::new(dir.join("out")), &mut |_| {}).unwrap();
+    let r = read_results(&dir.join("out/results.h5")).unwrap();
+    let x = r.series("mass.position.x").unwrap();
+    let dev = x.iter().map(|x| (x - 1.1).abs()).fold(0.0, f64::max);
+    assert!(dev < 1e-12, "max |x - 1.1| = {dev:e}");
+
+    let given = flexmbs_sim::load_model(&example("spring_damper.toml")).unwrap();
+    let flexmbs_core::Load::SpringDamper { free_length, .. } = given.model.loads[0] else {
+        panic!("load 0 is not a spring-damper");
+    };
+    assert_eq!(free_length, 1.0);
+}
