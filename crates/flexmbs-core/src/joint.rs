@@ -268,3 +268,45 @@ fn translation_row(
         bias,
     }
 }
+
+impl ConstraintRow {
+    /// A row with every coefficient zero.
+    pub const ZERO: Self = Self {
+        g: 0.0,
+        t_b: Vector3::new(0.0, 0.0, 0.0),
+        r_b: Vector3::new(0.0, 0.0, 0.0),
+        t_a: Vector3::new(0.0, 0.0, 0.0),
+        r_a: Vector3::new(0.0, 0.0, 0.0),
+        g_t: 0.0,
+        bias: 0.0,
+    };
+}
+
+/// Most rows a joint can have: six locked DOFs and a prescribed motion.
+pub const MAX_JOINT_ROWS: usize = 7;
+
+/// The reaction wrench of a joint: the force and torque it exerts on frame `b` (the torque about
+/// the origin of `b`), both in the axes of frame `a`, from the joint's multipliers `lambda`
+/// (length [`Joint::num_rows`]). The constraint force in the equations of motion is
+/// `-G^T lambda` (`M u_dot = h - G^T lambda`); the part acting through frame `b` is
+/// `J_T^b^T F + J_R^b^T T` with `F = -sum_r lambda_r t_b,r`, `T = -sum_r lambda_r r_b,r`.
+/// A prescribed motion row contributes the driving force or torque. Frame `a` receives the
+/// opposite force (and the matching torque about its own origin). No allocation.
+pub fn joint_reaction(
+    joint: &Joint,
+    t: f64,
+    ka: &FrameKinematics,
+    kb: &FrameKinematics,
+    lambda: &[f64],
+) -> (Vector3<f64>, Vector3<f64>) {
+    let n = joint.num_rows();
+    let mut rows = [ConstraintRow::ZERO; MAX_JOINT_ROWS];
+    joint_rows(joint, t, ka, kb, &mut rows[..n]);
+    let (mut force, mut torque) = (Vector3::zeros(), Vector3::zeros());
+    for (row, l) in rows[..n].iter().zip(lambda) {
+        force -= row.t_b * *l;
+        torque -= row.r_b * *l;
+    }
+    let at = ka.rotation.transpose();
+    (at * force, at * torque)
+}

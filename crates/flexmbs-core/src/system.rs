@@ -2,7 +2,7 @@
 //! energies of a [`Model`] at given `(t, q, u)`, written into preallocated buffers.
 
 use crate::element::FrameKinematics;
-use crate::joint::{joint_rows, ConstraintRow};
+use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::FrameWrench;
 use crate::model::{FrameOwner, Model};
 use crate::state::SystemBuffers;
@@ -197,16 +197,7 @@ pub fn assemble_constraints(
     g_bias: &mut [f64],
 ) {
     g_jac.fill(0.0);
-    let zero = ConstraintRow {
-        g: 0.0,
-        t_b: Vector3::zeros(),
-        r_b: Vector3::zeros(),
-        t_a: Vector3::zeros(),
-        r_a: Vector3::zeros(),
-        g_t: 0.0,
-        bias: 0.0,
-    };
-    let mut rows = [zero; 7];
+    let mut rows = [ConstraintRow::ZERO; MAX_JOINT_ROWS];
     for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
         let n = joint.num_rows();
         let (ka, kb) = (&frames[joint.frame_a.0], &frames[joint.frame_b.0]);

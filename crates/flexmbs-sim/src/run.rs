@@ -161,7 +161,14 @@ impl<'a> Recorder<'a> {
     fn record_at(&mut self, s: &State, t: f64, st: &StepStats) -> Result<(), ResultsError> {
         let m = &self.cm.model;
         system::update_frames(m, &s.q, &s.u, &mut self.frames);
-        evaluate_signals(&self.cm.signals, &self.frames, &s.lambda, &mut self.signals);
+        evaluate_signals(
+            &self.cm.signals,
+            m,
+            s.t,
+            &self.frames,
+            &s.lambda,
+            &mut self.signals,
+        );
         // energies of the output row from the state itself (the integrator computes none per
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
         let e = system::energy(m, &s.q, &s.u, &self.frames);

@@ -38,6 +38,12 @@ pub enum SignalKind {
         /// Number of rows.
         rows: usize,
     },
+    /// Force the joint exerts on its frame `b`, in the axes of its frame `a` (N);
+    /// [`flexmbs_core::joint::joint_reaction`].
+    JointForce(usize),
+    /// Torque the joint exerts on its frame `b` about the origin of `b`, in the axes of frame
+    /// `a` (N m); a prescribed motion contributes the drive torque.
+    JointTorque(usize),
 }
 
 /// A requested output signal.
@@ -56,7 +62,7 @@ pub struct Signal {
 const XYZ: [&str; 3] = ["x", "y", "z"];
 
 /// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation`
-/// (every body has a frame named like the body) and `<joint>.reaction`.
+/// (every body has a frame named like the body) and `<joint>.force|torque|reaction`.
 pub fn parse_signals(
     ctx: &Ctx,
     list: &[String],
@@ -71,14 +77,30 @@ pub fn parse_signals(
         let err = |m: String| ctx.err(&path, m);
         let Some((item, what)) = s.rsplit_once('.') else {
             return Err(err(format!(
-                "`{s}`: expected `<frame>.<quantity>` or `<joint>.reaction`"
+                "`{s}`: expected `<frame>.<quantity>` or `<joint>.force|torque|reaction`"
             )));
         };
         if out.iter().any(|o| o.name == *s) {
             return Err(err(format!("signal `{s}` listed twice")));
         }
         let xyz = || XYZ.iter().map(|c| c.to_string()).collect::<Vec<_>>();
-        let (unit, components, kind) = if what == "reaction" {
+        let joint_index = |item: &str| {
+            joints.iter().position(|(n, _)| n == item).ok_or_else(|| {
+                let names: Vec<&str> = joints.iter().map(|(n, _)| n.as_str()).collect();
+                err(format!(
+                    "unknown joint `{item}` (joints: {})",
+                    names.join(", ")
+                ))
+            })
+        };
+        let (unit, components, kind) = if what == "force" || what == "torque" {
+            let j = joint_index(item)?;
+            if what == "force" {
+                ("N".to_string(), xyz(), SignalKind::JointForce(j))
+            } else {
+                ("N m".to_string(), xyz(), SignalKind::JointTorque(j))
+            }
+        } else if what == "reaction" {
             let Some(j) = joints.iter().position(|(n, _)| n == item) else {
                 let names: Vec<&str> = joints.iter().map(|(n, _)| n.as_str()).collect();
                 return Err(err(format!(
@@ -124,7 +146,7 @@ pub fn parse_signals(
                     let body_frame = bodies.iter().find(|x| x.id == b).map(|x| x.frame).ok_or_else(|| err("internal: body without frame".into()))?;
                     ("m".into(), xyz(), SignalKind::Deformation { frame: f, body_frame, reference: fr.local.position })
                 }
-                _ => return Err(err(format!("unknown quantity `{what}` (use position, velocity, angular_velocity, orientation, deformation, or reaction for joints)"))),
+                _ => return Err(err(format!("unknown quantity `{what}` (frames: position, velocity, angular_velocity, orientation, deformation; joints: force, torque, reaction)"))),
             }
         };
         out.push(Signal {
@@ -142,13 +164,26 @@ pub fn signal_width(signals: &[Signal]) -> usize {
     signals.iter().map(|s| s.components.len()).sum()
 }
 
-/// Evaluates all signals into `out` (cleared first); `frames` must be up to date.
+/// Evaluates all signals at time `t` into `out` (cleared first); `frames` must be up to date.
 pub fn evaluate_signals(
     signals: &[Signal],
+    model: &Model,
+    t: f64,
     frames: &[FrameKinematics],
     lambda: &[f64],
     out: &mut Vec<f64>,
 ) {
+    let wrench = |j: usize| {
+        let joint = &model.joints[j];
+        let r0 = model.joint_rows[j];
+        flexmbs_core::joint::joint_reaction(
+            joint,
+            t,
+            &frames[joint.frame_a.0],
+            &frames[joint.frame_b.0],
+            &lambda[r0..r0 + joint.num_rows()],
+        )
+    };
     out.clear();
     for s in signals {
         match &s.kind {
@@ -170,6 +205,8 @@ pub fn evaluate_signals(
                 out.extend(d.iter());
             }
             SignalKind::Reaction { row, rows } => out.extend(&lambda[*row..row + rows]),
+            SignalKind::JointForce(j) => out.extend(wrench(*j).0.iter()),
+            SignalKind::JointTorque(j) => out.extend(wrench(*j).1.iter()),
         }
     }
 }
