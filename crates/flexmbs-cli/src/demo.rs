@@ -98,7 +98,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
     println!("\nflexible slider-crank (examples/mbs/slider_crank.toml):");
     run_slider_crank(out, quiet)?;
     println!(
-        "\nwrote {0}/slider_crank/ (results.h5, slider_crank.pvd, plots), {0}/tip.csv, {0}/tip.png, {0}/animation/cantilever.pvd (ParaView), {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes.pvd)",
+        "\nwrote {0}/slider_crank/ (results.h5, slider_crank.pvd, plots), {0}/tip.csv, {0}/tip.png, {0}/animation/cantilever.pvd (ParaView), {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes_animation.pvd)",
         out.display(),
         body_path.display(),
         files.len(),

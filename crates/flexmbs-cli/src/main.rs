@@ -43,7 +43,8 @@ enum Command {
         #[arg(long, short)]
         output: PathBuf,
     },
-    /// Writes mode shapes as ParaView files (.vtu per mode and an animated .pvd).
+    /// Writes mode shapes for ParaView: modes.vtu (every mode as a point field) and
+    /// modes_animation.pvd (the first 10 modes animated).
     ExportVtk {
         /// Model file (TOML) or reduced-body file (`.h5`).
         input: PathBuf,
@@ -126,10 +127,24 @@ fn main() {
         Ok(0) => {}
         Ok(code) => std::process::exit(code),
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", error_chain(&e));
             std::process::exit(1);
         }
     }
+}
+
+/// The error and its causes joined by ": ", leaving out causes whose text the message already
+/// contains (our error types print their source themselves; `{:#}` would repeat it).
+fn error_chain(e: &anyhow::Error) -> String {
+    let mut out = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !out.contains(&c) {
+            out.push_str(": ");
+            out.push_str(&c);
+        }
+    }
+    out
 }
 
 /// Restores the default action of SIGPIPE (terminate quietly), as every Unix filter does. The Rust

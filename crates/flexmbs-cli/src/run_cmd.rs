@@ -4,7 +4,7 @@
 use anyhow::{Context, Result};
 use flexmbs_io::results::{plot_series, read_results, write_csv, RunStatus};
 use flexmbs_sim::run::{run_model, Progress, RunError, RunOptions, RunSummary};
-use flexmbs_sim::CompiledModel;
+use flexmbs_sim::{CompiledModel, SolverConfig};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -47,14 +47,14 @@ pub fn cmd_run(model: &Path, out: Option<PathBuf>, quiet: bool) -> Result<i32> {
 
 /// Runs a compiled model with a progress bar and prints the summary; returns the exit code.
 pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Result<i32> {
-    let statics = matches!(cm.solver, flexmbs_sim::config::SolverConfig::Statics { .. });
+    let statics = matches!(cm.solver, SolverConfig::Statics { .. });
     if !quiet {
         eprintln!(
-            "{}: {} bodies, {} coordinates, {} constraint rows; output to {}",
+            "{}: {}, {}, {}; output to {}",
             cm.name,
-            cm.bodies.len(),
-            cm.model.nq,
-            cm.model.nc,
+            count(cm.bodies.len(), "body", "bodies"),
+            count(cm.model.nq, "coordinate", "coordinates"),
+            count(cm.model.nc, "constraint row", "constraint rows"),
             opts.out_dir.display()
         );
     }
@@ -127,12 +127,12 @@ fn print_summary(s: &RunSummary, statics: bool) {
         return;
     }
     let status = match &s.status {
-        RunStatus::Completed => "completed".to_string(),
-        RunStatus::Interrupted { t } => format!("interrupted at t = {t} s"),
-        RunStatus::Failed { t, message } => format!("failed at t = {t} s: {message}"),
-        RunStatus::Running => "running".to_string(),
+        RunStatus::Completed => format!("completed at t = {:.6e} s", s.t),
+        RunStatus::Interrupted { t } => format!("interrupted at t = {t:.6e} s"),
+        RunStatus::Failed { t, message } => format!("failed at t = {t:.6e} s: {message}"),
+        RunStatus::Running => format!("running, t = {:.6e} s", s.t),
     };
-    println!("run {status}: t = {:.6e} s", s.t);
+    println!("run {status}");
     println!(
         "  steps {} (rejected {}), Newton iterations {}, wall time {:.2} s ({:.0} steps/s)",
         s.steps,
@@ -142,7 +142,7 @@ fn print_summary(s: &RunSummary, statics: bool) {
         s.steps as f64 / s.wall_time.as_secs_f64().max(1e-9)
     );
     println!(
-        "  energy: initial {:.6e} J, max |E - E0| {:.3e} J; constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
+        "  energy: initial {:.6e} J, largest change {:.3e} J (conserved only without drives, damping and loads); constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
         s.energy_initial, s.energy_drift, s.position_drift, s.velocity_drift
     );
     println!("  {} output rows; files:", s.rows);
@@ -155,19 +155,60 @@ fn print_summary(s: &RunSummary, statics: bool) {
 pub fn check_multibody(model: &Path) -> Result<()> {
     let cm = flexmbs_sim::load_model(model)?;
     println!(
-        "{}: OK: multibody model `{}`: {} bodies, {} frames, {} joints ({} constraint rows), {} loads, {} coordinates, {} signals, solver {:?}",
+        "{}: OK: multibody model `{}`: {}, {}, {} ({}), {}, {}, {}; solver {}",
         model.display(),
         cm.name,
-        cm.bodies.len(),
-        cm.model.frames.len(),
-        cm.model.joints.len(),
-        cm.model.nc,
-        cm.model.loads.len(),
-        cm.model.nq,
-        cm.signals.len(),
-        cm.solver
+        count(cm.bodies.len(), "body", "bodies"),
+        count(cm.model.frames.len(), "frame", "frames"),
+        count(cm.model.joints.len(), "joint", "joints"),
+        count(cm.model.nc, "constraint row", "constraint rows"),
+        count(cm.model.loads.len(), "load", "loads"),
+        count(cm.model.nq, "coordinate", "coordinates"),
+        count(cm.signals.len(), "signal", "signals"),
+        describe_solver(&cm.solver)
     );
     Ok(())
+}
+
+/// `n` with the singular or plural noun.
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// One line describing the solver settings, in model-file terms.
+pub fn describe_solver(solver: &SolverConfig) -> String {
+    match solver {
+        SolverConfig::GenAlpha {
+            settings,
+            h,
+            t_end,
+            adaptive,
+        } => {
+            let newton = if settings.newton.modified {
+                "modified Newton"
+            } else {
+                "full Newton"
+            };
+            match adaptive {
+                None => format!(
+                    "generalized-alpha, rho_inf {}, h {h:e} s, t_end {t_end} s, {newton}",
+                    settings.rho_inf
+                ),
+                Some(a) => format!(
+                    "generalized-alpha adaptive, rho_inf {}, h in [{:e}, {:e}] s, rtol {:e}, atol {:e}, t_end {t_end} s, {newton}",
+                    settings.rho_inf, a.h_min, a.h_max, a.rtol, a.atol
+                ),
+            }
+        }
+        SolverConfig::Dopri5 { settings, t_end } => format!(
+            "dopri5, rtol {:e}, atol {:e}, h_max {:e} s, t_end {t_end} s",
+            settings.rtol, settings.atol, settings.h_max
+        ),
+        SolverConfig::Statics { settings } => format!(
+            "statics, {}",
+            count(settings.load_steps, "load step", "load steps")
+        ),
+    }
 }
 
 /// `flexmbs plot`.
@@ -186,6 +227,12 @@ pub fn cmd_plot(
         return Ok(());
     }
     let names: Vec<&str> = series.iter().map(|s| s.as_str()).collect();
+    if names.is_empty() && csv.is_none() {
+        anyhow::bail!(
+            "nothing to do: give the series to plot (e.g. `flexmbs plot {} energy/total`), or --csv FILE; `--list` lists the series",
+            results.display()
+        );
+    }
     if let Some(c) = csv {
         write_csv(&r, &names, &c)?;
         println!("wrote {}", c.display());

@@ -479,13 +479,65 @@ pub fn animation_positions(bodies: &[AnimationBody], k: usize) -> Vec<Vec<[f64; 
     vec![block, rod]
 }
 
+/// With the default interval the .pvd is written after the first frame, then lags (cost linear in
+/// the frame count) until `flush` or drop; a new writer of the same name removes the old frames
+/// (and nothing else) from the frames folder.
+#[test]
+fn animation_pvd_throttled_flushed_and_old_frames_removed() {
+    let dir = temp_dir("results-anim-throttle");
+    let bodies = animation_bodies();
+    let frame = |w: &mut AnimationWriter, k: usize| {
+        let pos = animation_positions(&bodies, k);
+        let refs: Vec<&[[f64; 3]]> = pos.iter().map(Vec::as_slice).collect();
+        w.write_frame(0.01 * k as f64, &refs).unwrap();
+    };
+    let listed = |w: &AnimationWriter| {
+        std::fs::read_to_string(w.pvd_path())
+            .unwrap()
+            .matches("<DataSet ")
+            .count()
+    };
+    let mut w = AnimationWriter::create(&dir, "run", bodies.clone()).unwrap();
+    assert_eq!(w.pvd_interval(), std::time::Duration::from_secs(1));
+    for k in 0..5 {
+        frame(&mut w, k);
+    }
+    assert_eq!(
+        listed(&w),
+        1,
+        "only the first frame is listed within the interval"
+    );
+    w.flush().unwrap();
+    assert_eq!(listed(&w), 5);
+    frame(&mut w, 5);
+    frame(&mut w, 6);
+    let pvd = w.pvd_path();
+    drop(w);
+    let text = std::fs::read_to_string(&pvd).unwrap();
+    assert_eq!(text.matches("<DataSet ").count(), 7, "drop writes the rest");
+    // a second run of the same name: old frame files go, a user's file stays
+    std::fs::write(dir.join("run_frames/notes.txt"), "keep").unwrap();
+    let mut w2 = AnimationWriter::create(&dir, "run", bodies.clone()).unwrap();
+    frame(&mut w2, 0);
+    w2.flush().unwrap();
+    let mut files: Vec<String> = std::fs::read_dir(dir.join("run_frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(files, ["notes.txt", "run_000000.vtu"]);
+    assert_eq!(listed(&w2), 1);
+}
+
 /// The .pvd lists every frame with its time and a relative file name after every frame; the
 /// frames have all points, and bad input is refused.
 #[test]
 fn animation_writes_frames_and_collection() {
     let dir = temp_dir("results-anim");
     let bodies = animation_bodies();
-    let mut w = AnimationWriter::create(&dir, "run", bodies.clone()).unwrap();
+    let mut w = AnimationWriter::create(&dir, "run", bodies.clone())
+        .unwrap()
+        .with_pvd_interval(std::time::Duration::ZERO);
     assert_eq!(w.pvd_path(), dir.join("run.pvd"));
     for k in 0..3 {
         let pos = animation_positions(&bodies, k);

@@ -169,6 +169,7 @@ fn vtk_reads_animation_frames() {
             .collect();
         w.write_frame(0.25 * k as f64, &[&block, &rod]).unwrap();
     }
+    w.flush().unwrap();
     let code = r#"
 import sys, os, vtk, xml.etree.ElementTree as ET
 pvd = sys.argv[1]

@@ -172,6 +172,22 @@ fn rigid_body(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(BuiltElement, BodyGeo
             ),
         ));
     }
+    // principal moments of a real body: each at most the sum of the other two
+    // (I_1 + I_2 - I_3 = 2 int z^2 dm >= 0); equality for a plane lamina
+    let m = inertia.symmetric_eigenvalues();
+    let total = m.sum();
+    for k in 0..3 {
+        let (a, b2, c) = (m[k], m[(k + 1) % 3], m[(k + 2) % 3]);
+        if a > b2 + c + 1e-9 * total {
+            return Err(ctx.err(
+                &format!("{p}.{key}"),
+                format!(
+                    "principal moments {:?} kg m^2 violate the triangle inequality ({a:e} > {b2:e} + {c:e}): no real mass distribution has them",
+                    m.as_slice()
+                ),
+            ));
+        }
+    }
     let rotation = match b.rotation {
         RotationName::Cardan => RotationParam::Cardan,
         RotationName::Quaternion => RotationParam::Quaternion,

@@ -93,7 +93,7 @@ pub enum RunError {
     #[error(transparent)]
     Results(#[from] ResultsError),
     /// The output folder could not be created.
-    #[error("{path}: {source}")]
+    #[error("cannot create the output folder {}: {source} (choose another with -o)", path.display())]
     Io {
         /// Path.
         path: PathBuf,
@@ -409,6 +409,9 @@ pub fn run_model(
         Err(source) => {
             let (t, h, residual) = error_point(&source);
             let message = format!("{source} (t = {t} s, step {h:e} s, residual {residual:e})");
+            if let Some(a) = rec.anim.as_mut() {
+                a.flush()?;
+            }
             if let Some(w) = rec.writer.take() {
                 w.finish(&RunStatus::Failed { t, message })?;
             }
@@ -422,6 +425,9 @@ pub fn run_model(
         }
     };
     let rows = rec.writer.as_ref().map_or(0, |w| w.rows());
+    if let Some(a) = rec.anim.as_mut() {
+        a.flush()?;
+    }
     if let Some(w) = rec.writer.take() {
         w.finish(&status)?;
     }

@@ -72,6 +72,34 @@ fn base_model_compiles() {
 /// (replace this, by this, expected key path, text on the expected line, message fragment)
 const CASES: &[(&str, &str, &str, &str, &str)] = &[
     (
+        "b = \"top\"",
+        "b = \"hinge\"",
+        "joint[0].b",
+        "b = \"hinge\"",
+        "frames `a` and `b` belong to the same body (or both to ground)",
+    ),
+    (
+        "position = [0, 0, \"500 mm\"]",
+        "position = [0, 0, \"510 mm\"]",
+        "joint[0]",
+        "[[joint]]",
+        "joint `pin` is not assembled in the initial state: row tz is off by",
+    ),
+    (
+        "position = [0, 0, -0.5]",
+        "position = [0, 0, -0.5]\nvelocity = [0, \"1 m/s\", 0]",
+        "joint[0]",
+        "[[joint]]",
+        "joint `pin`: the initial velocities violate row ty by",
+    ),
+    (
+        "inertia = [0.01, 0.01, 0.001]",
+        "inertia = [0.01, 0.001, 0.02]",
+        "body[0].inertia",
+        "inertia = [0.01, 0.001, 0.02]",
+        "triangle inequality",
+    ),
+    (
         "modes = [1, 2]",
         "modes = [1, 2]\ngeometric_stiffening = true",
         "body[1].geometric_stiffening",
