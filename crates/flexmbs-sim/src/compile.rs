@@ -247,7 +247,22 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                         }
                         (None, Some(x)) => {
                             let x = ctx.vec3(x, Dimension::Length, &format!("{p}.nearest"))?;
-                            nearest_point(&g.points, &x)
+                            let n = nearest_point(&g.points, &x);
+                            // a point far off the body is a mistake (unit, axis), not a choice
+                            let (dist, size) = (
+                                (Vector3::from(g.points[n]) - x).norm(),
+                                bounding_box_diagonal(&g.points),
+                            );
+                            if dist > NEAREST_TOL * size {
+                                return Err(ctx.err(
+                                    &format!("{p}.nearest"),
+                                    format!(
+                                        "the nearest FE node of body `{}` (node {}, at {:?} m) is {dist:.4e} m from this point, more than {} of the body size ({size:.4e} m): check the coordinates (body axes, m unless a unit is given)",
+                                        f.body, g.node_ids[n], g.points[n], NEAREST_TOL
+                                    ),
+                                ));
+                            }
+                            n
                         }
                         _ => return Err(ctx.err(&p, "give `node` or `nearest`, not both")),
                     };
@@ -704,6 +719,21 @@ fn opt_vec(
 ) -> Result<Vector3<f64>, SimError> {
     v.as_ref()
         .map_or(Ok(Vector3::zeros()), |v| ctx.vec3(v, dim, path))
+}
+
+/// Largest distance of a `nearest` point from its node, as a fraction of the body's
+/// bounding-box diagonal.
+pub const NEAREST_TOL: f64 = 0.05;
+
+fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
 fn nearest_point(points: &[[f64; 3]], x: &Vector3<f64>) -> usize {

@@ -72,6 +72,13 @@ fn base_model_compiles() {
 /// (replace this, by this, expected key path, text on the expected line, message fragment)
 const CASES: &[(&str, &str, &str, &str, &str)] = &[
     (
+        "[[joint]]",
+        "[[frame]]\nname = \"far\"\nbody = \"rod\"\nnearest = [\"100 m\", 0, 0]\n\n[[joint]]",
+        "frame[2].nearest",
+        "nearest = [\"100 m\", 0, 0]",
+        "more than 0.05 of the body size",
+    ),
+    (
         "b = \"top\"",
         "b = \"hinge\"",
         "joint[0].b",
