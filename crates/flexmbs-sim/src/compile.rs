@@ -10,8 +10,8 @@ use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
 use crate::units::{Dimension, Quantity};
 use flexmbs_core::{
-    system, BodyId, FrameId, Joint, Load, LoadCoordinates, Model, ModelError, ModelSpec,
-    PrescribedMotion, State, TimeFunction, Workspace,
+    BodyId, FrameId, Joint, Load, LoadCoordinates, Model, ModelError, ModelSpec, PrescribedMotion,
+    State, TimeFunction,
 };
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
@@ -546,9 +546,13 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             return Err(ctx.err(&format!("{p}.orientation"), "this orientation is singular for Cardan angles (beta = +-90 deg): use rotation = \"quaternion\""));
         }
     }
-    spring_free_lengths_from_initial_state(&mut model, &initial, &free_length_from_initial);
+    crate::initial::spring_free_lengths_from_initial_state(
+        &mut model,
+        &initial,
+        &free_length_from_initial,
+    );
     let model = model;
-    check_initial_assembly(&ctx, &model, &initial)?;
+    crate::initial::check_initial_assembly(&ctx, &model, &initial)?;
     let joint_names: Vec<(String, usize)> = mf
         .joint
         .iter()
@@ -574,96 +578,6 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         bodies,
         signals,
     })
-}
-
-/// Spring-dampers given without `free_length` are unstressed in the initial state: their free
-/// length is the initial distance of their frames. Part of compiling the model file (the model
-/// is not handed out before), since the distance needs the compiled frames and initial poses.
-fn spring_free_lengths_from_initial_state(model: &mut Model, initial: &State, loads: &[usize]) {
-    if loads.is_empty() {
-        return;
-    }
-    let mut ws = Workspace::new(model);
-    system::update_frames(model, &initial.q, &initial.u, &mut ws.sys.frames);
-    for &i in loads {
-        if let Load::SpringDamper {
-            frame_a,
-            frame_b,
-            free_length,
-            ..
-        } = &mut model.loads[i]
-        {
-            let f = &ws.sys.frames;
-            *free_length = (f[frame_b.0].position - f[frame_a.0].position).norm();
-        }
-    }
-}
-
-/// Largest position violation `|g|` of a joint row accepted in the initial state (m or rad).
-pub const ASSEMBLY_TOL: f64 = 1e-6;
-
-/// The initial state must satisfy the joints: frames `a` and `b` of every joint coincide in
-/// their locked directions (`|g| <= ASSEMBLY_TOL`) and the velocities are consistent
-/// (`|G u + g_t| <= ASSEMBLY_TOL * max(1, |u|_inf)`). Otherwise the index-3 integrator would snap
-/// the bodies together in the first step with arbitrary impulses (energy out of nowhere); the
-/// error names the joint, the row and the violation.
-fn check_initial_assembly(ctx: &Ctx, model: &Model, initial: &State) -> Result<(), SimError> {
-    if model.nc == 0 {
-        return Ok(());
-    }
-    let mut ws = Workspace::new(model);
-    let sys = &mut ws.sys;
-    system::update_frames(model, &initial.q, &initial.u, &mut sys.frames);
-    system::assemble_constraints(
-        model,
-        initial.t,
-        &sys.frames,
-        &mut sys.g,
-        sys.g_jac.as_mut(),
-        &mut sys.g_t,
-        &mut sys.g_bias,
-    );
-    let u_max = initial.u.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-    for (j, (joint, &r0)) in model.joints.iter().zip(&model.joint_rows).enumerate() {
-        let names: Vec<&str> = (0..6)
-            .filter(|&d| joint.locked[d])
-            .map(|d| DOFS[d])
-            .chain(joint.prescribed.as_ref().map(|_| "motion"))
-            .collect();
-        for (k, name) in names.iter().enumerate() {
-            let r = r0 + k;
-            let unit = match (*name, &joint.prescribed) {
-                ("tx" | "ty" | "tz", _) => "m",
-                ("motion", Some(PrescribedMotion::PrismaticDisplacement(_))) => "m",
-                _ => "rad",
-            };
-            let g = sys.g[r];
-            if g.abs() > ASSEMBLY_TOL || !g.is_finite() {
-                return Err(ctx.err(
-                    &format!("joint[{j}]"),
-                    format!(
-                        "joint `{}` is not assembled in the initial state: row {name} is off by {g:.3e} {unit} (tolerance {ASSEMBLY_TOL:e}); place the bodies (`position`, `orientation`) so that its frames `a` and `b` coincide in the locked directions, or the solver would pull them together with arbitrary forces",
-                        joint.name
-                    ),
-                ));
-            }
-            let gd = sys.g_t[r]
-                + (0..model.nu)
-                    .map(|c| sys.g_jac[(r, c)] * initial.u[c])
-                    .sum::<f64>();
-            if gd.abs() > ASSEMBLY_TOL * u_max || !gd.is_finite() {
-                return Err(ctx.err(
-                    &format!("joint[{j}]"),
-                    format!(
-                        "joint `{}`: the initial velocities violate row {name} by {gd:.3e} {unit}/s (tolerance {:e}); set the bodies' `velocity` and `angular_velocity` consistently with the joint (and its prescribed motion)",
-                        joint.name,
-                        ASSEMBLY_TOL * u_max
-                    ),
-                ));
-            }
-        }
-    }
-    Ok(())
 }
 
 /// DOF names in mask order.
