@@ -171,6 +171,8 @@ impl LinePlot {
                     .configure_mesh()
                     .x_desc(&self.x_label)
                     .y_desc(&self.y_label)
+                    .x_label_formatter(&|v| tick_label(*v, x1 - x0))
+                    .y_label_formatter(&|v| tick_label(*v, y1 - y0))
                     .label_style(("sans-serif", 14))
                     .draw()
                     .map_err(|e| err(e.to_string()))?;
@@ -219,5 +221,43 @@ impl LinePlot {
             }
         }
         Ok(())
+    }
+}
+
+/// Axis tick text that keeps the digits that tell ticks apart: fixed-point with enough decimals
+/// for a twentieth of the axis span, scientific notation for very small or very large values
+/// (plotters' default printed +-1e-5 ticks as "0.0").
+fn tick_label(v: f64, span: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        return format!("{v:.3e}");
+    }
+    let step = (span / 20.0).abs();
+    let decimals = if step > 0.0 && step.is_finite() {
+        (-step.log10().floor()).clamp(0.0, 9.0) as usize
+    } else {
+        3
+    };
+    format!("{v:.decimals$}")
+}
+
+#[cfg(test)]
+mod tick_tests {
+    use super::tick_label;
+
+    #[test]
+    fn ticks_keep_distinguishing_digits() {
+        assert_eq!(tick_label(1e-5, 4e-5), "1.000e-5");
+        assert_eq!(tick_label(-2e-5, 4e-5), "-2.000e-5");
+        assert_eq!(tick_label(0.0, 1.0), "0");
+        assert_eq!(tick_label(0.25, 1.0), "0.25");
+        assert_eq!(tick_label(12.0, 50.0), "12");
+        assert_eq!(tick_label(0.0876, 0.02), "0.088");
+        assert_eq!(tick_label(2.5e6, 1e6), "2.500e6");
+        // neighbouring ticks of a narrow range around a large offset stay apart
+        assert_ne!(tick_label(100.001, 0.005), tick_label(100.0015, 0.005));
     }
 }

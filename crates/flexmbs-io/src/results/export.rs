@@ -96,6 +96,7 @@ pub fn plot_series(results: &Results, names: &[&str], path: &Path) -> Result<(),
                         && s.name[sig.name.len()..].starts_with('.')
                 })
                 .map(|sig| sig.unit.as_str())
+                .or_else(|| builtin_unit(&s.name))
         })
         .collect();
     let y_label = match units.first() {
@@ -111,7 +112,12 @@ pub fn plot_series(results: &Results, names: &[&str], path: &Path) -> Result<(),
         } else {
             results.layout.model.clone()
         },
-        x_label: "t [s]".into(),
+        // statics runs (attribute `solver` written by `flexmbs run`) store the load factor as time
+        x_label: if results.attribute("solver") == Some("statics") {
+            "load factor".into()
+        } else {
+            "t [s]".into()
+        },
         y_label,
         series,
         log_x: false,
@@ -119,4 +125,16 @@ pub fn plot_series(results: &Results, names: &[&str], path: &Path) -> Result<(),
     };
     plot.write(path)?;
     Ok(())
+}
+
+/// Units of the built-in series: energies in J, position drift in m (or rad for rotation rows),
+/// step sizes in s. `None` for coordinates, whose units differ by column.
+fn builtin_unit(name: &str) -> Option<&'static str> {
+    if name.starts_with("energy/") {
+        Some("J")
+    } else if name == "step/h" {
+        Some("s")
+    } else {
+        None
+    }
 }
