@@ -1,6 +1,7 @@
 //! `flexmbs`: the command-line front end. Thin by design: it parses arguments, shows progress and
 //! prints tables; all work is done by the library crates.
 
+mod file_kind;
 mod progress;
 mod run_cmd;
 
@@ -8,6 +9,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_io::model::read_fe_model;
+use flexmbs_io::model_check::FeModelSource;
 use flexmbs_io::pipeline::{prepare, run_modal, run_reduction, PreparedBody};
 use std::path::{Path, PathBuf};
 
@@ -214,9 +216,10 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             Ok(())
         }
         Command::ExportInp { model, output } => {
-            let spec = read_fe_model(&model)?.body;
+            let src = FeModelSource::read(&model)?;
             let base = model.parent().unwrap_or(Path::new("."));
-            let mesh = flexmbs_io::pipeline::build_mesh(&spec, base)?;
+            let mesh = flexmbs_io::pipeline::build_mesh(&src.model.body, base)
+                .map_err(|e| src.locate(e))?;
             let text = flexmbs_io::inp_writer::mesh_to_inp(&mesh).map_err(anyhow::Error::msg)?;
             std::fs::write(&output, text)
                 .with_context(|| format!("writing {}", output.display()))?;
@@ -229,6 +232,7 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             Ok(())
         }
         Command::Check { model } => {
+            file_kind::expect_model_file(&model, "check", false)?;
             let text = std::fs::read_to_string(&model)
                 .with_context(|| format!("reading {}", model.display()))?;
             if flexmbs_sim::is_multibody_model(&text) {
@@ -292,13 +296,14 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
 mod demo;
 mod demo_sim;
 
-fn load(model: &Path, quiet: bool) -> Result<(PreparedBody, flexmbs_io::model::FeBodySpec)> {
-    let spec = read_fe_model(model)?.body;
+/// Reads an FE body file and prepares the body; errors name the file, line and key path.
+fn load(model: &Path, quiet: bool) -> Result<(PreparedBody, FeModelSource)> {
+    let src = FeModelSource::read(model)?;
     let base = model.parent().unwrap_or(Path::new("."));
     let mut p = progress::Progress::new(quiet);
-    let body = prepare(&spec, base, &mut |s| p.stage(s))?;
+    let body = prepare(&src.model.body, base, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
     p.finish();
-    Ok((body, spec))
+    Ok((body?, src))
 }
 
 fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
@@ -310,19 +315,21 @@ fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
             &dir, &spec.name, spec.units,
         )?);
     }
-    let (body, spec) = load(model, quiet)?;
+    let (body, src) = load(model, quiet)?;
     let mut p = progress::Progress::new(quiet);
-    let r = run_reduction(&spec, &body, &mut |s| p.stage(s))?;
+    let r = run_reduction(&src.model.body, &body, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
     p.finish();
-    Ok(r)
+    Ok(r?)
 }
 
 fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Result<()> {
-    let (body, spec) = load(model, quiet)?;
+    let (body, src) = load(model, quiet)?;
+    let spec = &src.model.body;
     let n = modes.unwrap_or(spec.reduction.modes);
     let mut p = progress::Progress::new(quiet);
-    let modal = run_modal(&spec, &body, n, &mut |s| p.stage(s))?;
+    let modal = run_modal(spec, &body, n, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
     p.finish();
+    let modal = modal?;
     let rows = flexmbs_io::report::modal_rows(&modal);
     if json {
         println!(

@@ -1,7 +1,7 @@
 //! `flexmbs run`, `flexmbs plot` and the multibody part of `flexmbs check`: thin wrappers around
 //! `flexmbs_sim` with a progress bar, Ctrl-C handling and a summary.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use flexmbs_io::results::{plot_series, read_results, write_csv, RunStatus};
 use flexmbs_sim::run::{run_model, Progress, RunError, RunOptions, RunSummary};
 use flexmbs_sim::{CompiledModel, SolverConfig};
@@ -32,6 +32,7 @@ fn install_ctrl_c(stop: Arc<AtomicBool>) {
 
 /// `flexmbs run`: returns the process exit code (0 completed, 1 failed, 130 interrupted).
 pub fn cmd_run(model: &Path, out: Option<PathBuf>, quiet: bool) -> Result<i32> {
+    crate::file_kind::expect_model_file(model, "run", true)?;
     let cm = flexmbs_sim::load_model(model)?;
     let out = out.unwrap_or_else(|| {
         let stem = model
@@ -226,7 +227,7 @@ pub fn cmd_plot(
     csv: Option<PathBuf>,
     list: bool,
 ) -> Result<()> {
-    let r = read_results(results).with_context(|| format!("reading {}", results.display()))?;
+    let r = read_results(results).map_err(|e| crate::file_kind::not_a_results_file(results, &e))?;
     if list {
         for n in r.series_names() {
             println!("{n}");

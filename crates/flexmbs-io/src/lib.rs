@@ -8,6 +8,8 @@ pub mod error;
 pub mod full_mass;
 pub mod inp_writer;
 pub mod model;
+pub mod model_check;
+mod model_locate;
 pub mod pipeline;
 pub mod plot;
 pub mod report;

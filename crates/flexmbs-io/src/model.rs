@@ -21,6 +21,7 @@
 //! modes = 10
 //! ```
 
+use crate::model_locate::SpannedDoc;
 use flexmbs_fe::mesh::{BeamSection, BeamTheory};
 use flexmbs_fe::{ElementKind, Material, UnitSystem};
 use serde::Deserialize;
@@ -38,8 +39,8 @@ pub enum ModelError {
         /// Cause.
         source: std::io::Error,
     },
-    /// TOML syntax or schema error at a key path.
-    #[error("{file}:{line}: at `{path}`: {message}")]
+    /// TOML syntax or schema error at a key path (empty for syntax errors).
+    #[error("{file}:{line}: {}{message}", at_key(path))]
     Schema {
         /// File.
         file: PathBuf,
@@ -50,7 +51,8 @@ pub enum ModelError {
         /// What was wrong.
         message: String,
     },
-    /// A value is out of its valid range.
+    /// A value is out of its valid range (used when its line cannot be found; see
+    /// [`ModelError::Invalid`]).
     #[error("{file}: at `{path}`: {message}")]
     Value {
         /// File.
@@ -60,6 +62,74 @@ pub enum ModelError {
         /// What was wrong.
         message: String,
     },
+    /// A value is out of its valid range or does not fit the mesh (no such node set, zero-length
+    /// beam, ...), located at the line of its key.
+    #[error("{file}:{line}: at `{path}`: {message}")]
+    Invalid {
+        /// File.
+        file: PathBuf,
+        /// 1-based line of the key (or of its nearest present ancestor, for a default value).
+        line: usize,
+        /// Key path, e.g. `body.boundary.fixed[0]`.
+        path: String,
+        /// What was wrong.
+        message: String,
+    },
+    /// The file is not an FE body file at all: a multibody model file, an HDF5 or other binary
+    /// file, or a TOML file without a `[body]` table.
+    #[error("{file} {what}")]
+    WrongKind {
+        /// File.
+        file: PathBuf,
+        /// What the file is and what was expected.
+        what: String,
+    },
+}
+
+/// `at `path`: ` for a non-empty key path.
+fn at_key(path: &str) -> String {
+    if path.is_empty() {
+        String::new()
+    } else {
+        format!("at `{path}`: ")
+    }
+}
+
+impl ModelError {
+    /// The file the error refers to.
+    pub fn file(&self) -> &Path {
+        match self {
+            ModelError::Read { file, .. }
+            | ModelError::Schema { file, .. }
+            | ModelError::Value { file, .. }
+            | ModelError::Invalid { file, .. }
+            | ModelError::WrongKind { file, .. } => file,
+        }
+    }
+
+    /// The 1-based line the error refers to, if known.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            ModelError::Schema { line, .. } | ModelError::Invalid { line, .. } if *line > 0 => {
+                Some(*line)
+            }
+            _ => None,
+        }
+    }
+
+    /// The key path the error refers to (`None` for syntax errors and whole-file errors).
+    pub fn key_path(&self) -> Option<&str> {
+        match self {
+            ModelError::Schema { path, .. }
+            | ModelError::Value { path, .. }
+            | ModelError::Invalid { path, .. }
+                if !path.is_empty() =>
+            {
+                Some(path)
+            }
+            _ => None,
+        }
+    }
 }
 
 /// A model file holding one FE body.
@@ -376,9 +446,9 @@ fn default_element() -> ElementName {
     ElementName::Hex20r
 }
 
-/// A node selection.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+/// A node selection: a node-set name, or a table with one of `plane`, `within`, `nearest`
+/// (deserialized in `model_check.rs`, whose errors list these forms).
+#[derive(Debug, Clone)]
 pub enum NodeSelector {
     /// A named node set (generator sets like `xmin`, CalculiX `*NSET` names).
     Set(String),
@@ -520,137 +590,44 @@ impl Default for ReductionSpec {
     }
 }
 
-/// Parses a model file's text; `file` names it in errors. Unknown keys, wrong types and missing keys
-/// are reported with their key path and line.
+/// Parses a model file's text; `file` names it in errors. Syntax errors, unknown keys, wrong types,
+/// missing keys and out-of-range values are reported with their line and key path.
 pub fn parse_fe_model(text: &str, file: &Path) -> Result<FeModelFile, ModelError> {
-    let de = toml::Deserializer::parse(text).map_err(|e| ModelError::Schema {
-        file: file.to_path_buf(),
-        line: e.span().map(|s| line_of(text, s.start)).unwrap_or(0),
-        path: String::new(),
-        message: e.message().to_string(),
-    })?;
+    let root = toml::de::DeTable::parse(text)
+        .map_err(|e| crate::model_check::syntax_error(text, file, &e))?;
+    let doc = SpannedDoc::new(text, root.clone());
+    crate::model_check::check_kind(&doc, file)?;
+    let de = toml::Deserializer::from(root);
     let model: FeModelFile = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
+        let r = doc.refine(&path, inner.message(), inner.span().map(|s| s.start));
         ModelError::Schema {
             file: file.to_path_buf(),
-            line: inner.span().map(|s| line_of(text, s.start)).unwrap_or(0),
-            path,
-            message: inner.message().to_string(),
+            line: doc.line(r.offset),
+            path: r.path,
+            message: r.message,
         }
     })?;
-    check_values(&model, file)?;
+    crate::model_check::check_values(&model, file).map_err(|e| e.located(&doc))?;
     Ok(model)
 }
 
-/// Reads and parses a model file.
+/// Reads and parses a model file. An HDF5 or other binary file, or a multibody model file, is
+/// reported as [`ModelError::WrongKind`].
 pub fn read_fe_model(path: &Path) -> Result<FeModelFile, ModelError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ModelError::Read {
+    read_fe_model_text(path).map(|(_, m)| m)
+}
+
+/// [`read_fe_model`], also returning the file's text.
+pub(crate) fn read_fe_model_text(path: &Path) -> Result<(String, FeModelFile), ModelError> {
+    let bytes = std::fs::read(path).map_err(|source| ModelError::Read {
         file: path.into(),
         source,
     })?;
-    parse_fe_model(&text, path)
-}
-
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())]
-        .bytes()
-        .filter(|&b| b == b'\n')
-        .count()
-        + 1
-}
-
-fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
-    let err = |path: &str, message: String| ModelError::Value {
-        file: file.into(),
-        path: path.into(),
-        message,
-    };
-    let check_material = |mat: &MaterialSpec| {
-        Material::from(*mat)
-            .validate()
-            .map_err(|e| err("body.mesh.material", e.to_string()))
-    };
-    let positive3 = |key: &str, v: &[f64; 3]| {
-        if v.iter().all(|x| x.is_finite() && *x > 0.0) {
-            Ok(())
-        } else {
-            Err(err(key, format!("all three values must be > 0, got {v:?}")))
-        }
-    };
-    match &m.body.mesh {
-        MeshSpec::Box {
-            size,
-            divisions,
-            material,
-            ..
-        } => {
-            positive3("body.mesh.size", size)?;
-            if divisions.contains(&0) {
-                return Err(err(
-                    "body.mesh.divisions",
-                    format!("all divisions must be >= 1, got {divisions:?}"),
-                ));
-            }
-            check_material(material)?;
-        }
-        MeshSpec::Boxes {
-            boxes,
-            element_size,
-            material,
-            ..
-        } => {
-            positive3("body.mesh.element_size", element_size)?;
-            if boxes.is_empty() {
-                return Err(err("body.mesh.boxes", "at least one box is needed".into()));
-            }
-            check_material(material)?;
-        }
-        MeshSpec::Profile {
-            length,
-            element_size,
-            material,
-            ..
-        } => {
-            positive3("body.mesh.element_size", element_size)?;
-            if !(length.is_finite() && *length > 0.0) {
-                return Err(err(
-                    "body.mesh.length",
-                    format!("must be > 0, got {length}"),
-                ));
-            }
-            check_material(material)?;
-        }
-        MeshSpec::Beam {
-            elements, material, ..
-        } => {
-            if *elements == 0 {
-                return Err(err("body.mesh.elements", "must be >= 1".into()));
-            }
-            check_material(material)?;
-        }
-        MeshSpec::Calculix { .. } | MeshSpec::Seed { .. } => {}
-    }
-    let r = &m.body.reduction;
-    if r.modes == 0 && r.method == ReductionMethod::Modal {
-        return Err(err(
-            "body.reduction.modes",
-            "a modal reduction needs at least one mode".into(),
-        ));
-    }
-    if !(r.tol > 0.0 && r.tol < 1e-2) {
-        return Err(err(
-            "body.reduction.tol",
-            format!("must be in (0, 1e-2), got {}", r.tol),
-        ));
-    }
-    if r.method != ReductionMethod::Modal && r.interface.is_empty() {
-        return Err(err(
-            "body.reduction.interface",
-            "Craig-Bampton and Guyan need at least one interface".into(),
-        ));
-    }
-    Ok(())
+    let text = crate::model_check::model_text(&bytes, path)?;
+    let model = parse_fe_model(text, path)?;
+    Ok((text.to_string(), model))
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use flexmbs_fe::UnitSystem;
 use flexmbs_io::calculix::{
     parse_ccx_dofs, parse_ccx_matrix, parse_dat_frequencies, parse_frd, parse_inp_with,
 };
+use flexmbs_io::model::{parse_fe_model, ModelError};
 use flexmbs_io::seed::{parse_masses, parse_mode_shapes, parse_stiffness, parse_u0};
 use flexmbs_io::IoError;
 use std::path::{Path, PathBuf};
@@ -18,7 +19,7 @@ pub fn data(rel: &str) -> PathBuf {
 }
 
 /// Parser kinds, named as the prefixes of the corpus files (`u0__...`).
-pub const KINDS: [&str; 9] = [
+pub const KINDS: [&str; 10] = [
     "u0",
     "modes",
     "mass",
@@ -28,6 +29,7 @@ pub const KINDS: [&str; 9] = [
     "dof",
     "dat",
     "frd",
+    "fe",
 ];
 
 /// Runs the `&str` parser of `kind` on `text`. `*INCLUDE` in decks resolves only to files
@@ -49,7 +51,21 @@ pub fn parse_kind(kind: &str, text: &str, file: &Path) -> Result<(), IoError> {
         "dof" => parse_ccx_dofs(text, file).map(|_| ()),
         "dat" => parse_dat_frequencies(text, file).map(|_| ()),
         "frd" => parse_frd(text, file).map(|_| ()),
+        "fe" => parse_fe_model(text, file)
+            .map(|_| ())
+            .map_err(model_error_as_io),
         _ => panic!("unknown parser kind {kind}"),
+    }
+}
+
+/// An FE model-file error as an [`IoError`] (the corpus's common error type): `Invalid` when it
+/// has a line, else `Inconsistent`; the message is kept whole.
+pub fn model_error_as_io(e: ModelError) -> IoError {
+    let file = e.file().to_path_buf();
+    let what = e.to_string();
+    match e.line() {
+        Some(line) => IoError::Invalid { file, line, what },
+        None => IoError::Inconsistent { file, what },
     }
 }
 

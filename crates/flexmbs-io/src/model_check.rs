@@ -1,0 +1,430 @@
+//! Checks of FE body model files beyond their schema: what kind of file it is (an FE body file,
+//! a multibody model file, HDF5, binary), value ranges, node selectors, and the location (line and
+//! key path) of errors found later, while meshing and applying boundary conditions.
+
+use crate::model::{
+    read_fe_model_text, BoxSpec, FeModelFile, MaterialSpec, MeshSpec, ModelError, NodeSelector,
+    PlaneSpec, ReductionMethod,
+};
+use crate::model_locate::{line_of, SpannedDoc};
+use crate::pipeline::PipelineError;
+use flexmbs_fe::Material;
+use serde::de::{self, Deserialize, Deserializer, MapAccess, Visitor};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use toml::de::{DeTable, DeValue};
+
+/// The 8-byte signature that starts an HDF5 file (at offset 0, 512, 1024, ...).
+const HDF5_SIGNATURE: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
+
+/// What a file given as a model file is, judged from its content.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelFileKind {
+    /// An HDF5 file (a reduced-body file or a results file).
+    Hdf5,
+    /// Not UTF-8 text (or holds NUL bytes).
+    Binary,
+    /// TOML with a top-level `[model]` table: a multibody model file.
+    Multibody,
+    /// Text that is not a multibody model file: an FE body file, or a broken file of either kind.
+    Other,
+}
+
+/// Classifies a file's bytes (see [`ModelFileKind`]).
+pub fn classify_model_file(bytes: &[u8]) -> ModelFileKind {
+    let hdf5_at = |o: usize| bytes.get(o..o + 8) == Some(HDF5_SIGNATURE.as_slice());
+    if [0usize, 512, 1024, 2048].into_iter().any(hdf5_at) {
+        return ModelFileKind::Hdf5;
+    }
+    match std::str::from_utf8(bytes) {
+        Ok(t) if !t.contains('\0') => {
+            let multibody = DeTable::parse(t)
+                .map(|d| d.get_ref().iter().any(|(k, _)| k.get_ref() == "model"))
+                .unwrap_or(false);
+            if multibody {
+                ModelFileKind::Multibody
+            } else {
+                ModelFileKind::Other
+            }
+        }
+        _ => ModelFileKind::Binary,
+    }
+}
+
+/// The text of a model file, or [`ModelError::WrongKind`] for an HDF5 or binary file.
+pub(crate) fn model_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, ModelError> {
+    let wrong = |what: &str| ModelError::WrongKind {
+        file: file.into(),
+        what: what.into(),
+    };
+    match classify_model_file(bytes) {
+        ModelFileKind::Hdf5 => Err(wrong(
+            "is an HDF5 file (a reduced-body or results file), not a TOML FE body file; a \
+             multibody model can use a reduced-body file as a body's `source`",
+        )),
+        ModelFileKind::Binary => Err(wrong(
+            "is a binary file (not UTF-8 text), not a TOML FE body file",
+        )),
+        _ => std::str::from_utf8(bytes).map_err(|_| wrong("is not UTF-8 text")),
+    }
+}
+
+/// A TOML syntax error: its line, and for a duplicate key the key's name.
+pub(crate) fn syntax_error(text: &str, file: &Path, e: &toml::de::Error) -> ModelError {
+    let mut message = e.message().trim_end().to_string();
+    if let Some(span) = e.span() {
+        let key = text.get(span.clone()).unwrap_or("").trim();
+        if message.starts_with("duplicate key") && !key.is_empty() && !key.contains('\n') {
+            message = format!("duplicate key `{key}` (each key may be given once per table)");
+        }
+    }
+    ModelError::Schema {
+        file: file.to_path_buf(),
+        line: e.span().map(|s| line_of(text, s.start)).unwrap_or(0),
+        path: String::new(),
+        message,
+    }
+}
+
+/// What a model file needs, for the messages about the wrong kind of file.
+const KINDS_HELP: &str = "an FE body file needs a [body] table (name, mesh, boundary, reduction) \
+     and a multibody model file needs a [model] table";
+
+/// Refuses files that are not FE body files: a multibody model file (`[model]`), an empty file,
+/// a file without `[body]` or with the multibody `[[body]]` list.
+pub(crate) fn check_kind(doc: &SpannedDoc<'_>, file: &Path) -> Result<(), ModelError> {
+    if doc.top_entry("model").is_some() {
+        return Err(ModelError::WrongKind {
+            file: file.into(),
+            what: "is a multibody model file ([model] table), not an FE body file: run it with \
+                   `flexmbs run` or `flexmbs check`; an FE body file has a [body] table"
+                .into(),
+        });
+    }
+    if doc.top().is_empty() {
+        return Err(ModelError::WrongKind {
+            file: file.into(),
+            what: format!("holds no TOML tables: {KINDS_HELP}"),
+        });
+    }
+    let schema = |offset: usize, message: String| ModelError::Schema {
+        file: file.into(),
+        line: doc.line(offset),
+        path: "body".into(),
+        message,
+    };
+    match doc.top_entry("body") {
+        None => {
+            let (k, _) = doc.top().iter().next().expect("non-empty table");
+            Err(schema(
+                k.span().start,
+                format!(
+                    "missing table [body] (found `{}`): {KINDS_HELP}",
+                    k.get_ref()
+                ),
+            ))
+        }
+        Some((v, at)) if matches!(v.get_ref(), DeValue::Array(_)) => Err(schema(
+            at,
+            format!(
+                "[[body]] is the list of bodies of a multibody model file, which also needs a \
+                 [model] table; an FE body file has one [body] table ({KINDS_HELP})"
+            ),
+        )),
+        Some(_) => Ok(()),
+    }
+}
+
+impl ModelError {
+    /// Adds the line of its key path to a [`ModelError::Value`] (other errors are returned as
+    /// they are).
+    pub(crate) fn located(self, doc: &SpannedDoc<'_>) -> ModelError {
+        match self {
+            ModelError::Value {
+                file,
+                path,
+                message,
+            } => match doc.line_of_path(&path) {
+                Some(line) => ModelError::Invalid {
+                    file,
+                    line,
+                    path,
+                    message,
+                },
+                None => ModelError::Value {
+                    file,
+                    path,
+                    message,
+                },
+            },
+            e => e,
+        }
+    }
+}
+
+/// An FE body model file together with its text, so that errors found after parsing (mesh
+/// generation, node selections, reduction) can be located at their key's line.
+#[derive(Debug, Clone)]
+pub struct FeModelSource {
+    /// The model file.
+    pub file: PathBuf,
+    /// Its text.
+    pub text: String,
+    /// The parsed model.
+    pub model: FeModelFile,
+}
+
+impl FeModelSource {
+    /// Reads and parses a model file (as [`crate::model::read_fe_model`]).
+    pub fn read(path: &Path) -> Result<Self, ModelError> {
+        let (text, model) = read_fe_model_text(path)?;
+        Ok(Self {
+            file: path.to_path_buf(),
+            text,
+            model,
+        })
+    }
+
+    /// Turns an error of the pipeline (meshing, boundary conditions, reduction) into a
+    /// [`ModelError::Invalid`] at the line of the key it concerns.
+    pub fn locate(&self, e: PipelineError) -> ModelError {
+        let (path, message) = match e {
+            PipelineError::Fe { context, source } => (context, source.to_string()),
+            PipelineError::Model { path, message } => (path, message),
+            PipelineError::Io(io) => {
+                let key = match self.model.body.mesh {
+                    MeshSpec::Calculix { .. } => "body.mesh.deck",
+                    MeshSpec::Seed { .. } => "body.mesh.dir",
+                    _ => "body.mesh",
+                };
+                (key.to_string(), io.to_string())
+            }
+        };
+        let e = ModelError::Value {
+            file: self.file.clone(),
+            path,
+            message,
+        };
+        match DeTable::parse(&self.text) {
+            Ok(root) => e.located(&SpannedDoc::new(&self.text, root)),
+            Err(_) => e,
+        }
+    }
+}
+
+/// Range checks of the values that the schema cannot express, each at its own key path.
+pub(crate) fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelError> {
+    let err = |path: &str, message: String| ModelError::Value {
+        file: file.into(),
+        path: path.into(),
+        message,
+    };
+    let check_material = |mat: &MaterialSpec| match Material::from(*mat).validate() {
+        Ok(()) => Ok(()),
+        Err(e) => {
+            // Same order as `Material::validate`: the first bad constant is the one reported.
+            let key = if !(mat.e.is_finite() && mat.e > 0.0) {
+                "e"
+            } else if !(mat.nu.is_finite() && mat.nu > -1.0 && mat.nu < 0.5) {
+                "nu"
+            } else {
+                "rho"
+            };
+            Err(err(&format!("body.mesh.material.{key}"), e.to_string()))
+        }
+    };
+    let positive3 = |key: &str, v: &[f64; 3]| {
+        if v.iter().all(|x| x.is_finite() && *x > 0.0) {
+            Ok(())
+        } else {
+            Err(err(key, format!("all three values must be > 0, got {v:?}")))
+        }
+    };
+    let finite3 = |key: &str, v: &[f64; 3]| {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(err(
+                key,
+                format!("all three values must be finite, got {v:?}"),
+            ))
+        }
+    };
+    match &m.body.mesh {
+        MeshSpec::Box {
+            size,
+            divisions,
+            material,
+            ..
+        } => {
+            positive3("body.mesh.size", size)?;
+            if divisions.contains(&0) {
+                return Err(err(
+                    "body.mesh.divisions",
+                    format!("all divisions must be >= 1, got {divisions:?}"),
+                ));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Boxes {
+            boxes,
+            element_size,
+            material,
+            ..
+        } => {
+            positive3("body.mesh.element_size", element_size)?;
+            if boxes.is_empty() {
+                return Err(err("body.mesh.boxes", "at least one box is needed".into()));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Profile {
+            length,
+            element_size,
+            material,
+            ..
+        } => {
+            positive3("body.mesh.element_size", element_size)?;
+            if !(length.is_finite() && *length > 0.0) {
+                return Err(err(
+                    "body.mesh.length",
+                    format!("must be > 0, got {length}"),
+                ));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Beam {
+            start,
+            end,
+            elements,
+            material,
+            ..
+        } => {
+            finite3("body.mesh.start", start)?;
+            finite3("body.mesh.end", end)?;
+            if start == end {
+                return Err(err(
+                    "body.mesh.end",
+                    format!(
+                        "the beam has zero length: `end` equals `start` = {start:?}; give two \
+                         distinct points"
+                    ),
+                ));
+            }
+            if *elements == 0 {
+                return Err(err("body.mesh.elements", "must be >= 1".into()));
+            }
+            check_material(material)?;
+        }
+        MeshSpec::Calculix { .. } | MeshSpec::Seed { .. } => {}
+    }
+    let r = &m.body.reduction;
+    if r.modes == 0 && r.method == ReductionMethod::Modal {
+        return Err(err(
+            "body.reduction.modes",
+            "a modal reduction needs at least one mode".into(),
+        ));
+    }
+    if !(r.tol > 0.0 && r.tol < 1e-2) {
+        return Err(err(
+            "body.reduction.tol",
+            format!("must be in (0, 1e-2), got {}", r.tol),
+        ));
+    }
+    if r.method != ReductionMethod::Modal && r.interface.is_empty() {
+        return Err(err(
+            "body.reduction.interface",
+            "Craig-Bampton and Guyan need at least one interface".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The forms a node selector takes, for its error messages.
+const SELECTOR_FORMS: &str = "a node selector: a node-set name (\"xmin\", \"start\", a CalculiX \
+     *NSET name) or a table with one key: { plane = { axis = \"x\", value = 0.0 } }, \
+     { within = { min = [x, y, z], max = [x, y, z] } } or { nearest = [x, y, z] }";
+
+impl<'de> Deserialize<'de> for NodeSelector {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(SelectorVisitor)
+    }
+}
+
+/// Visitor of [`NodeSelector`]: a string or a one-key table.
+struct SelectorVisitor;
+
+impl<'de> Visitor<'de> for SelectorVisitor {
+    type Value = NodeSelector;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(SELECTOR_FORMS)
+    }
+
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<NodeSelector, E> {
+        Ok(NodeSelector::Set(v.to_string()))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<NodeSelector, A::Error> {
+        let Some(key) = map.next_key::<String>()? else {
+            return Err(de::Error::custom(format!(
+                "empty table; expected {SELECTOR_FORMS}"
+            )));
+        };
+        let sel = match key.as_str() {
+            "plane" => NodeSelector::Plane {
+                plane: map.next_value::<PlaneSpec>()?,
+            },
+            "within" => NodeSelector::Within {
+                within: map.next_value::<BoxSpec>()?,
+            },
+            "nearest" => {
+                let p = map.next_value::<Vec<f64>>()?;
+                let nearest: [f64; 3] = p.as_slice().try_into().map_err(|_| {
+                    de::Error::custom(format!(
+                        "`nearest` needs a point [x, y, z], got {} numbers; expected {SELECTOR_FORMS}",
+                        p.len()
+                    ))
+                })?;
+                NodeSelector::Nearest { nearest }
+            }
+            other => {
+                return Err(de::Error::custom(format!(
+                    "unknown key `{other}`; expected {SELECTOR_FORMS}"
+                )))
+            }
+        };
+        if let Some(k) = map.next_key::<String>()? {
+            return Err(de::Error::custom(format!(
+                "a node selector has one key, found `{key}` and `{k}`; expected {SELECTOR_FORMS}"
+            )));
+        }
+        Ok(sel)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn classifies_files_by_content() {
+        let mut h5 = HDF5_SIGNATURE.to_vec();
+        h5.extend_from_slice(&[0, 1, 2, 255]);
+        assert_eq!(classify_model_file(&h5), ModelFileKind::Hdf5);
+        let mut late = vec![0u8; 512];
+        late.extend_from_slice(HDF5_SIGNATURE);
+        assert_eq!(classify_model_file(&late), ModelFileKind::Hdf5);
+        assert_eq!(classify_model_file(&[0xff, 0xfe, 0]), ModelFileKind::Binary);
+        assert_eq!(
+            classify_model_file(b"[model]\nname = \"m\"\n"),
+            ModelFileKind::Multibody
+        );
+        assert_eq!(
+            classify_model_file(b"[body]\nname = \"b\"\n"),
+            ModelFileKind::Other
+        );
+        let e = model_text(&h5, Path::new("b.h5")).unwrap_err().to_string();
+        assert!(e.starts_with("b.h5 is an HDF5 file"), "{e}");
+    }
+}
