@@ -460,9 +460,9 @@ pub fn load_fe_body(
     }
     match path.extension().and_then(|e| e.to_str()) {
         Some("toml") => {
-            let spec = flexmbs_io::model::read_fe_model(&path)
-                .map_err(|e| e.to_string())?
-                .body;
+            let source =
+                flexmbs_io::model_check::FeModelSource::read(&path).map_err(|e| e.to_string())?;
+            let spec = source.model.body.clone();
             let fe_base = path.parent().unwrap_or(Path::new("."));
             if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
                 let dir = resolve(fe_base, dir);
@@ -470,8 +470,8 @@ pub fn load_fe_body(
                     .map(plain)
                     .map_err(|e| e.to_string());
             }
-            let located =
-                |e: flexmbs_io::pipeline::PipelineError| format!("{}: {e}", path.display());
+            // errors of meshing, supports and reduction at the line of the FE file's key
+            let located = |e: flexmbs_io::pipeline::PipelineError| source.locate(e).to_string();
             let (prepared, m_full) = if full_mass {
                 let (p, m) = flexmbs_io::full_mass::prepare_with_mass(&spec, fe_base, &mut |_| {})
                     .map_err(located)?;

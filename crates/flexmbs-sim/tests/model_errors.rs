@@ -376,3 +376,30 @@ fn every_error_names_key_path_and_line() {
         assert!(msg.contains("test_model.toml:"), "{msg}");
     }
 }
+
+/// An error inside an FE body file used as `source` names both places: the model file's line
+/// and key, and the FE file's line and key.
+#[test]
+fn fe_source_errors_are_located_in_both_files() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/mbs");
+    let dir = std::env::temp_dir().join(format!("flexmbs-fe-source-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("parts")).unwrap();
+    let rod = std::fs::read_to_string(root.join("parts/rod.toml")).unwrap()
+        + "\n[body.boundary]\nfixed = [\"xmin_typo\"]\n";
+    std::fs::write(dir.join("parts/rod.toml"), &rod).unwrap();
+    let model = dir.join("slider_crank.toml");
+    std::fs::copy(root.join("slider_crank.toml"), &model).unwrap();
+    let err = flexmbs_sim::load_model(&model).unwrap_err().to_string();
+    let rod_line = rod.lines().position(|l| l.starts_with("fixed")).unwrap() + 1;
+    assert!(
+        err.contains("slider_crank.toml:26: at `body[1].source`"),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "rod.toml:{rod_line}: at `body.boundary.fixed[0]`: no node set 'xmin_typo'"
+        )),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
