@@ -391,8 +391,16 @@ fn fe_source_errors_are_located_in_both_files() {
     std::fs::copy(root.join("slider_crank.toml"), &model).unwrap();
     let err = flexmbs_sim::load_model(&model).unwrap_err().to_string();
     let rod_line = rod.lines().position(|l| l.starts_with("fixed")).unwrap() + 1;
+    let text = std::fs::read_to_string(&model).unwrap();
+    let source_line = text
+        .lines()
+        .position(|l| l.starts_with("source = \"parts/rod.toml\""))
+        .unwrap()
+        + 1;
     assert!(
-        err.contains("slider_crank.toml:26: at `body[1].source`"),
+        err.contains(&format!(
+            "slider_crank.toml:{source_line}: at `body[1].source`"
+        )),
         "{err}"
     );
     assert!(
