@@ -404,6 +404,9 @@ pub(crate) fn prepare_keeping_mass(
         }
         interface.extend(select_nodes(&mesh, sel, &key)?);
     }
+    if spec.reduction.method == ReductionMethod::Modal {
+        check_mode_count(&system, spec.reduction.modes)?;
+    }
     let source = describe_source(spec, base);
     Ok((
         PreparedBody {
@@ -447,6 +450,28 @@ pub fn eigen_options(spec: &FeBodySpec) -> EigenOptions {
     }
 }
 
+/// `n_modes` elastic modes must exist: at most the independent DOFs minus the 6 rigid-body
+/// modes of a body without fixed nodes.
+fn check_mode_count(system: &FeSystem, n_modes: usize) -> Result<(), PipelineError> {
+    let ndof = system.len();
+    let rigid = if system.map.fixed_nodes.is_empty() {
+        6
+    } else {
+        0
+    };
+    if n_modes + rigid > ndof {
+        return Err(PipelineError::Model {
+            path: "body.reduction.modes".into(),
+            message: format!(
+                "{n_modes} elastic modes requested, but the FE model has {ndof} independent DOFs{}: at most {} elastic modes (refine the mesh for more)",
+                if rigid > 0 { " and 6 rigid-body modes" } else { "" },
+                ndof.saturating_sub(rigid)
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// Modal analysis of a prepared body: `n_modes` elastic modes (plus rigid-body modes if free).
 pub fn run_modal(
     spec: &FeBodySpec,
@@ -454,6 +479,7 @@ pub fn run_modal(
     n_modes: usize,
     progress: &mut dyn FnMut(Stage),
 ) -> Result<ModalResult, PipelineError> {
+    check_mode_count(&body.system, n_modes)?;
     progress(Stage::Started("eigen solution".into()));
     modal_analysis(&body.system, n_modes, &eigen_options(spec), &mut |e| {
         progress(Stage::Eigen(e))

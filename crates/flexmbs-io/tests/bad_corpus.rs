@@ -167,7 +167,7 @@ fn specific_messages() {
 /// a whole-file error.
 #[test]
 fn fe_model_messages() {
-    let cases: [(&str, Option<usize>, Option<&str>, &str); 13] = [
+    let cases: [(&str, Option<usize>, Option<&str>, &str); 14] = [
         (
             "fe__zero_len.toml",
             Some(7),
@@ -179,6 +179,12 @@ fn fe_model_messages() {
             Some(17),
             Some("body.boundary.fixed[0]"),
             "no node set 'xmin' (known: all, end, start)",
+        ),
+        (
+            "fe__modes500.toml",
+            Some(14),
+            Some("body.reduction.modes"),
+            "at most 120 elastic modes",
         ),
         (
             "fe__modes0.toml",
