@@ -14,7 +14,7 @@ gravity = [0, -9.81, 0]
 [solver]
 type = "generalized-alpha"
 h = "1 ms"
-t_end = "100000 s"
+t_end = "1000 s"
 
 [[body]]
 name = "arm"

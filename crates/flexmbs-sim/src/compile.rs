@@ -568,6 +568,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         &joint_names,
     )?;
     let output = output_config(&ctx, &mf, &model, &bodies, &signals)?;
+    let row_values = 10 + model.nq + model.nu + model.nc + crate::signals::signal_width(&signals);
+    crate::config::check_output_size(&ctx, &solver, &output, row_values)?;
     Ok(CompiledModel {
         name: mf.model.name.clone(),
         file: file.to_path_buf(),

@@ -465,3 +465,57 @@ pub(crate) fn output_config(
         csv: o.csv.clone(),
     })
 }
+
+/// Largest estimated size of the output rows a run keeps in memory (the results writer holds
+/// every row until the end; bytes).
+pub const MAX_OUTPUT_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Largest number of animation frames (one `.vtu` file each).
+pub const MAX_ANIMATION_FRAMES: f64 = 50_000.0;
+
+/// Refuses output settings that would exhaust memory or flood the disk, before the run starts:
+/// rows estimated from `t_end`, the fixed step `h` and `every` / `dt` (runs with step size
+/// control are estimated from `dt` only). `row_values` is the number of values per row.
+pub(crate) fn check_output_size(
+    ctx: &Ctx,
+    solver: &SolverConfig,
+    output: &OutputConfig,
+    row_values: usize,
+) -> Result<(), SimError> {
+    let (t_end, h) = match solver {
+        SolverConfig::GenAlpha {
+            h,
+            t_end,
+            adaptive: None,
+            ..
+        } => (*t_end, Some(*h)),
+        SolverConfig::GenAlpha { t_end, .. } | SolverConfig::Dopri5 { t_end, .. } => (*t_end, None),
+        SolverConfig::Statics { .. } => return Ok(()),
+    };
+    let (rows, key) = match (output.every, h) {
+        (OutputEvery::Steps(n), Some(h)) => (t_end / h / n as f64, "output.every"),
+        (OutputEvery::Time(dt), Some(h)) => (t_end / dt.max(h), "output.dt"),
+        (OutputEvery::Time(dt), None) => (t_end / dt, "output.dt"),
+        (OutputEvery::Steps(_), None) => return Ok(()),
+    };
+    let bytes = rows * 8.0 * row_values as f64;
+    if bytes > MAX_OUTPUT_BYTES {
+        return Err(ctx.err(
+            key,
+            format!(
+                "this run would keep about {rows:.3e} output rows ({:.1} GB) in memory: raise `output.every` or set a coarser `output.dt`",
+                bytes / 1e9
+            ),
+        ));
+    }
+    let frames = rows / output.animation_every as f64;
+    if output.animation && frames > MAX_ANIMATION_FRAMES {
+        return Err(ctx.err(
+            "output.animation_every",
+            format!(
+                "this run would write about {frames:.3e} animation frames (one .vtu file each, at most {MAX_ANIMATION_FRAMES:e}): raise `output.animation_every` or set `animation = false`"
+            ),
+        ));
+    }
+    Ok(())
+}

@@ -72,6 +72,20 @@ fn base_model_compiles() {
 /// (replace this, by this, expected key path, text on the expected line, message fragment)
 const CASES: &[(&str, &str, &str, &str, &str)] = &[
     (
+        "t_end = \"0.01 s\"",
+        "t_end = \"1e9 s\"",
+        "output.every",
+        "[output]",
+        "output rows (",
+    ),
+    (
+        "t_end = \"0.01 s\"",
+        "t_end = \"100 s\"",
+        "output.animation_every",
+        "[output]",
+        "animation frames (one .vtu file each",
+    ),
+    (
         "[[joint]]",
         "[[frame]]\nname = \"far\"\nbody = \"rod\"\nnearest = [\"100 m\", 0, 0]\n\n[[joint]]",
         "frame[2].nearest",
