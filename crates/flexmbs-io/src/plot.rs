@@ -141,7 +141,20 @@ impl LinePlot {
                 (a - 0.05 * (b - a), b + 0.05 * (b - a))
             }
         };
-        Ok((pad(x0, x1, self.log_x), pad(y0, y1, self.log_y)))
+        // headroom for the legend: the data stays below the legend band at the top
+        let (ya, yb) = pad(y0, y1, self.log_y);
+        let f = self.legend_fraction();
+        let yb = if self.log_y {
+            yb * (yb / ya).powf(f / (1.0 - f))
+        } else {
+            yb + (yb - ya) * f / (1.0 - f)
+        };
+        Ok((pad(x0, x1, self.log_x), (ya, yb)))
+    }
+
+    /// Fraction of the plot height the legend takes (upper right).
+    fn legend_fraction(&self) -> f64 {
+        (0.04 + 0.06 * self.series.len() as f64).min(0.5)
     }
 
     fn draw<DB: DrawingBackend>(
@@ -205,6 +218,7 @@ impl LinePlot {
                 }
                 chart
                     .configure_series_labels()
+                    .position(SeriesLabelPosition::UpperRight)
                     .background_style(WHITE.mix(0.85))
                     .border_style(BLACK)
                     .label_font(("sans-serif", 14))
