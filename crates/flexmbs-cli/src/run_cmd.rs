@@ -95,7 +95,11 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
     bar.finish_and_clear();
     match result {
         Ok(summary) => {
-            print_summary(&summary, statics);
+            print_summary(
+                &summary,
+                statics,
+                matches!(cm.solver, SolverConfig::Dopri5 { .. }),
+            );
             Ok(match summary.status {
                 RunStatus::Interrupted { .. } => EXIT_INTERRUPTED,
                 _ => 0,
@@ -116,7 +120,7 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
     }
 }
 
-fn print_summary(s: &RunSummary, statics: bool) {
+fn print_summary(s: &RunSummary, statics: bool, explicit: bool) {
     if statics {
         println!(
             "statics completed: full load in {} load increments, {} Newton iterations, wall time {:.2} s",
@@ -142,9 +146,14 @@ fn print_summary(s: &RunSummary, statics: bool) {
     };
     println!("run {status}");
     println!(
-        "  steps {} (rejected {}), Newton iterations {}, wall time {:.2} s ({:.0} steps/s)",
+        "  steps {} (rejected {}), {} {}, wall time {:.2} s ({:.0} steps/s)",
         s.steps,
         s.rejected,
+        if explicit {
+            "stage evaluations"
+        } else {
+            "Newton iterations"
+        },
         s.newton_iterations,
         s.wall_time.as_secs_f64(),
         s.steps as f64 / s.wall_time.as_secs_f64().max(1e-9)
