@@ -101,7 +101,10 @@ impl ModelSpec {
         )
     }
 
-    /// Adds a frame that follows FE node `node` of a flexible body.
+    /// Adds a frame that follows FE node `node` of a flexible body (axes parallel to the
+    /// node's deformed frame). Pass the node's undeformed position in the body reference frame
+    /// as `position`: it is stored as [`LocalFrame::position`] (the reference of deformation
+    /// outputs), but the frame's kinematics come from the node alone, so it is not an offset.
     pub fn add_node_frame(
         &mut self,
         name: &str,

@@ -65,7 +65,7 @@ pub struct ElementMatrices {
 
 /// Stiffness and mass of element `element` of `mesh`.
 ///
-/// DOF order node-major: node0 (ux,uy,uz[,rx,ry,rz]), node1, ... (6 DOFs/node for `Beam2`, 3 for
+/// DOF order node-major: node0 (ux,uy,uz\[,rx,ry,rz\]), node1, ... (6 DOFs/node for `Beam2`, 3 for
 /// solids). Errors: [`FeError::Invalid`] for an out-of-range element, wrong node count, missing
 /// or mismatched property or bad section; [`FeError::BadJacobian`] for det J <= 0 at an
 /// integration point (inverted or degenerate element).
