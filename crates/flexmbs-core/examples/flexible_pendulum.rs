@@ -135,15 +135,13 @@ fn main() -> Result<(), Box<dyn Error>> {
     ffr.set_rotary_inertia(&node_inertia)?;
 
     // Rigid twin: same mass, centre of mass and inertia (undeformed) as the FFR body.
-    let inv = &ffr.invariants;
-    let mass = inv.i1;
-    let com = inv.i_bar / mass;
-    // Inertia about the frame origin from the second moments, plus the node rotary inertia,
-    // shifted to the centre of mass (parallel-axis theorem).
-    let i_origin = Matrix3::identity() * inv.i_kl.trace() - inv.i_kl
-        + ffr.rotary.as_ref().map_or(Matrix3::zeros(), |r| r.i_sum);
-    let i_com =
-        i_origin - mass * (Matrix3::identity() * com.norm_squared() - com * com.transpose());
+    let props = ffr.rigid_properties();
+    let (mass, com, i_origin, i_com) = (
+        props.mass,
+        props.center_of_mass,
+        props.inertia_origin,
+        props.inertia_center,
+    );
     println!(
         "bar: mass {mass:.4} kg, centre of mass x = {:.4} m, I_zz about the hinge {:.5} kg m^2",
         com.x,

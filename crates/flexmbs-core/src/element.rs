@@ -123,6 +123,11 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn nq(&self) -> usize;
     /// Number of velocity coordinates `nu`.
     fn nu(&self) -> usize;
+    /// Checks the element's parameters when the model is compiled; `Err(reason)` makes
+    /// [`crate::ModelSpec::compile`] fail with [`crate::ModelError::InvalidBody`]. Default: valid.
+    fn validate(&self) -> Result<(), String> {
+        Ok(())
+    }
     /// Number of FE nodes frames may refer to ([`LocalFrame::node`]); 0 for rigid bodies.
     fn num_nodes(&self) -> usize {
         0

@@ -65,6 +65,14 @@ pub enum ModelError {
         /// Number of nodes of the element.
         num_nodes: usize,
     },
+    /// A body's parameters are not physical (e.g. mass <= 0, inertia not positive definite).
+    #[error("body `{body}`: {reason}")]
+    InvalidBody {
+        /// Body name.
+        body: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A state vector of the wrong length was given.
     #[error("{what} has length {got}, expected {expected}")]
     DimensionMismatch {
@@ -127,6 +135,31 @@ pub enum SolverError {
         h_min: f64,
         /// Last error estimate (scaled, 1 = tolerance).
         error: f64,
+    },
+    /// The initial state violates a joint: its frames do not coincide in a locked direction, or
+    /// the velocities do not respect it ([`crate::system::check_assembly`]).
+    #[error("joint `{joint}` is not assembled in the initial state: {level} row {row} is off by {violation:.3e} (tolerance {tolerance:e})")]
+    NotAssembled {
+        /// Joint name.
+        joint: String,
+        /// Row name (`tx` ... `rz`, `motion`).
+        row: &'static str,
+        /// `position` (`g`, in m or rad) or `velocity` (`G u + g_t`, in m/s or rad/s).
+        level: &'static str,
+        /// The violation.
+        violation: f64,
+        /// The tolerance it exceeds.
+        tolerance: f64,
+    },
+    /// A state vector does not fit the model.
+    #[error("state vector {what} has length {got}, the model needs {expected}")]
+    StateSize {
+        /// Which vector.
+        what: &'static str,
+        /// Given length.
+        got: usize,
+        /// Expected length.
+        expected: usize,
     },
     /// The integrator does not handle constraints (DOPRI5 with joints).
     #[error(

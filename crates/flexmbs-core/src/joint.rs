@@ -85,6 +85,26 @@ impl Joint {
         self.prescribed = Some(motion);
         self
     }
+    /// Names of the constraint rows in order: the locked DOFs (`tx`, `ty`, `tz`, `rx`, `ry`,
+    /// `rz`), then `motion` for a prescribed motion.
+    pub fn row_names(&self) -> impl Iterator<Item = &'static str> + '_ {
+        const DOFS: [&str; 6] = ["tx", "ty", "tz", "rx", "ry", "rz"];
+        (0..6)
+            .filter(|&d| self.locked[d])
+            .map(|d| DOFS[d])
+            .chain(self.prescribed.as_ref().map(|_| "motion"))
+    }
+
+    /// Unit of row `name` of [`Joint::row_names`] (position level): `m` for translations and a
+    /// prescribed displacement, `rad` otherwise.
+    pub fn row_unit(&self, name: &str) -> &'static str {
+        match (name, &self.prescribed) {
+            ("tx" | "ty" | "tz", _) => "m",
+            ("motion", Some(PrescribedMotion::PrismaticDisplacement(_))) => "m",
+            _ => "rad",
+        }
+    }
+
     /// Number of constraint rows.
     pub fn num_rows(&self) -> usize {
         self.locked.iter().filter(|&&l| l).count() + usize::from(self.prescribed.is_some())

@@ -164,6 +164,12 @@ impl ModelSpec {
         let mut bodies = Vec::with_capacity(self.bodies.len());
         let (mut nq, mut nu) = (0, 0);
         for (name, element) in self.bodies {
+            element
+                .validate()
+                .map_err(|reason| ModelError::InvalidBody {
+                    body: name.clone(),
+                    reason,
+                })?;
             let (q_offset, u_offset) = (nq, nu);
             nq += element.nq();
             nu += element.nu();

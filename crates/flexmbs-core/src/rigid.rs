@@ -12,14 +12,27 @@ use crate::element::{skew, Element, FrameKinematics, LocalFrame, TangentScratch}
 use faer::MatMut;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-/// Parametrization of the rotation of a rigid body.
+/// Parametrization of the rotation of a rigid body or of the floating frame of an FFR body
+/// (one type for both, also re-exported as `ffr::RotationParam`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RotationParam {
-    /// Cardan angles x-y-z with `u = q_dot` (singular at `beta = ±90°`). Default.
+    /// Cardan angles x-y-z (seed 000 (2.22)) with `u = q_dot` (2.26) (singular at
+    /// `beta = ±90°`). Default.
     #[default]
     Cardan,
-    /// Unit quaternion with body-frame angular velocity as velocity coordinates.
+    /// Unit quaternion `[w, x, y, z]` with the body-frame angular velocity as velocity
+    /// coordinates.
     Quaternion,
+}
+
+impl RotationParam {
+    /// Number of rotation coordinates in `q` (3 or 4).
+    pub fn num_coordinates(self) -> usize {
+        match self {
+            RotationParam::Cardan => 3,
+            RotationParam::Quaternion => 4,
+        }
+    }
 }
 
 /// A rigid body: mass, inertia tensor about the centre of mass in body axes.
@@ -106,6 +119,35 @@ fn quaternion(q: &[f64]) -> UnitQuaternion<f64> {
 }
 
 impl Element for RigidBody {
+    /// Mass finite and > 0; inertia symmetric positive definite with principal moments obeying
+    /// the triangle inequality (each at most the sum of the other two, as for any real body).
+    fn validate(&self) -> Result<(), String> {
+        let (m, i) = (self.mass, &self.inertia);
+        if !(m.is_finite() && m > 0.0) {
+            return Err(format!("mass must be finite and > 0, got {m}"));
+        }
+        if !i.iter().all(|x| x.is_finite()) || (i - i.transpose()).amax() > 1e-12 * i.amax() {
+            return Err(format!("inertia must be finite and symmetric, got {i:?}"));
+        }
+        let p = i.symmetric_eigenvalues();
+        let total = p.sum();
+        if p.min() <= 0.0 {
+            return Err(format!(
+                "inertia must be positive definite, principal moments {:?}",
+                p.as_slice()
+            ));
+        }
+        for k in 0..3 {
+            if p[k] > p[(k + 1) % 3] + p[(k + 2) % 3] + 1e-9 * total {
+                return Err(format!(
+                    "principal moments {:?} violate the triangle inequality: no real mass distribution has them",
+                    p.as_slice()
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn nq(&self) -> usize {
         match self.rotation {
             RotationParam::Cardan => 6,

@@ -2,10 +2,11 @@
 //! energies of a [`Model`] at given `(t, q, u)`, written into preallocated buffers.
 
 use crate::element::FrameKinematics;
+use crate::error::SolverError;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::FrameWrench;
 use crate::model::{FrameOwner, Model};
-use crate::state::SystemBuffers;
+use crate::state::{State, SystemBuffers, Workspace};
 use faer::{Mat, MatMut};
 use nalgebra::Vector3;
 
@@ -347,4 +348,77 @@ pub fn subtract_constraint_force_tangent(
         &mut sys.g_t,
         &mut sys.g_bias,
     );
+}
+
+/// Position tolerance of [`check_assembly`] (m or rad); velocities are checked to this tolerance
+/// times `max(1, |u|_inf)` (m/s or rad/s).
+pub const ASSEMBLY_TOL: f64 = 1e-6;
+
+/// Checks that state `s` satisfies every joint: `|g| <= tol` per row and
+/// `|G u + g_t| <= tol max(1, |u|_inf)`. An unassembled start makes an index-3 integrator pull the
+/// bodies together with arbitrary impulses in its first step; the error names the joint and row.
+pub fn check_assembly(
+    model: &Model,
+    s: &State,
+    ws: &mut Workspace,
+    tol: f64,
+) -> Result<(), SolverError> {
+    check_state_size(model, s)?;
+    if model.nc == 0 {
+        return Ok(());
+    }
+    let sys = &mut ws.sys;
+    update_frames(model, &s.q, &s.u, &mut sys.frames);
+    assemble_constraints(
+        model,
+        s.t,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
+    let u_scale = s.u.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
+        for (k, row) in joint.row_names().enumerate() {
+            let r = r0 + k;
+            let g = sys.g[r];
+            let g_dot = sys.g_t[r]
+                + (0..model.nu)
+                    .map(|c| sys.g_jac[(r, c)] * s.u[c])
+                    .sum::<f64>();
+            for (level, v, t) in [("position", g, tol), ("velocity", g_dot, tol * u_scale)] {
+                if v.abs() > t || !v.is_finite() {
+                    return Err(SolverError::NotAssembled {
+                        joint: joint.name.clone(),
+                        row,
+                        level,
+                        violation: v,
+                        tolerance: t,
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The state's vectors have the model's lengths (`q`: nq; `u`, `u_dot`, `a`: nu; `lambda`: nc).
+pub fn check_state_size(model: &Model, s: &State) -> Result<(), SolverError> {
+    for (what, got, expected) in [
+        ("q", s.q.len(), model.nq),
+        ("u", s.u.len(), model.nu),
+        ("u_dot", s.u_dot.len(), model.nu),
+        ("a", s.a.len(), model.nu),
+        ("lambda", s.lambda.len(), model.nc),
+    ] {
+        if got != expected {
+            return Err(SolverError::StateSize {
+                what,
+                got,
+                expected,
+            });
+        }
+    }
+    Ok(())
 }

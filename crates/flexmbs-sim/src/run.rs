@@ -124,9 +124,10 @@ fn error_point(e: &SolverError) -> (f64, f64, f64) {
         | SolverError::NonFinite { t, h, residual, .. } => (t, h, residual),
         SolverError::Singular { t, h, .. } => (t, h, f64::NAN),
         SolverError::StepTooSmall { t, h, error, .. } => (t, h, error),
-        SolverError::ConstraintsUnsupported { .. } | SolverError::InvalidSetting { .. } => {
-            (0.0, 0.0, f64::NAN)
-        }
+        SolverError::ConstraintsUnsupported { .. }
+        | SolverError::InvalidSetting { .. }
+        | SolverError::NotAssembled { .. }
+        | SolverError::StateSize { .. } => (0.0, 0.0, f64::NAN),
     }
 }
 

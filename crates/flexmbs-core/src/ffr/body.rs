@@ -14,23 +14,24 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector4};
 /// Threshold on |cos beta| below which Cardan coordinates are reported singular.
 pub const CARDAN_SINGULARITY_TOLERANCE: f64 = 1e-8;
 
-/// Rotation coordinates of the floating frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RotationParam {
-    /// Cardan angles x-y-z (seed 000 (2.22)), velocity coordinates `theta_dot` (2.26).
-    Cardan,
-    /// Unit quaternion `[w, x, y, z]`, velocity coordinates `omega_bar` (body frame).
-    Quaternion,
-}
+/// Rotation coordinates of the floating frame: the same choice as for rigid bodies (Cardan
+/// angles x-y-z, seed 000 (2.22), with `theta_dot` (2.26); or a unit quaternion `[w, x, y, z]`
+/// with the body-frame angular velocity `omega_bar`).
+pub use crate::rigid::RotationParam;
 
-impl RotationParam {
-    /// Number of rotation coordinates in `q` (3 or 4).
-    pub fn num_coordinates(self) -> usize {
-        match self {
-            RotationParam::Cardan => 3,
-            RotationParam::Quaternion => 4,
-        }
-    }
+/// Mass properties of the undeformed body, in body-frame axes: what a rigid model of it needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidProperties {
+    /// Total mass `I1` (2.47).
+    pub mass: f64,
+    /// Centre of mass `I_bar / I1` in the body frame.
+    pub center_of_mass: Vector3<f64>,
+    /// Inertia tensor about the body-frame origin: `tr(I_kl) 1 - I_kl` plus the node rotary
+    /// inertia `I_s` if set.
+    pub inertia_origin: Matrix3<f64>,
+    /// Inertia tensor about the centre of mass (parallel-axis theorem): the tensor
+    /// [`crate::RigidBody::new`] takes.
+    pub inertia_center: Matrix3<f64>,
 }
 
 /// A floating-frame-of-reference body with constant, precomputed inertia invariants.
@@ -121,6 +122,25 @@ fn copy_modes(m: faer::MatRef<'_, f64>) -> DMatrix<f64> {
 }
 
 impl FfrBody {
+    /// Mass, centre of mass and inertia of the undeformed body from the invariants (and the
+    /// node rotary inertia, if set): the rigid-body equivalent, e.g. for a rigid twin model
+    /// (`RigidBody::new(p.mass, p.inertia_center)` with its frame at `p.center_of_mass`).
+    pub fn rigid_properties(&self) -> RigidProperties {
+        let inv = &self.invariants;
+        let mass = inv.i1;
+        let c = inv.i_bar / mass;
+        let inertia_origin = Matrix3::identity() * inv.i_kl.trace() - inv.i_kl
+            + self.rotary.as_ref().map_or(Matrix3::zeros(), |r| r.i_sum);
+        let inertia_center =
+            inertia_origin - mass * (Matrix3::identity() * c.norm_squared() - c * c.transpose());
+        RigidProperties {
+            mass,
+            center_of_mass: c,
+            inertia_origin,
+            inertia_center,
+        }
+    }
+
     /// Body from invariants and node data. `modes_t`/`modes_r` are 3N x n_f, `k_ff` n_f x n_f.
     pub fn new(
         invariants: FfrInvariants,

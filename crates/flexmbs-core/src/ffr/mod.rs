@@ -32,7 +32,7 @@ mod tests_stiffening;
 #[cfg(test)]
 mod tests_tangent;
 
-pub use body::{FfrBody, FfrScratch, RotationParam};
+pub use body::{FfrBody, FfrScratch, RigidProperties, RotationParam};
 pub use cached::MomentCache;
 pub use consistent::consistent_mass_to_si;
 pub use element::FfrElement;

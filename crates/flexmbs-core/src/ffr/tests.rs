@@ -239,6 +239,11 @@ fn rigid_body_limit() {
             j_c += *m * (r.norm_squared() * Matrix3::identity() - r * r.transpose());
         }
         let j_o = j_c + mass * (c.norm_squared() * Matrix3::identity() - c * c.transpose());
+        let p = b.rigid_properties();
+        assert!((p.mass - mass).abs() <= 1e-14 * mass);
+        assert!((p.center_of_mass - c).norm() <= 1e-14 * c.norm().max(1.0));
+        assert!((p.inertia_origin - j_o).norm() <= 1e-12 * j_o.norm());
+        assert!((p.inertia_center - j_c).norm() <= 1e-12 * j_o.norm());
         let mut s = FfrScratch::new(0);
         b.update(&q, &u, &mut s).unwrap();
         let mut expected = DMatrix::zeros(6, 6);

@@ -150,6 +150,7 @@ impl Dopri5 {
         mut on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
     ) -> Result<ControlledRun, SolverError> {
         let mut run = ControlledRun::default();
+        crate::system::check_state_size(model, s)?;
         if model.nc > 0 {
             return Err(SolverError::ConstraintsUnsupported {
                 integrator: "DOPRI5",

@@ -156,13 +156,16 @@ impl GenAlpha {
         self
     }
 
-    /// Prepares a state for the first step: consistent `u_dot`, `a` and `lambda`.
+    /// Prepares a state for the first step: checks that it fits the model and satisfies the
+    /// joints ([`system::check_assembly`], tolerance [`system::ASSEMBLY_TOL`]), then sets
+    /// consistent `u_dot`, `a` and `lambda`.
     pub fn initialize(
         &self,
         model: &Model,
         s: &mut State,
         ws: &mut Workspace,
     ) -> Result<(), SolverError> {
+        system::check_assembly(model, s, ws, system::ASSEMBLY_TOL)?;
         consistent_accelerations(model, s, ws)
     }
 
@@ -174,6 +177,7 @@ impl GenAlpha {
         ws: &mut Workspace,
         h: f64,
     ) -> Result<StepStats, SolverError> {
+        system::check_state_size(model, s)?;
         let mut stats = self.solve_step(model, s, ws, h)?;
         commit(s, &ws.step, h);
         let (energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);

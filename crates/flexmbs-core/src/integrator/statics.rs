@@ -85,6 +85,7 @@ impl Statics {
         ws: &mut Workspace,
         mut on_increment: impl FnMut(&State, f64, &StaticStats),
     ) -> Result<StaticStats, SolverError> {
+        system::check_state_size(model, s)?;
         let cfg = &self.settings;
         if cfg.load_steps == 0 {
             return Err(SolverError::InvalidSetting {
