@@ -1,6 +1,6 @@
 //! Editable [`ModelSpec`] (builder) and the immutable compiled [`Model`].
 
-use crate::element::{Element, LocalFrame};
+use crate::element::{Element, FrameKinematics, LocalFrame};
 use crate::error::ModelError;
 use crate::ids::{BodyId, FrameId, JointId, LoadId};
 use crate::joint::{Joint, PrescribedMotion};
@@ -379,5 +379,45 @@ impl Model {
     pub fn body_u<'a>(&self, body: BodyId, u: &'a [f64]) -> &'a [f64] {
         let b = &self.bodies[body.0];
         &u[b.u_offset..b.u_offset + b.element.nu()]
+    }
+
+    /// The body called `name`.
+    pub fn body_id(&self, name: &str) -> Option<BodyId> {
+        self.bodies.iter().position(|b| b.name == name).map(BodyId)
+    }
+
+    /// The frame called `name`.
+    pub fn frame_id(&self, name: &str) -> Option<FrameId> {
+        self.frames.iter().position(|f| f.name == name).map(FrameId)
+    }
+
+    /// Position, orientation, velocities and Jacobians (columns of the frame's own body) of one
+    /// frame in state `s`: for post-processing (it allocates; inside a step the integrators use
+    /// [`crate::system::update_frames`] on workspace buffers). `None` for a frame id of another
+    /// model or a state of the wrong size.
+    pub fn frame_kinematics(&self, s: &State, frame: FrameId) -> Option<FrameKinematics> {
+        let f = self.frames.get(frame.0)?;
+        if s.q.len() != self.nq || s.u.len() != self.nu {
+            return None;
+        }
+        match f.owner {
+            FrameOwner::Ground => {
+                let mut k = FrameKinematics::new(0);
+                k.position = f.local.position;
+                k.rotation = f.local.rotation;
+                Some(k)
+            }
+            FrameOwner::Body(b) => {
+                let b = self.bodies.get(b.0)?;
+                let mut k = FrameKinematics::new(b.element.nu());
+                b.element.frame_kinematics(
+                    &s.q[b.q_offset..b.q_offset + b.element.nq()],
+                    &s.u[b.u_offset..b.u_offset + b.element.nu()],
+                    &f.local,
+                    &mut k,
+                );
+                Some(k)
+            }
+        }
     }
 }

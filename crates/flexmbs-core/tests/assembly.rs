@@ -136,3 +136,46 @@ fn unphysical_rigid_bodies_are_refused() {
     );
     spec.compile().unwrap();
 }
+
+/// Post-processing lookups: names to ids, and one frame's kinematics equal to the frame the
+/// integrators compute (`system::update_frames`), bitwise; foreign ids give `None`.
+#[test]
+fn frame_kinematics_and_name_lookups() {
+    let (model, arm) = pendulum();
+    assert_eq!(model.body_id("arm"), Some(arm));
+    assert_eq!(model.body_id("nope"), None);
+    let top = model.frame_id("top").unwrap();
+    let mut s = model.initial_state();
+    model.set_body_pose(
+        &mut s,
+        arm,
+        Vector3::new(0.0, -0.5, 0.0),
+        Matrix3::identity(),
+    );
+    model.set_body_velocity(
+        &mut s,
+        arm,
+        Vector3::new(1.0, 0.0, 0.0),
+        Vector3::new(0.0, 0.0, 2.0),
+    );
+    let k = model.frame_kinematics(&s, top).unwrap();
+    let mut ws = Workspace::new(&model);
+    system::update_frames(&model, &s.q, &s.u, &mut ws.sys.frames);
+    let all = &ws.sys.frames[top.index()];
+    assert_eq!(k.position, all.position);
+    assert_eq!(k.velocity, all.velocity);
+    assert!(k.position.norm() < 1e-15, "hinge point at the origin");
+    assert!(
+        k.velocity.norm() < 1e-15,
+        "hinge point at rest: {:?}",
+        k.velocity
+    );
+    assert_eq!(
+        model.frame_kinematics(&s, FrameId(99)).map(|k| k.position),
+        None
+    );
+    let hinge = model
+        .frame_kinematics(&s, model.frame_id("hinge").unwrap())
+        .unwrap();
+    assert_eq!(hinge.position, Vector3::zeros());
+}
