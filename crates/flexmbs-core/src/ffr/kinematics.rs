@@ -41,6 +41,26 @@ impl FfrBody {
         }
     }
 
+    /// Elastic displacement `u_f = Φ^p q_f` of node `node` in body-frame axes (seed 000 (2.8)),
+    /// for post-processing; `q_f` has length n_f (e.g. the last n_f entries of the body's `q`).
+    pub fn node_deformation(&self, node: usize, q_f: &[f64]) -> Result<Vector3<f64>, FfrError> {
+        self.check_node(node)?;
+        if q_f.len() != self.nf() {
+            return Err(FfrError::DimensionMismatch {
+                what: "q_f",
+                expected: self.nf(),
+                found: q_f.len(),
+            });
+        }
+        let mut v = Vector3::zeros();
+        for k in 0..3 {
+            for (a, x) in q_f.iter().enumerate() {
+                v[k] += self.modes_t[(3 * node + k, a)] * x;
+            }
+        }
+        Ok(v)
+    }
+
     /// `Φ^p x` for the 3 rows of node `p` of `modes` (O(3 n_f)).
     fn mode_rows_times(
         modes: &nalgebra::DMatrix<f64>,

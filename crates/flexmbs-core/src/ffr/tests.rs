@@ -379,3 +379,30 @@ fn consistent_tetrahedron_exact_moments() {
     assert!((inv.s(1, 1)[(0, 0)] - second[(0, 0)]).abs() < 1e-14 * mass);
     assert!((inv.m_ff[(0, 0)] - second[(0, 0)]).abs() < 1e-14 * mass);
 }
+
+/// `node_deformation` is `Φ^p q_f`: with the body frame at rest at the origin (identity rotation)
+/// a node's global position is `u0 + u_f` (2.8), to 1e-14; a bad node or length is an error.
+#[test]
+fn node_deformation_is_modal_displacement() {
+    let mut seed = 41;
+    let d = random_data(&mut seed, 6, 3, 0.2);
+    let b = body_of(&d, RotationParam::Quaternion, false);
+    let q_f = [0.01, -0.02, 0.005];
+    let mut q = vec![0.0; b.nq()];
+    q[3] = 1.0; // identity quaternion
+    q[7..].copy_from_slice(&q_f);
+    let u = vec![0.0; b.nu()];
+    let mut s = FfrScratch::new(3);
+    b.update(&q, &u, &mut s).unwrap();
+    for node in 0..b.num_nodes() {
+        let uf = b.node_deformation(node, &q_f).unwrap();
+        let k = b.node_kinematics(node, &q, &u, &s).unwrap();
+        let expected = k.r - Vector3::from(d.u0[node]);
+        assert!(
+            (uf - expected).norm() < 1e-14,
+            "node {node}: {uf:?} vs {expected:?}"
+        );
+    }
+    assert!(b.node_deformation(99, &q_f).is_err());
+    assert!(b.node_deformation(0, &q_f[..2]).is_err());
+}
