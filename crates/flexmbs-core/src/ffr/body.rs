@@ -239,6 +239,10 @@ impl FfrBody {
     /// Adds lumped rotary inertias `node_inertia[j]` (body frame, one per node) to the mass
     /// matrix and the quadratic velocity vector ([`super::RotaryInertia`]); replaces earlier ones.
     /// Damping derived from `m_ff` (Rayleigh, modal ratios) uses the translational `m_ff` only.
+    /// For a beam mesh the inertias come from its lumped mass matrix:
+    /// `flexmbs_io::full_mass::node_rotary_inertias` (then `rotary_inertias_to_si` for an
+    /// SI(mm) body), as `flexmbs run` does. With rotary inertia set, [`super::FfrElement`] uses
+    /// the finite-difference tangent (the analytic tangent covers the translational terms only).
     pub fn set_rotary_inertia(
         &mut self,
         node_inertia: &[nalgebra::Matrix3<f64>],
