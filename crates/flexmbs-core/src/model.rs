@@ -112,9 +112,24 @@ impl ModelSpec {
         node: usize,
         position: Vector3<f64>,
     ) -> FrameId {
+        self.add_oriented_node_frame(name, body, node, position, Matrix3::identity())
+    }
+
+    /// [`Self::add_node_frame`] with axes rotated by `rotation` relative to the node's deformed
+    /// frame (columns = frame axes in the node frame): e.g. a revolute axis at an FE node that is
+    /// not the body's z axis. The rotation is constant, so the frame's angular velocity and
+    /// Jacobians are the node's.
+    pub fn add_oriented_node_frame(
+        &mut self,
+        name: &str,
+        body: BodyId,
+        node: usize,
+        position: Vector3<f64>,
+        rotation: Matrix3<f64>,
+    ) -> FrameId {
         let local = LocalFrame {
             position,
-            rotation: Matrix3::identity(),
+            rotation,
             node: Some(node),
         };
         self.push_frame(name, FrameOwner::Body(body), local)

@@ -233,8 +233,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                             ),
                         ));
                     }
-                    if f.position.is_some() || f.orientation.is_some() {
-                        return Err(ctx.err(&format!("{p}.{which}"), "a node frame takes its position from the node and the body's axes: drop `position`/`orientation`"));
+                    if f.position.is_some() {
+                        return Err(ctx.err(&format!("{p}.{which}"), "a node frame takes its position from the node: drop `position` (`orientation` may rotate its axes)"));
                     }
                     let n = match (node, nearest) {
                         (Some(id), None) => {
@@ -266,7 +266,13 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                         }
                         _ => return Err(ctx.err(&p, "give `node` or `nearest`, not both")),
                     };
-                    spec.add_node_frame(&f.name, body.id, n, Vector3::from(g.points[n]))
+                    spec.add_oriented_node_frame(
+                        &f.name,
+                        body.id,
+                        n,
+                        Vector3::from(g.points[n]),
+                        rotation,
+                    )
                 }
             }
         };

@@ -375,3 +375,69 @@ fn statics_assembles_a_rough_start() {
     let e = flexmbs_sim::load_model(&file).unwrap_err().to_string();
     assert!(e.contains("joint `clamp` is not assembled"), "{e}");
 }
+
+/// A node frame may carry its own axes: the cantilever's tip frame rotated by 90 deg about x, loaded
+/// by a follower force of -20 N along its local y (= global -z at the undeformed state), deflects as
+/// under the global -20 N z load (the follower tilt is of the order of the tip slope, 3.6e-3 rad, and
+/// changes the deflection only to second order), and its orientation signal reports the rotation.
+#[test]
+fn oriented_node_frame_carries_its_axes() {
+    let base = std::fs::read_to_string(example("static_cantilever.toml")).unwrap();
+    let parts = example("parts/cantilever_beam.toml");
+    let text = base
+        .replace(
+            "source = \"parts/cantilever_beam.toml\"",
+            &format!("source = {:?}", parts.display().to_string()),
+        )
+        .replace(
+            "nearest = [1.0, 0.0, 0.0]",
+            "nearest = [1.0, 0.0, 0.0]\norientation = { axis = [1, 0, 0], angle = \"90 deg\" }",
+        )
+        .replace(
+            "vector = [0, 0, \"-20 N\"]",
+            "vector = [0, \"-20 N\", 0]\ncoordinates = \"body\"",
+        )
+        .replace(
+            "signals = [\"tip.deformation\",",
+            "signals = [\"tip.orientation\", \"tip.deformation\",",
+        );
+    assert_eq!(text.matches("coordinates = \"body\"").count(), 1);
+    let out = out_dir("oriented-node-frame");
+    std::fs::create_dir_all(&out).unwrap();
+    let model = out.join("oriented.toml");
+    std::fs::write(&model, text).unwrap();
+    let cm = flexmbs_sim::load_model(&model).unwrap();
+    run_model(&cm, &RunOptions::new(out.join("run")), &mut |_| {}).unwrap();
+    let r = read_results(&out.join("run/results.h5")).unwrap();
+    let w = r.series("tip.deformation.z").unwrap()[1];
+    let reference = -20.0 / (3.0 * 210e9 * 0.02f64.powi(4) / 12.0);
+    let rel = (w - reference).abs() / reference.abs();
+    let o = |c: &str| r.series(&format!("tip.orientation.{c}")).unwrap()[1];
+    let (ox, oy, oz) = (o("x"), o("y"), o("z"));
+    eprintln!("follower load on oriented node frame: w = {w:e} m (beam theory {reference:e}, rel. {rel:e}); orientation {ox} {oy} {oz} rad");
+    assert!(rel < 1e-3, "relative difference {rel:e}");
+    // the tip section turns by the beam slope theta = P L^2 / (2 E I) = 3.57e-3 rad about global
+    // y (linearized node rotation): R = Ry(theta) Rx(90 deg) = Rx(90 deg) Rz(-theta), so the
+    // Cardan x-y-z angles are (90 deg, 0, -theta) to second order in theta
+    let slope = 20.0 / (2.0 * 210e9 * 0.02f64.powi(4) / 12.0);
+    assert!(
+        (ox - std::f64::consts::FRAC_PI_2).abs() < 1e-4,
+        "orientation x {ox}"
+    );
+    assert!(oy.abs() < 1e-4, "orientation y {oy}");
+    assert!(
+        (oz + slope).abs() < 0.02 * slope,
+        "orientation z {oz} vs -slope {slope}"
+    );
+    // `position` on a node frame is still an error: the node defines it
+    let bad = std::fs::read_to_string(&model).unwrap().replace(
+        "nearest = [1.0, 0.0, 0.0]",
+        "nearest = [1.0, 0.0, 0.0]\nposition = [1, 0, 0]",
+    );
+    std::fs::write(&model, bad).unwrap();
+    let err = flexmbs_sim::load_model(&model).unwrap_err().to_string();
+    assert!(
+        err.contains("frame[1].nearest") && err.contains("drop `position`"),
+        "{err}"
+    );
+}
