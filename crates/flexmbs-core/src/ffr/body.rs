@@ -436,12 +436,39 @@ impl FfrBody {
     /// Needs [`Self::update`] first. O(n_f^2).
     pub fn quadratic_velocity(&self, s: &FfrScratch, out: &mut [f64]) {
         let nf = self.nf();
+        let (qr, c) = self.quadratic_velocity_frame_terms(s);
+        let qw = -(s.h.transpose() * c);
+        for i in 0..3 {
+            out[i] = qr[i];
+            out[3 + i] = qw[i];
+        }
+        for (a, o) in out[6..6 + nf].iter_mut().enumerate() {
+            *o = -self.quadratic_velocity_modal_sum(s, a, |k| {
+                // row a of D_k (column a of its stored transpose) times q_f_dot
+                let d_row = &self.s_skew_t[k].as_slice()[a * nf..(a + 1) * nf];
+                d_row
+                    .iter()
+                    .zip(s.qfd.as_slice())
+                    .fold(0.0, |acc, (d, q)| acc + d * q)
+            });
+        }
+        if let Some(r) = &self.rotary {
+            r.add_quadratic_velocity(s, out);
+        }
+    }
+
+    /// The reference-frame rows of [`Self::quadratic_velocity`]: the translational row
+    /// `-A [ω×(ω×S_t) + 2 ω×(S_bar q_f_dot) + z×S_t]` and the rotational bracket
+    /// `c = ω×(Ī_θθ ω) + 2 (tr(N) ω - N^T ω) + Ī_θθ z` (the row is `-H^T c`). O(n_f).
+    pub(super) fn quadratic_velocity_frame_terms(
+        &self,
+        s: &FfrScratch,
+    ) -> (Vector3<f64>, Vector3<f64>) {
         let inv = &self.invariants;
-        let w = s.omega;
-        let z = s.hdot_w;
+        let (w, z) = (s.omega, s.hdot_w);
         let mut sqd = Vector3::zeros();
         let mut n = Matrix3::zeros();
-        for a in 0..nf {
+        for a in 0..self.nf() {
             for k in 0..3 {
                 sqd[k] += inv.s_bar[(k, a)] * s.qfd[a];
                 for l in 0..3 {
@@ -451,33 +478,30 @@ impl FfrBody {
         }
         let qr = -(s.a * (w.cross(&w.cross(&s.s_t)) + 2.0 * w.cross(&sqd) + z.cross(&s.s_t)));
         let c = w.cross(&(s.i_tt * w)) + 2.0 * (n.trace() * w - n.transpose() * w) + s.i_tt * z;
-        let qw = -(s.h.transpose() * c);
-        for i in 0..3 {
-            out[i] = qr[i];
-            out[3 + i] = qw[i];
-        }
+        (qr, c)
+    }
+
+    /// The bracket of modal row `a` of [`Self::quadratic_velocity`],
+    /// `sum_kl ω_k ω_l P_lk^T - |ω|^2 sum_k P_kk^T - 2 sum_k ω_k (D_k q_f_dot)_a + Ī_θf^T z`
+    /// (the row is its negative), with `(D_k q_f_dot)_a` from `d_qfd(k)`. O(1) besides `d_qfd`.
+    pub(super) fn quadratic_velocity_modal_sum(
+        &self,
+        s: &FfrScratch,
+        a: usize,
+        d_qfd: impl Fn(usize) -> f64,
+    ) -> f64 {
+        let (w, z) = (s.omega, s.hdot_w);
         let w2 = w.norm_squared();
-        for a in 0..nf {
-            let mut acc = 0.0;
-            for k in 0..3 {
-                for l in 0..3 {
-                    acc += w[k] * w[l] * s.p[(3 * l + k, a)];
-                }
-                acc -= w2 * s.p[(4 * k, a)];
-                acc += s.i_tf[(k, a)] * z[k];
-                // row a of D_k (column a of its stored transpose) times q_f_dot
-                let d_row = &self.s_skew_t[k].as_slice()[a * nf..(a + 1) * nf];
-                let dq = d_row
-                    .iter()
-                    .zip(s.qfd.as_slice())
-                    .fold(0.0, |acc, (d, q)| acc + d * q);
-                acc -= 2.0 * w[k] * dq;
+        let mut acc = 0.0;
+        for k in 0..3 {
+            for l in 0..3 {
+                acc += w[k] * w[l] * s.p[(3 * l + k, a)];
             }
-            out[6 + a] = -acc;
+            acc -= w2 * s.p[(4 * k, a)];
+            acc += s.i_tf[(k, a)] * z[k];
+            acc -= 2.0 * w[k] * d_qfd(k);
         }
-        if let Some(r) = &self.rotary {
-            r.add_quadratic_velocity(s, out);
-        }
+        acc
     }
 
     /// Adds the elastic and damping forces `-K q - D u` (2.35)-(2.36) (modal block only) to `out`,

@@ -128,38 +128,18 @@ impl FfrBody {
         g: &Vector3<f64>,
         out: &mut [f64],
     ) {
-        let nf = self.nf();
         let inv = &self.invariants;
-        let (w, z) = (s.omega, s.hdot_w);
-        let mut sqd = Vector3::zeros();
-        let mut n = Matrix3::zeros();
-        for a in 0..nf {
-            for k in 0..3 {
-                sqd[k] += inv.s_bar[(k, a)] * s.qfd[a];
-                for l in 0..3 {
-                    n[(k, l)] += s.p[(3 * k + l, a)] * s.qfd[a];
-                }
-            }
-        }
         let gb = s.a.transpose() * g;
-        let qr = -(s.a * (w.cross(&w.cross(&s.s_t)) + 2.0 * w.cross(&sqd) + z.cross(&s.s_t)))
-            + inv.i1 * g;
-        let c = w.cross(&(s.i_tt * w)) + 2.0 * (n.trace() * w - n.transpose() * w) + s.i_tt * z;
+        let (qr, c) = self.quadratic_velocity_frame_terms(s);
+        let qr = qr + inv.i1 * g;
         let qw = s.h.transpose() * (s.s_t.cross(&gb) - c);
         for i in 0..3 {
             out[i] = qr[i];
             out[3 + i] = qw[i];
         }
-        let w2 = w.norm_squared();
-        for a in 0..nf {
-            let mut acc = 0.0;
+        for a in 0..self.nf() {
+            let mut acc = self.quadratic_velocity_modal_sum(s, a, |k| dq[(k, a)]);
             for k in 0..3 {
-                for l in 0..3 {
-                    acc += w[k] * w[l] * s.p[(3 * l + k, a)];
-                }
-                acc -= w2 * s.p[(4 * k, a)];
-                acc += s.i_tf[(k, a)] * z[k];
-                acc -= 2.0 * w[k] * dq[(k, a)];
                 acc -= inv.s_bar[(k, a)] * gb[k];
             }
             out[6 + a] = -acc - kd[a];
