@@ -385,12 +385,19 @@ impl Model {
     }
 
     /// Coordinates of one body in a global vector.
+    ///
+    /// # Panics
+    /// If `body` belongs to another model or `q` is shorter than this model's `nq` (as indexing a
+    /// slice out of bounds); [`Self::body_id`] gives ids by name.
     pub fn body_q<'a>(&self, body: BodyId, q: &'a [f64]) -> &'a [f64] {
         let b = &self.bodies[body.0];
         &q[b.q_offset..b.q_offset + b.element.nq()]
     }
 
     /// Velocity coordinates of one body in a global vector.
+    ///
+    /// # Panics
+    /// As [`Self::body_q`], for `u` and `nu`.
     pub fn body_u<'a>(&self, body: BodyId, u: &'a [f64]) -> &'a [f64] {
         let b = &self.bodies[body.0];
         &u[b.u_offset..b.u_offset + b.element.nu()]
