@@ -489,4 +489,24 @@ fn calculix_pendulum_quarter_period_matches_rigid_pendulum() {
     assert!(rel.abs() < 1e-4, "quarter period off by {rel:e}");
     assert!((z_min + 1.0).abs() < 2e-3, "lowest tip z {z_min}");
     assert!((x_min + 1.0).abs() < 1e-3, "leftmost tip x {x_min}");
+    // hinge force at the lowest point: weight + centripetal force of the rigid rod,
+    // m g + m omega^2 L/2 with omega^2 = m g L / I_O (energy), = 2.5 m g for a slender rod;
+    // averaged over +-10 ms (the beam vibrates at 16.7 Hz about the quasi-static state).
+    // The force on the beam is along the axes of `pivot` (y = global -z).
+    let m = 7850.0 * l * a * a;
+    let expected = -(m * g + m * (m * g * l / (m * i_over_m)) * l / 2.0);
+    let fy = r.series("hinge.force.y").unwrap();
+    let window: Vec<f64> = (0..r.time.len())
+        .filter(|&i| (r.time[i] - t_quarter).abs() <= 0.01)
+        .map(|i| fy[i])
+        .collect();
+    let mean = window.iter().sum::<f64>() / window.len() as f64;
+    eprintln!(
+        "hinge force at the lowest point {mean:.3} N (mean of {} rows), rigid rod {expected:.3} N",
+        window.len()
+    );
+    assert!(
+        (mean - expected).abs() < 0.005 * expected.abs(),
+        "hinge force {mean} N"
+    );
 }
