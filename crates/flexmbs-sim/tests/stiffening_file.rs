@@ -135,6 +135,48 @@ fn body_file_source_matches_fe_source_with_stiffening() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The rotor tube in SI(mm): the file stores `K_G` in the file's units (mm, t, s), converted to
+/// SI at model compile time like the FE-computed one; the two sources give the same tip history
+/// to 1e-12 relative.
+#[test]
+fn body_file_in_si_mm_matches_fe_source() {
+    let dir = temp("mm");
+    let part = std::fs::read_to_string(examples().join("parts/rotor_tube.toml"))
+        .unwrap()
+        .replace(
+            "name = \"rotor_tube\"",
+            "name = \"rotor_tube\"\nunits = \"SI(mm)\"",
+        )
+        .replace("end = [1.0, 0.0, 0.0]", "end = [1000.0, 0.0, 0.0]")
+        .replace(
+            "outer_radius = 0.01, wall = 0.001",
+            "outer_radius = 10.0, wall = 1.0",
+        )
+        .replace(
+            "e = 70e9, nu = 0.3, rho = 2700.0",
+            "e = 70000.0, nu = 0.3, rho = 2.7e-9",
+        );
+    assert!(part.contains("SI(mm)") && part.contains("rho = 2.7e-9") && part.contains("1000.0"));
+    let mm = dir.join("rotor_tube_mm.toml");
+    std::fs::write(&mm, &part).unwrap();
+    let h5 = dir.join("rotor_tube_mm.fmb.h5");
+    let written = reduce_to_file(&mm, &h5);
+    assert_eq!(written.body.units, flexmbs_fe::UnitSystem::SiMm);
+    assert!(written.geometric.is_some());
+    let with = |src: &Path, extra: &'static str| {
+        let src = format!("source = {:?}{extra}", src.display().to_string());
+        move |s: &str| s.replace("source = \"parts/rotor_tube.toml\"", &src)
+    };
+    let w_fe = tip_signal("mm-fe", &with(&mm, "\nrotary_inertia = false"));
+    let w_h5 = tip_signal("mm-h5", &with(&h5, ""));
+    let wmax = w_fe.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    let dw = max_abs_diff(&w_fe, &w_h5);
+    eprintln!("SI(mm): FE vs .fmb.h5 source: max |dw| = {dw:e} m, max |w| = {wmax:e} m");
+    assert!(w_fe.len() > 200 && wmax > 0.01);
+    assert!(dw <= 1e-12 * wmax, "max |dw| = {dw:e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Compiles the rotating-beam example with the beam's source replaced by `h5`; the error.
 fn compile_error_with_source(h5: &Path) -> (SimError, String) {
     let file = examples().join("rotating_beam.toml");
