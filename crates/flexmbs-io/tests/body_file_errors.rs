@@ -348,6 +348,30 @@ fn malformed_geometric_stiffness_is_located() {
         "{s}"
     );
 
+    // a pattern twice
+    let (_d, path) = written_kg("err-kg-dup");
+    edit(&path, |f| {
+        let root = f.root();
+        root.delete("geometric/load_pattern").unwrap();
+        root.create_dataset("geometric/load_pattern", |b| {
+            b.with_vlen_strings(&[
+                "centrifugal_xx",
+                "centrifugal_xy",
+                "centrifugal_xz",
+                "centrifugal_yy",
+                "centrifugal_xy",
+                "centrifugal_zz",
+            ]);
+        })
+        .unwrap();
+    });
+    let s = read_body_file(&path).unwrap_err().to_string();
+    assert!(
+        s.contains("'geometric/load_pattern'")
+            && s.contains("entry 4: load pattern 'centrifugal_xy' appears twice"),
+        "{s}"
+    );
+
     // one dataset of the pair missing
     for (gone, other) in [
         ("geometric/stiffness", "geometric/load_pattern"),

@@ -176,7 +176,7 @@ pub(crate) fn decode(r: &Reader, nf: usize) -> Result<Option<GeometricStiffness>
     }
     let mut load_patterns = Vec::with_capacity(p);
     for (i, name) in names.iter().enumerate() {
-        load_patterns.push(parse_pattern_name(name).ok_or_else(|| {
+        let p = parse_pattern_name(name).ok_or_else(|| {
             invalid(
                 r.path,
                 LOAD_PATTERN,
@@ -185,7 +185,12 @@ pub(crate) fn decode(r: &Reader, nf: usize) -> Result<Option<GeometricStiffness>
                      translation_x, angular_acceleration_x, ...)"
                 ),
             )
-        })?);
+        })?;
+        if load_patterns.contains(&p) {
+            let msg = format!("entry {i}: load pattern '{name}' appears twice");
+            return Err(invalid(r.path, LOAD_PATTERN, msg));
+        }
+        load_patterns.push(p);
     }
     let data = r.f64s(
         STIFFNESS,
