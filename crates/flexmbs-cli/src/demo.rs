@@ -38,7 +38,14 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
     let body = prepare(&spec, Path::new("."), &mut |s| p.stage(s))?;
     let modal = run_modal(&spec, &body, spec.reduction.modes, &mut |s| p.stage(s))?;
     let reduced = run_reduction(&spec, &body, &mut |s| p.stage(s))?;
+    // the clamped cantilever also gets its centrifugal geometric stiffness, as `flexmbs reduce`
+    p.stage(flexmbs_io::pipeline::Stage::Started(
+        "geometric stiffness (unit-load method)".into(),
+    ));
+    let mass = flexmbs_io::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
+    let kg = flexmbs_io::geometric::centrifugal_geometric_stiffness(&body, mass, &reduced);
     p.finish();
+    let kg = kg.context("geometric stiffness")?;
 
     let rows = flexmbs_io::report::modal_rows(&modal);
     print!("{}", flexmbs_io::report::modal_table(&rows));
@@ -47,7 +54,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
         flexmbs_io::report::modal_csv(&rows),
     )?;
     let body_path = out.join("cantilever.h5");
-    flexmbs_io::body_file::write_body(&body_path, &reduced)?;
+    flexmbs_io::body_file::write_body_file(&body_path, &reduced, kg.as_ref())?;
     let vtk_dir = out.join("modes");
     let files = flexmbs_io::vtk::write_mode_shapes(&vtk_dir, &reduced, 0.1)?;
 

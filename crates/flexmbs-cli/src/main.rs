@@ -8,6 +8,7 @@ mod run_cmd;
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use flexmbs_fe::reduction::ReducedBody;
+use flexmbs_io::body_file::BodyFile;
 use flexmbs_io::model::read_fe_model;
 use flexmbs_io::model_check::FeModelSource;
 use flexmbs_io::pipeline::{prepare, run_modal, run_reduction, PreparedBody};
@@ -37,13 +38,18 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Reduces an FE body (modal or Craig-Bampton) and writes the reduced-body file.
+    /// Reduces an FE body (modal or Craig-Bampton) and writes the reduced-body file. A body with
+    /// fixed nodes also gets its six centrifugal geometric stiffness matrices (for
+    /// `geometric_stiffening = true` in a multibody model).
     Reduce {
         /// Model file (TOML).
         model: PathBuf,
-        /// Output reduced-body file (`.h5`).
+        /// Output reduced-body file (`.fmb.h5`).
         #[arg(long, short)]
         output: PathBuf,
+        /// Do not compute and store the geometric stiffness.
+        #[arg(long)]
+        no_geometric: bool,
     },
     /// Writes mode shapes for ParaView: modes.vtu (every mode as a point field) and
     /// modes_animation.pvd (the first 10 modes animated).
@@ -184,15 +190,27 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             bail!("internal: `run`/`plot` are dispatched in run()")
         }
         Command::Modal { model, modes, json } => cmd_modal(&model, modes, json, quiet),
-        Command::Reduce { model, output } => {
-            let body = reduce_model(&model, quiet)?;
-            flexmbs_io::body_file::write_body(&output, &body)
+        Command::Reduce {
+            model,
+            output,
+            no_geometric,
+        } => {
+            let f = reduce_model_file(&model, quiet, !no_geometric)?;
+            flexmbs_io::body_file::write_body_file(&output, &f.body, f.geometric.as_ref())
                 .with_context(|| format!("writing {}", output.display()))?;
+            let kg = match (&f.geometric, no_geometric) {
+                (Some(g), _) => format!(
+                    ", geometric stiffness of {} load patterns",
+                    g.matrices.len()
+                ),
+                (None, true) => String::new(),
+                (None, false) => ", no geometric stiffness (no fixed nodes)".into(),
+            };
             println!(
-                "wrote {} ({} nodes, {} modes)",
+                "wrote {} ({} nodes, {} modes{kg})",
                 output.display(),
-                body.num_nodes(),
-                body.num_modes()
+                f.body.num_nodes(),
+                f.body.num_modes()
             );
             Ok(())
         }
@@ -307,19 +325,46 @@ fn load(model: &Path, quiet: bool) -> Result<(PreparedBody, FeModelSource)> {
 }
 
 fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
+    reduce_model_file(model, quiet, false).map(|f| f.body)
+}
+
+/// The reduced body of an FE model file and, if `geometric` and the body has fixed nodes, its
+/// centrifugal geometric stiffness (`flexmbs_io::geometric`, as a multibody model computes it
+/// from the FE model). Seed folders have no FE model and get none.
+fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyFile> {
     let spec = read_fe_model(model)?.body;
     let base = model.parent().unwrap_or(Path::new("."));
     if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
         let dir = flexmbs_io::pipeline::resolve(base, dir);
-        return Ok(flexmbs_io::seed_body::read_seed_body(
-            &dir, &spec.name, spec.units,
-        )?);
+        let body = flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)?;
+        return Ok(BodyFile {
+            body,
+            geometric: None,
+        });
     }
-    let (body, src) = load(model, quiet)?;
+    let (prepared, src) = load(model, quiet)?;
+    let spec = &src.model.body;
     let mut p = progress::Progress::new(quiet);
-    let r = run_reduction(&src.model.body, &body, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
+    let r = run_reduction(spec, &prepared, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
+    let body = match r {
+        Ok(b) => b,
+        Err(e) => {
+            p.finish();
+            return Err(e.into());
+        }
+    };
+    let g = if geometric && !prepared.bc.fixed.is_empty() {
+        p.stage(flexmbs_io::pipeline::Stage::Started(
+            "geometric stiffness (unit-load method)".into(),
+        ));
+        let mass = flexmbs_io::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
+        flexmbs_io::geometric::centrifugal_geometric_stiffness(&prepared, mass, &body)
+    } else {
+        Ok(None)
+    };
     p.finish();
-    Ok(r?)
+    let geometric = g.context("geometric stiffness")?;
+    Ok(BodyFile { body, geometric })
 }
 
 fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Result<()> {

@@ -10,8 +10,12 @@
 //! problem as a [`BodyFileError`] naming the file and the dataset; it never panics, also not on a
 //! truncated or corrupted file.
 
+mod geometric;
 mod h5;
 
+pub use geometric::{parse_pattern_name, pattern_name, SYMMETRY_TOLERANCE};
+
+use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::ReducedBody;
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -120,15 +124,44 @@ pub enum BodyFileError {
     },
 }
 
-/// Writes `body` to the reduced-body file `path` (HDF5, layout version [`FORMAT_VERSION`]).
+/// Contents of a reduced-body file: the body and, if stored, its geometric stiffness.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyFile {
+    /// The reduced body.
+    pub body: ReducedBody,
+    /// Projected geometric stiffness matrices `K_G,i` over all `N_f` modes of `body`, in its
+    /// units (optional group `geometric`; written by `flexmbs reduce` for bodies with fixed
+    /// nodes: the six centrifugal patterns, supported on the fixed nodes).
+    pub geometric: Option<GeometricStiffness>,
+}
+
+/// Writes `body` to the reduced-body file `path` (HDF5, layout version [`FORMAT_VERSION`]),
+/// without geometric stiffness ([`write_body_file`] with `None`).
 ///
 /// The body is checked for consistency first (mode shape rows `3 N`, square reduced matrices of
 /// size `N_f`, one frequency and one label per mode, indices in range); an inconsistent body is
 /// an [`BodyFileError::Invalid`] and nothing is written. The file is written to a temporary
 /// sibling and renamed, so an existing file is replaced only by a complete one.
 pub fn write_body(path: &Path, body: &ReducedBody) -> Result<(), BodyFileError> {
+    write_body_file(path, body, None)
+}
+
+/// Writes `body` and, if given, its geometric stiffness `geometric` (optional group `geometric`
+/// of the layout) to the reduced-body file `path`; as [`write_body`] otherwise.
+///
+/// `geometric` must hold at least one valid, distinct load pattern and one finite, symmetric
+/// (to [`SYMMETRY_TOLERANCE`] relative) `N_f × N_f` matrix per pattern, else the result is a
+/// [`BodyFileError::Invalid`] naming `geometric/stiffness` and nothing is written.
+pub fn write_body_file(
+    path: &Path,
+    body: &ReducedBody,
+    geometric: Option<&GeometricStiffness>,
+) -> Result<(), BodyFileError> {
     h5::check_body(path, body)?;
-    let bytes = h5::encode_body(path, body)?;
+    if let Some(g) = geometric {
+        geometric::check(path, geometric::STIFFNESS, g, body.num_modes())?;
+    }
+    let bytes = h5::encode_body(path, body, geometric)?;
     let tmp = temporary_sibling(path);
     std::fs::write(&tmp, &bytes).map_err(|source| BodyFileError::Io {
         path: tmp.clone(),
@@ -144,13 +177,22 @@ pub fn write_body(path: &Path, body: &ReducedBody) -> Result<(), BodyFileError> 
 }
 
 /// Reads a reduced-body file written by [`write_body`] (or by any HDF5 writer following the
-/// documented layout, e.g. h5py).
+/// documented layout, e.g. h5py). A stored geometric stiffness is checked but not returned (see
+/// [`read_body_file`]).
 pub fn read_body(path: &Path) -> Result<ReducedBody, BodyFileError> {
+    read_body_file(path).map(|f| f.body)
+}
+
+/// Reads a reduced-body file with its optional geometric stiffness (`None` if the file has no
+/// `geometric` group, as files written before it existed). A malformed group (one dataset
+/// without the other, unknown pattern name, wrong shape or type, non-finite or unsymmetric
+/// matrix) is an error naming the dataset.
+pub fn read_body_file(path: &Path) -> Result<BodyFile, BodyFileError> {
     let bytes = std::fs::read(path).map_err(|source| BodyFileError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    decode_body(path, bytes)
+    decode_body_file(path, bytes)
 }
 
 /// Decodes the bytes of a reduced-body file; `path` only labels errors.
@@ -159,6 +201,11 @@ pub fn read_body(path: &Path) -> Result<ReducedBody, BodyFileError> {
 /// bug there, not a property of the file: it is caught and reported as [`BodyFileError::Hdf5`]
 /// so that a damaged file can never bring down a simulation.
 pub fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, BodyFileError> {
+    decode_body_file(path, bytes).map(|f| f.body)
+}
+
+/// [`decode_body`] with the optional geometric stiffness (see [`read_body_file`]).
+pub fn decode_body_file(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyFileError> {
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         h5::decode_body(path, bytes)
     }));

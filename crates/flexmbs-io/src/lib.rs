@@ -6,6 +6,7 @@ pub mod body_file;
 pub mod calculix;
 pub mod error;
 pub mod full_mass;
+pub mod geometric;
 pub mod inp_writer;
 pub mod model;
 pub mod model_check;

@@ -5,10 +5,13 @@
 
 mod body_file_support;
 
-use body_file_support::{python_has, run_python, sample_body, temp_dir};
+use body_file_support::{python_has, run_python, sample_body, sample_geometric, temp_dir};
+use flexmbs_fe::geometric::InertialLoad;
 use flexmbs_fe::reduction::ReductionKind;
 use flexmbs_fe::UnitSystem;
-use flexmbs_io::body_file::{read_body, write_body, BodyFileError};
+use flexmbs_io::body_file::{
+    read_body, read_body_file, write_body, write_body_file, BodyFileError,
+};
 use std::process::Command;
 
 /// h5py opens the file, sees the documented layout, shapes, attributes and exact values.
@@ -203,4 +206,68 @@ fn h5dump_and_h5ls_read_written_file() {
         .find(|l| l.starts_with("/modes/translation "))
         .unwrap_or("");
     assert!(line.ends_with("Dataset {60, 2}"), "{ls}");
+}
+
+/// The optional `geometric` group: h5py reads our K_G (shape, pattern names, exact bits) and we
+/// read K_G that h5py writes into a body file (numpy `(P, N_f, N_f)` array, Python strings),
+/// bit for bit.
+#[test]
+fn geometric_stiffness_interoperates_with_h5py() {
+    if !python_has(
+        &["h5py", "numpy"],
+        "geometric_stiffness_interoperates_with_h5py",
+    ) {
+        return;
+    }
+    let dir = temp_dir("py-kg");
+    let body = sample_body(20, 4, 3);
+    let g = sample_geometric(4, 8);
+    let path = dir.join("arm.fmb.h5");
+    write_body_file(&path, &body, Some(&g)).unwrap();
+    let code = r#"
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1], 'a') as f:
+    k = f['geometric/stiffness']
+    assert k.dtype == np.float64 and k.shape == (6, 4, 4), (k.dtype, k.shape)
+    names = f['geometric/load_pattern'].asstr()[()].tolist()
+    assert names == ['centrifugal_xx', 'centrifugal_xy', 'centrifugal_xz', 'centrifugal_yy',
+                     'centrifugal_yz', 'centrifugal_zz'], names
+    kv = k[()]
+    assert np.array_equal(kv, np.transpose(kv, (0, 2, 1)))
+    print(int(np.float64(kv[4, 1, 3]).view(np.uint64)))
+    # replace by two patterns written the numpy way
+    del f['geometric']
+    g = f.create_group('geometric')
+    g['load_pattern'] = ['centrifugal_yy', 'centrifugal_zz']
+    a = np.arange(16.0).reshape(4, 4) / 3.0
+    g['stiffness'] = np.stack([a + a.T, -(a + a.T)])
+"#;
+    let out = run_python(code, &[path.to_str().unwrap()]);
+    assert_eq!(
+        out.trim().parse::<u64>().unwrap(),
+        g.matrices[4][(1, 3)].to_bits()
+    );
+    let back = read_body_file(&path).unwrap();
+    assert_eq!(back.body, body);
+    let kg = back.geometric.unwrap();
+    assert_eq!(
+        kg.load_patterns,
+        vec![
+            InertialLoad::Centrifugal(1, 1),
+            InertialLoad::Centrifugal(2, 2)
+        ]
+    );
+    let a = |i: usize, j: usize| (4 * i + j) as f64 / 3.0;
+    for i in 0..4 {
+        for j in 0..4 {
+            assert_eq!(
+                kg.matrices[0][(i, j)].to_bits(),
+                (a(i, j) + a(j, i)).to_bits()
+            );
+            assert_eq!(
+                kg.matrices[1][(i, j)].to_bits(),
+                (-(a(i, j) + a(j, i))).to_bits()
+            );
+        }
+    }
 }

@@ -2,10 +2,13 @@
 
 mod body_file_support;
 
-use body_file_support::{sample_body, temp_dir};
+use body_file_support::{sample_body, sample_geometric, temp_dir};
 use faer::Mat;
+use flexmbs_fe::geometric::InertialLoad;
 use flexmbs_fe::reduction::{ReducedBody, ReductionKind};
-use flexmbs_io::body_file::{read_body, write_body, BodyFileError};
+use flexmbs_io::body_file::{
+    read_body, read_body_file, write_body, write_body_file, BodyFileError,
+};
 use std::time::Instant;
 
 fn mat_bits(m: &Mat<f64>) -> Vec<u64> {
@@ -193,4 +196,89 @@ fn large_body_write_read_timing() {
     );
     // Generous bound against pathological slowness (measured ~0.1-0.3 s, see docs/decisions-bodyfile.md).
     assert!(tw.as_secs_f64() + tr.as_secs_f64() < 20.0);
+}
+
+/// The optional geometric stiffness (six centrifugal `K_G,ab`) survives write -> read bit for bit,
+/// including a signed zero and a subnormal; `read_body` of such a file gives the same body; a
+/// file without the group (as every file written before it existed) reads with `None`.
+#[test]
+fn geometric_stiffness_round_trip_is_bit_identical() {
+    let dir = temp_dir("rt-kg");
+    let body = sample_body(20, 5, 11);
+    let mut g = sample_geometric(5, 12);
+    g.matrices[3][(0, 0)] = -0.0;
+    g.matrices[4][(1, 2)] = f64::MIN_POSITIVE / 8.0;
+    g.matrices[4][(2, 1)] = f64::MIN_POSITIVE / 8.0;
+    let path = dir.join("kg.fmb.h5");
+    write_body_file(&path, &body, Some(&g)).unwrap();
+    let back = read_body_file(&path).unwrap();
+    assert_bits_equal(&back.body, &body);
+    let kg = back.geometric.expect("geometric stiffness not read back");
+    assert_eq!(kg.load_patterns, InertialLoad::centrifugal());
+    assert_eq!(kg.matrices.len(), 6);
+    for (a, b) in kg.matrices.iter().zip(&g.matrices) {
+        assert_eq!(mat_bits(a), mat_bits(b));
+    }
+    assert_eq!(kg.matrices[3][(0, 0)].to_bits(), (-0.0f64).to_bits());
+    assert_eq!(read_body(&path).unwrap(), body);
+
+    write_body(&path, &body).unwrap();
+    let plain = read_body_file(&path).unwrap();
+    assert_eq!(plain.geometric, None);
+    assert_eq!(plain.body, body);
+
+    // other pattern kinds and a subset are stored too (the engine uses only centrifugal ones)
+    let mut g2 = sample_geometric(5, 13);
+    g2.load_patterns = vec![
+        InertialLoad::Translation(2),
+        InertialLoad::AngularAcceleration(0),
+        InertialLoad::Centrifugal(1, 2),
+    ];
+    g2.matrices.truncate(3);
+    write_body_file(&path, &body, Some(&g2)).unwrap();
+    assert_eq!(read_body_file(&path).unwrap().geometric, Some(g2));
+}
+
+/// The writer refuses geometric stiffness that does not fit the body or is not a symmetric,
+/// finite matrix per distinct pattern, naming `geometric/stiffness`; nothing is written.
+#[test]
+fn inconsistent_geometric_stiffness_is_rejected_before_writing() {
+    let dir = temp_dir("rt-kg-bad");
+    let path = dir.join("bad.fmb.h5");
+    let body = sample_body(20, 4, 1);
+    let expect = |g: &flexmbs_fe::geometric::GeometricStiffness, fragment: &str| {
+        match write_body_file(&path, &body, Some(g)) {
+            Err(BodyFileError::Invalid {
+                object, message, ..
+            }) => {
+                assert_eq!(object, "geometric/stiffness");
+                assert!(message.contains(fragment), "{message}");
+            }
+            other => panic!("expected Invalid ({fragment}), got {other:?}"),
+        }
+        assert!(!path.exists());
+    };
+    expect(
+        &sample_geometric(3, 2),
+        "is 3 x 3, expected N_f x N_f = 4 x 4",
+    );
+    let mut g = sample_geometric(4, 2);
+    g.matrices[2][(0, 3)] += 1e-6 * g.matrices[2].norm_max();
+    expect(&g, "matrix 2 (centrifugal_xz) is not symmetric");
+    let mut g = sample_geometric(4, 2);
+    g.matrices[5][(1, 1)] = f64::INFINITY;
+    expect(&g, "non-finite entry inf at (1, 1)");
+    let mut g = sample_geometric(4, 2);
+    g.load_patterns[1] = InertialLoad::Centrifugal(0, 0);
+    expect(&g, "centrifugal_xx appears twice");
+    let mut g = sample_geometric(4, 2);
+    g.load_patterns[1] = InertialLoad::Centrifugal(2, 1);
+    expect(&g, "invalid load pattern");
+    let mut g = sample_geometric(4, 2);
+    g.matrices.pop();
+    expect(&g, "5 matrices for 6 load patterns");
+    let mut g = sample_geometric(4, 2);
+    g.load_patterns.clear();
+    g.matrices.clear();
+    expect(&g, "no load patterns");
 }

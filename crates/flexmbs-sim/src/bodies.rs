@@ -7,11 +7,14 @@ use crate::mass_model::{
     beam_rotary_inertias, check_consistent_source, full_mass_to_si, CONSISTENT_NEEDS_FE_MODEL,
 };
 use crate::schema::{BodySpec, BodyType, InertiaSpec, MassModel, ModeSelection, RotationName};
-use crate::stiffening::{centrifugal_stiffness, geometric_to_si, select_geometric_modes, FeModel};
+use crate::stiffening::{
+    centrifugal_stiffness, geometric_to_si, select_geometric_modes, FeModel, NO_STORED_STIFFNESS,
+};
 use crate::units::Dimension;
 use flexmbs_core::ffr::{self, reduced_body_to_si, FfrBody, FfrElement};
 use flexmbs_core::{RigidBody, RotationParam};
 use flexmbs_fe::element::MassKind;
+use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::{Cell, ReducedBody};
 use flexmbs_fe::ElementKind;
 use flexmbs_fe::SparseMatrix;
@@ -46,10 +49,11 @@ pub struct BodyGeometry {
     pub rotation: RotationName,
 }
 
-/// Error of `geometric_stiffening = true` on a source without an FE model.
+/// Error of `geometric_stiffening = true` on a source without an FE model or stored geometric
+/// stiffness.
 const NO_FE_MODEL: &str = "geometric stiffening needs an FE model file (.toml with a built-in \
-     mesh or a CalculiX deck) as `source`; a reduced-body file (.h5) or seed folder has no FE \
-     mesh and system";
+     mesh or a CalculiX deck) or a reduced-body file (.fmb.h5) with stored geometric stiffness \
+     as `source`; a seed folder has no FE mesh and system";
 
 /// Error of `rotary_inertia = true` without a beam mesh.
 const NO_BEAM_MESH: &str = "node rotary inertias need an FE model file (.toml) with a beam mesh \
@@ -264,7 +268,11 @@ fn ffr_body(
     let stiffening = b.geometric_stiffening.unwrap_or(false);
     let gkey = format!("{p}.geometric_stiffening");
     let resolved = resolve(base, source);
-    if stiffening && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml")) {
+    let body_file = !resolved.is_dir() && resolved.extension().is_some_and(|e| e == "h5");
+    if stiffening
+        && !body_file
+        && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml"))
+    {
         return Err(ctx.err(&gkey, NO_FE_MODEL));
     }
     let ikey = format!("{p}.inertia");
@@ -314,12 +322,15 @@ fn ffr_body(
         (None, Some(true)) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
         (None, None) => None,
     };
-    let geometric = match (stiffening, &fe) {
-        (false, _) => None,
-        (true, None) => return Err(ctx.err(&gkey, NO_FE_MODEL)),
-        (true, Some(fe)) => {
+    // all modes, body units: the FE model's K_G or the one stored in the body file
+    let geometric = match (stiffening, &fe, loaded.geometric) {
+        (false, _, _) => None,
+        (true, Some(fe), _) => {
             Some(centrifugal_stiffness(fe, &reduced).map_err(|m| ctx.err(&gkey, m))?)
         }
+        (true, None, Some(g)) => Some(g),
+        (true, None, None) if body_file => return Err(ctx.err(&gkey, NO_STORED_STIFFNESS)),
+        (true, None, None) => return Err(ctx.err(&gkey, NO_FE_MODEL)),
     };
     let (reduced, geometric) = match &b.modes {
         Some(sel) => {
@@ -426,7 +437,8 @@ pub fn load_reduced_with_fe(
 }
 
 /// A body source as loaded: the reduced body, its FE model (FE model files with a built-in mesh
-/// or a CalculiX deck) and, if asked for, the full translational FE mass matrix (body units).
+/// or a CalculiX deck), if asked for, the full translational FE mass matrix (body units), and the
+/// geometric stiffness stored in a reduced-body file.
 #[derive(Debug, Clone)]
 pub struct LoadedBody {
     /// The reduced body.
@@ -436,6 +448,9 @@ pub struct LoadedBody {
     /// Full translational mass matrix over the body's nodes
     /// ([`flexmbs_io::full_mass::prepare_with_mass`]).
     pub full_mass: Option<SparseMatrix>,
+    /// Geometric stiffness `K_G` stored in a reduced-body file (group `geometric`: all modes,
+    /// body units); `None` for other sources and files without it.
+    pub geometric: Option<GeometricStiffness>,
 }
 
 /// [`load_reduced_with_fe`], with the full translational mass matrix of an FE model when
@@ -451,6 +466,7 @@ pub fn load_fe_body(
         reduced,
         fe: None,
         full_mass: None,
+        geometric: None,
     };
     let path = resolve(base, source);
     if path.is_dir() {
@@ -485,10 +501,16 @@ pub fn load_fe_body(
                 reduced: body,
                 fe: Some(FeModel { prepared, mass }),
                 full_mass: m_full,
+                geometric: None,
             })
         }
-        Some("h5") => flexmbs_io::body_file::read_body(&path)
-            .map(plain)
+        Some("h5") => flexmbs_io::body_file::read_body_file(&path)
+            .map(|f| LoadedBody {
+                reduced: f.body,
+                fe: None,
+                full_mass: None,
+                geometric: f.geometric,
+            })
             .map_err(|e| e.to_string()),
         _ => Err(format!(
             "{}: not an FE model file (.toml), a reduced-body file (.h5) or a seed folder",

@@ -1,13 +1,14 @@
 //! Centrifugal geometric stiffening of an FFR body from its FE model (`geometric_stiffening =
 //! true`): the unit-load method of [`flexmbs_fe::geometric::geometric_stiffness`] on the prepared
-//! mesh and system of the body's FE model file, restricted to the selected modes and converted to
-//! SI like the reduced body ([`flexmbs_core::ffr::reduced_body_to_si`]).
+//! mesh and system of the body's FE model file, or the same matrices stored in a reduced-body
+//! file (`.fmb.h5`, group `geometric`, written by `flexmbs reduce`), restricted to the selected
+//! modes and converted to SI like the reduced body ([`flexmbs_core::ffr::reduced_body_to_si`]).
 
 use flexmbs_fe::element::MassKind;
-use flexmbs_fe::geometric::{geometric_stiffness, GeometricStiffness, InertialLoad};
+use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_fe::UnitSystem;
-use flexmbs_io::model::{CcxMatrices, MassName, MeshSpec};
+use flexmbs_io::model::{MassName, MeshSpec};
 use flexmbs_io::pipeline::PreparedBody;
 
 /// The FE model behind a reduced body read from an FE model file: the pipeline's prepared mesh,
@@ -22,46 +23,35 @@ pub struct FeModel {
 
 impl FeModel {
     /// Mass kind of the system `prepare` assembles for `mesh`/`mass` of an FE model file: the
-    /// requested kind, except that matrices exported by CalculiX are consistent.
+    /// requested kind, except that matrices exported by CalculiX are consistent
+    /// ([`flexmbs_io::geometric::system_mass_kind`]).
     pub fn mass_kind(mesh: &MeshSpec, mass: MassName) -> MassKind {
-        match (mesh, mass) {
-            (
-                MeshSpec::Calculix {
-                    matrices: CcxMatrices::Ccx,
-                    ..
-                },
-                _,
-            ) => MassKind::Consistent,
-            (_, MassName::Lumped) => MassKind::Lumped,
-            (_, MassName::Consistent) => MassKind::Consistent,
-        }
+        flexmbs_io::geometric::system_mass_kind(mesh, mass)
     }
 }
+
+/// Message of a reduced-body file without stored geometric stiffness asked for geometric
+/// stiffening.
+pub const NO_STORED_STIFFNESS: &str = "the reduced-body file has no geometric stiffness (group \
+     `geometric`): re-export it with `flexmbs reduce` from an FE model with supports (fixed \
+     nodes), or use the FE model file (.toml) as `source`";
 
 /// Message of a free-free body (no fixed nodes) asked for geometric stiffening.
 pub const NEEDS_SUPPORTS: &str =
     "geometric stiffening needs supports (fixed nodes in the FE model)";
 
 /// The six centrifugal geometric stiffness matrices `K_G,ab` of `body` (reduced from `fe`, all
-/// its modes, body units), supported on the fixed nodes of the FE model. Errors as text: a body
-/// without fixed nodes ([`NEEDS_SUPPORTS`]) or a failure of the FE computation.
+/// its modes, body units), supported on the fixed nodes of the FE model
+/// ([`flexmbs_io::geometric::centrifugal_geometric_stiffness`], the same computation
+/// `flexmbs reduce` stores in a reduced-body file). Errors as text: a body without fixed nodes
+/// ([`NEEDS_SUPPORTS`]) or a failure of the FE computation.
 pub fn centrifugal_stiffness(
     fe: &FeModel,
     body: &ReducedBody,
 ) -> Result<GeometricStiffness, String> {
-    let p = &fe.prepared;
-    if p.bc.fixed.is_empty() {
-        return Err(NEEDS_SUPPORTS.to_string());
-    }
-    geometric_stiffness(
-        &p.mesh,
-        &p.system,
-        body,
-        fe.mass,
-        &InertialLoad::centrifugal(),
-        &[],
-    )
-    .map_err(|e| format!("geometric stiffness: {e}"))
+    flexmbs_io::geometric::centrifugal_geometric_stiffness(&fe.prepared, fe.mass, body)
+        .map_err(|e| format!("geometric stiffness: {e}"))?
+        .ok_or_else(|| NEEDS_SUPPORTS.to_string())
 }
 
 /// `g` restricted to the basis vectors `cols` (0-based, in the order of the selection).

@@ -127,13 +127,8 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
         "geometric_stiffening = true",
         "geometric stiffening needs supports (fixed nodes in the FE model)",
     ),
-    (
-        "source = \"parts/rod.toml\"",
-        "source = \"parts/rod.fmb.h5\"\ngeometric_stiffening = true",
-        "body[1].geometric_stiffening",
-        "geometric_stiffening = true",
-        "needs an FE model file",
-    ),
+    // `.fmb.h5` source with geometric_stiffening: the file's stored K_G is used; a file without
+    // it is a located error (tests/stiffening_file.rs)
     (
         "source = \"parts/rod.toml\"",
         "source = \"parts\"\ngeometric_stiffening = true",

@@ -3,8 +3,9 @@
 //! Matrices are stored row-major (C order, as HDF5 and NumPy expect) with their mathematical
 //! shape: `modes/translation` is `[3 N, N_f]` exactly as [`ReducedBody::modes_t`].
 
-use super::{BodyFileError, FORMAT_NAME, FORMAT_VERSION};
+use super::{BodyFile, BodyFileError, FORMAT_NAME, FORMAT_VERSION};
 use faer::Mat;
+use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::mesh::ElementKind;
 use flexmbs_fe::reduction::{Cell, ModeLabel, Provenance, ReducedBody, ReductionKind};
 use flexmbs_fe::UnitSystem;
@@ -59,7 +60,7 @@ const KIND_NAMES: [(ElementKind, &str); 6] = [
     (ElementKind::Beam2, "Beam2"),
 ];
 
-fn invalid(path: &Path, object: &str, message: String) -> BodyFileError {
+pub(super) fn invalid(path: &Path, object: &str, message: String) -> BodyFileError {
     BodyFileError::Invalid {
         path: path.to_path_buf(),
         object: object.to_string(),
@@ -67,7 +68,7 @@ fn invalid(path: &Path, object: &str, message: String) -> BodyFileError {
     }
 }
 
-fn hdf5_error(path: &Path, object: &str, e: impl std::fmt::Display) -> BodyFileError {
+pub(super) fn hdf5_error(path: &Path, object: &str, e: impl std::fmt::Display) -> BodyFileError {
     BodyFileError::Hdf5 {
         path: path.to_path_buf(),
         object: object.to_string(),
@@ -160,7 +161,7 @@ pub(crate) fn check_body(path: &Path, b: &ReducedBody) -> Result<(), BodyFileErr
 }
 
 /// Row-major copy of a matrix.
-fn row_major(m: &Mat<f64>) -> Vec<f64> {
+pub(super) fn row_major(m: &Mat<f64>) -> Vec<f64> {
     let mut v = Vec::with_capacity(m.nrows() * m.ncols());
     for r in 0..m.nrows() {
         for c in 0..m.ncols() {
@@ -184,7 +185,7 @@ const CHUNK_ROWS: u64 = 2048;
 /// Stores a float array of the given shape (row-major data) chunked along its first axis with a
 /// Fletcher-32 checksum per chunk (HDF5 filter 3), so that a damaged file is detected when read,
 /// not silently used.
-fn checksummed(b: &mut hdf5_pure::DatasetBuilder, data: &[f64], shape: &[u64]) {
+pub(super) fn checksummed(b: &mut hdf5_pure::DatasetBuilder, data: &[f64], shape: &[u64]) {
     b.with_f64_data(data).with_shape(shape);
     if !data.is_empty() {
         let mut chunk = shape.to_vec();
@@ -203,7 +204,11 @@ fn checksummed_u64(b: &mut hdf5_pure::DatasetBuilder, data: &[u64]) {
 }
 
 /// Serializes a checked body into the bytes of an HDF5 file.
-pub(crate) fn encode_body(path: &Path, b: &ReducedBody) -> Result<Vec<u8>, BodyFileError> {
+pub(crate) fn encode_body(
+    path: &Path,
+    b: &ReducedBody,
+    geometric: Option<&GeometricStiffness>,
+) -> Result<Vec<u8>, BodyFileError> {
     let n = b.num_nodes() as u64;
     let nf = b.num_modes() as u64;
     let mut fb = FileBuilder::new();
@@ -312,18 +317,22 @@ pub(crate) fn encode_body(path: &Path, b: &ReducedBody) -> Result<Vec<u8>, BodyF
     checksummed_u64(cells.create_dataset("connectivity"), &conn);
     fb.add_group(cells.finish());
 
+    if let Some(g) = geometric {
+        super::geometric::encode(&mut fb, g);
+    }
+
     fb.finish().map_err(|e| hdf5_error(path, "/", e))
 }
 
 /// Reader of one file: keeps the path for error messages.
-struct Reader<'a> {
-    path: &'a Path,
+pub(super) struct Reader<'a> {
+    pub(super) path: &'a Path,
     file: File,
 }
 
 impl Reader<'_> {
     /// The dataset at `name`, or `None` if nothing is there.
-    fn optional(&self, name: &str) -> Result<Option<Dataset>, BodyFileError> {
+    pub(super) fn optional(&self, name: &str) -> Result<Option<Dataset>, BodyFileError> {
         match self.file.dataset(name) {
             Ok(d) => Ok(Some(d)),
             Err(hdf5_pure::Error::Format(FormatError::PathNotFound(_))) => Ok(None),
@@ -331,7 +340,7 @@ impl Reader<'_> {
         }
     }
 
-    fn required(&self, name: &str) -> Result<Dataset, BodyFileError> {
+    pub(super) fn required(&self, name: &str) -> Result<Dataset, BodyFileError> {
         self.optional(name)?
             .ok_or_else(|| BodyFileError::MissingDataset {
                 path: self.path.to_path_buf(),
@@ -340,7 +349,7 @@ impl Reader<'_> {
     }
 
     /// Checks the shape of a dataset against `expected` (`None` = any extent).
-    fn shape(
+    pub(super) fn shape(
         &self,
         name: &str,
         d: &Dataset,
@@ -382,7 +391,7 @@ impl Reader<'_> {
     }
 
     /// A float64 dataset of the given shape, flattened row-major.
-    fn f64s(
+    pub(super) fn f64s(
         &self,
         name: &str,
         d: &Dataset,
@@ -500,7 +509,7 @@ fn attr_int(
 }
 
 /// Parses the bytes of a reduced-body file.
-pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, BodyFileError> {
+pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyFileError> {
     let file = File::from_bytes(bytes).map_err(|e| hdf5_error(path, "/", e))?;
     let r = Reader { path, file };
     let root = r.attrs("/")?;
@@ -635,7 +644,8 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, Bo
         provenance,
     };
     check_body(path, &body)?;
-    Ok(body)
+    let geometric = super::geometric::decode(&r, nf)?;
+    Ok(BodyFile { body, geometric })
 }
 
 /// Cells from `cells/kind`, `cells/offsets` and `cells/connectivity`.

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 use faer::Mat;
+use flexmbs_fe::geometric::{GeometricStiffness, InertialLoad};
 use flexmbs_fe::mesh::ElementKind;
 use flexmbs_fe::reduction::{Cell, ModeLabel, Provenance, ReducedBody, ReductionKind};
 use flexmbs_fe::UnitSystem;
@@ -114,6 +115,29 @@ pub fn sample_body(n: usize, nf: usize, seed: u64) -> ReducedBody {
             program: "flexmbs 0.1.0".into(),
             notes: "Hex20, consistent mass, E = 210 GPa, ν = 0.3 (µm mesh)".into(),
         },
+    }
+}
+
+/// Six centrifugal geometric stiffness matrices for a body of `nf` modes: exactly symmetric,
+/// full-mantissa pseudo-random entries, pattern `xx` set to zero (as for a beam along x).
+pub fn sample_geometric(nf: usize, seed: u64) -> GeometricStiffness {
+    let mut rng = Rng::new(seed);
+    let load_patterns = InertialLoad::centrifugal();
+    let matrices = load_patterns
+        .iter()
+        .enumerate()
+        .map(|(p, _)| {
+            let a = Mat::from_fn(nf, nf, |_, _| rng.next() * 10f64.powi(p as i32 - 2));
+            Mat::from_fn(
+                nf,
+                nf,
+                |i, j| if p == 0 { 0.0 } else { a[(i, j)] + a[(j, i)] },
+            )
+        })
+        .collect();
+    GeometricStiffness {
+        load_patterns,
+        matrices,
     }
 }
 
