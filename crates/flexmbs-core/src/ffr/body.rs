@@ -241,8 +241,8 @@ impl FfrBody {
     /// Damping derived from `m_ff` (Rayleigh, modal ratios) uses the translational `m_ff` only.
     /// For a beam mesh the inertias come from its lumped mass matrix:
     /// `flexmbs_io::full_mass::node_rotary_inertias` (then `rotary_inertias_to_si` for an
-    /// SI(mm) body), as `flexmbs run` does. With rotary inertia set, [`super::FfrElement`] uses
-    /// the finite-difference tangent (the analytic tangent covers the translational terms only).
+    /// SI(mm) body), as `flexmbs run` does. The analytic tangent ([`Self::force_tangents`])
+    /// includes the rotary terms.
     pub fn set_rotary_inertia(
         &mut self,
         node_inertia: &[nalgebra::Matrix3<f64>],

@@ -195,8 +195,7 @@ impl Element for FfrElement {
         mut dh_du: MatMut<'_, f64>,
         scratch: &mut TangentScratch,
     ) {
-        // the analytic tangent does not cover node rotary inertia (`ffr/rotary.rs`) yet
-        if !self.analytic_tangent || self.body.rotary.is_some() {
+        if !self.analytic_tangent {
             finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, scratch);
             return;
         }

@@ -17,6 +17,10 @@
 //!   O(n_f) per evaluation. `h` is quadratic in `w`, so its `w` differences are exact up to
 //!   round-off (step `max(1, |w|)`); the rotation columns use the step 1e-6 (truncation O(1e-12)).
 //!
+//! - node rotary inertia ([`super::RotaryInertia`], `ffr/rotary.rs`): its terms depend on the
+//!   rotation, `w` and `q_f_dot` only; they are part of the light evaluation (rotation and `w`
+//!   columns), and its `q_f_dot` columns are `-H^T ω~ C` (w rows).
+//!
 //! The whole tangent costs about `25 n_f^2` multiply-adds, versus `2 n_u` full force
 //! evaluations (`~ 20 n_f^3`) of the finite-difference default. No allocation.
 
@@ -143,6 +147,9 @@ impl FfrBody {
                 acc -= inv.s_bar[(k, a)] * gb[k];
             }
             out[6 + a] = -acc - kd[a];
+        }
+        if let Some(r) = &self.rotary {
+            r.add_quadratic_velocity(s, out);
         }
     }
 
@@ -306,7 +313,12 @@ impl FfrBody {
             let ditt = Matrix3::identity() * uc.trace() - uc;
             let cq = w.cross(&(ditt * w)) + 2.0 * (yc.trace() * w - yc.transpose() * w) + ditt * z;
             let w_q = ht * (sc.cross(&gb) - cq);
-            let w_u = -(ht * (2.0 * (pc.trace() * w - pc.transpose() * w)));
+            let mut w_u = -(ht * (2.0 * (pc.trace() * w - pc.transpose() * w)));
+            if let Some(r) = &self.rotary {
+                // node rotary inertia: d/dq_f_dot,c of -H^T [ω x (I_s ω + C q_f_dot)]
+                let cc = Vector3::new(r.c[(0, c)], r.c[(1, c)], r.c[(2, c)]);
+                w_u -= ht * w.cross(&cc);
+            }
             for i in 0..3 {
                 dh_dq[(i, 6 + c)] = r_q[i];
                 dh_du[(i, 6 + c)] = r_u[i];

@@ -1,7 +1,7 @@
 //! The analytic FFR tangent ([`FfrBody::force_tangents`]) against central finite differences
 //! of the full force evaluation (the element contract's default tangent).
 
-use super::tests::{body_of, random_data, random_state};
+use super::tests::{body_of, random_data, random_state, rnd};
 use super::*;
 use crate::element::{finite_difference_tangents, Element, TangentScratch};
 use faer::Mat;
@@ -22,11 +22,32 @@ fn rel(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
 
 /// Analytic and finite-difference tangents of one body at `count` random states.
 fn compare(rot: RotationParam, with_damping: bool, seed: u64, count: usize) -> (f64, f64) {
+    compare_bodies(rot, with_damping, false, seed, count)
+}
+
+/// [`compare`], optionally with random node rotary inertias (symmetric positive definite, of the
+/// order of the node masses, so that their terms are not negligible).
+fn compare_bodies(
+    rot: RotationParam,
+    with_damping: bool,
+    with_rotary: bool,
+    seed: u64,
+    count: usize,
+) -> (f64, f64) {
     let mut seed = seed;
     let d = random_data(&mut seed, 7, 5, 0.2);
     let mut body = body_of(&d, rot, true);
     if with_damping {
         body.set_rayleigh_damping(0.3, 0.01);
+    }
+    if with_rotary {
+        let inertias: Vec<_> = (0..body.num_nodes())
+            .map(|_| {
+                let b = nalgebra::Matrix3::from_fn(|_, _| rnd(&mut seed));
+                b * b.transpose() + nalgebra::Matrix3::identity() * 0.1
+            })
+            .collect();
+        body.set_rotary_inertia(&inertias).unwrap();
     }
     let fd = FfrElement::new(body.clone()).with_finite_difference_tangent();
     let an = FfrElement::new(body.clone());
@@ -54,6 +75,21 @@ fn cardan_tangent_equals_finite_differences() {
     eprintln!("relative errors dh/dq {eq:e}, dh/du {eu:e}");
     assert!(eq < 1e-7, "dh/dq relative error {eq:e}");
     assert!(eu < 1e-8, "dh/du relative error {eu:e}");
+}
+
+/// Node rotary inertia (`ffr/rotary.rs`), Cardan angles with damping and quaternions: the same
+/// tolerances (before, bodies with rotary inertia fell back to the finite-difference tangent).
+#[test]
+fn rotary_inertia_tangent_equals_finite_differences() {
+    for (rot, damping, seed) in [
+        (RotationParam::Cardan, true, 31),
+        (RotationParam::Quaternion, false, 37),
+    ] {
+        let (eq, eu) = compare_bodies(rot, damping, true, seed, 8);
+        eprintln!("{rot:?} with rotary inertia: relative errors dh/dq {eq:e}, dh/du {eu:e}");
+        assert!(eq < 1e-7, "dh/dq relative error {eq:e}");
+        assert!(eu < 1e-8, "dh/du relative error {eu:e}");
+    }
 }
 
 /// Quaternion coordinates (tangent along `q ⊕ dv`), undamped.
