@@ -85,8 +85,13 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
                 p.t, p.steps, p.newton_iterations
             )
         } else {
+            let rejected = if p.rejected > 0 {
+                format!(" ({} rejected, h = {:.3e} s)", p.rejected, p.h)
+            } else {
+                String::new()
+            };
             format!(
-                "t = {:.4e} / {:.4e} s, {} steps, {:.0} steps/s",
+                "t = {:.4e} / {:.4e} s, {} steps{rejected}, {:.0} steps/s",
                 p.t, p.t_end, p.steps, rate
             )
         });

@@ -52,6 +52,8 @@ pub struct Progress {
     pub newton_iterations: usize,
     /// Last step size (statics: load increment).
     pub h: f64,
+    /// Rejected steps so far (adaptive integrators).
+    pub rejected: usize,
 }
 
 /// Summary of a finished (completed or interrupted) run.
@@ -240,6 +242,7 @@ impl<'a> Recorder<'a> {
             steps: self.steps,
             newton_iterations: self.newton,
             h: st.h,
+            rejected: st.rejected,
         });
         if stop.load(Ordering::Relaxed) {
             ControlFlow::Break(())
@@ -552,6 +555,7 @@ fn integrate(
                     steps: st.increments,
                     newton_iterations: st.iterations,
                     h: dmu,
+                    rejected: 0,
                 });
             })?;
             rec.steps = st.increments;

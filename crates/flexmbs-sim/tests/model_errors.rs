@@ -277,6 +277,13 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
         "unconstrained models only",
     ),
     (
+        "t_end = \"0.01 s\"",
+        "t_end = \"0.01 s\"\nrho_inf = 1.0\nadaptive = { rtol = 1e-6 }",
+        "solver.adaptive",
+        "adaptive = { rtol = 1e-6 }",
+        "needs numerical damping (rho_inf < 1)",
+    ),
+    (
         "type = \"generalized-alpha\"",
         "type = \"rk4\"",
         "solver.type",

@@ -510,3 +510,36 @@ fn calculix_pendulum_quarter_period_matches_rigid_pendulum() {
         "hinge force {mean} N"
     );
 }
+
+/// Rejected steps of an adaptive run reach the progress callback while it runs (the CLI shows them
+/// in the progress bar): the double pendulum with adaptive generalized-alpha started with a far too
+/// large first step (0.1 s) rejects steps, and the last progress report carries the summary's count.
+#[test]
+fn progress_reports_rejected_steps() {
+    let base = std::fs::read_to_string(example("double_pendulum.toml")).unwrap();
+    let text = base
+        .replace(
+            "h = \"1 ms\"",
+            "h = \"0.1 s\"\nadaptive = { rtol = 1e-6, atol = 1e-6 }",
+        )
+        .replace("rho_inf = 1.0 ", "rho_inf = 0.9 "); // adaptive needs damping with joints
+    assert_ne!(text, base);
+    let out = out_dir("adaptive-progress");
+    std::fs::create_dir_all(&out).unwrap();
+    let model = out.join("adaptive.toml");
+    std::fs::write(&model, text).unwrap();
+    let cm = flexmbs_sim::load_model(&model).unwrap();
+    let (mut last, mut reports) = (0usize, 0usize);
+    let summary = run_model(&cm, &RunOptions::new(out.join("run")), &mut |p| {
+        assert!(p.rejected >= last, "rejected count decreased");
+        last = p.rejected;
+        reports += 1;
+    })
+    .unwrap();
+    eprintln!(
+        "adaptive double pendulum: {} steps, {} rejected, {reports} progress reports",
+        summary.steps, summary.rejected
+    );
+    assert!(summary.rejected > 0, "expected rejected steps");
+    assert_eq!(last, summary.rejected);
+}

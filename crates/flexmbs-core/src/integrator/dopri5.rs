@@ -224,6 +224,7 @@ impl Dopri5 {
                     g_max,
                     g_dot_max,
                     error_estimate: err,
+                    rejected: run.rejected,
                 };
                 evals = 0;
                 if on_step(s, &stats).is_break() {

@@ -38,6 +38,8 @@ pub struct StepStats {
     pub g_dot_max: f64,
     /// Scaled local error estimate (1 = tolerance; 0 when not estimated).
     pub error_estimate: f64,
+    /// Steps rejected so far in this run (adaptive integrators; 0 for fixed steps).
+    pub rejected: usize,
 }
 
 /// Outcome of an integration whose step callback can stop it
