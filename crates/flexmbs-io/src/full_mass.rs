@@ -201,8 +201,8 @@ pub fn node_rotary_inertias(
     Ok(out)
 }
 
-/// Lumped node rotary inertias of a beam mesh, in the mesh's units, one per body node (`n_nodes
-/// >= mesh.num_nodes()`, extra nodes get zero): [`node_rotary_inertias`] of the **lumped** mass
+/// Lumped node rotary inertias of a beam mesh, in the mesh's units, one per body node
+/// (`n_nodes >= mesh.num_nodes()`, extra nodes get zero): [`node_rotary_inertias`] of the **lumped** mass
 /// matrix of `mesh` (torsion `rho I_p L/2`, bending `rho A L^3/78 + rho I L/2` per element end,
 /// `flexmbs_fe::element::beam`), whatever mass the body was reduced with. `None` for meshes
 /// without rotational DOFs (solid meshes). This is what `flexmbs reduce` stores in the

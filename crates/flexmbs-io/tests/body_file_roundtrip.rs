@@ -310,7 +310,10 @@ fn rotary_inertia_round_trip_is_bit_identical() {
         f.write(&path).unwrap();
         let back = read_body_file(&path).unwrap();
         assert_bits_equal(&back.body, &body);
-        let rb = back.rotary_inertia.as_deref().expect("rotary inertias lost");
+        let rb = back
+            .rotary_inertia
+            .as_deref()
+            .expect("rotary inertias lost");
         assert_eq!(rotary_bits(rb), rotary_bits(&r));
         assert_eq!(back, f);
         assert_eq!(read_body(&path).unwrap(), body);

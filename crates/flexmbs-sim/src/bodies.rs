@@ -6,7 +6,6 @@ use crate::error::SimError;
 use crate::mass_model::{
     beam_rotary_inertias, check_consistent_source, full_mass_to_si, CONSISTENT_NEEDS_FE_MODEL,
 };
-use flexmbs_io::full_mass::rotary_inertias_to_si;
 use crate::schema::{BodySpec, BodyType, InertiaSpec, MassModel, ModeSelection, RotationName};
 use crate::stiffening::{
     centrifugal_stiffness, geometric_to_si, select_geometric_modes, FeModel, NO_STORED_STIFFNESS,
@@ -19,6 +18,7 @@ use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::{Cell, ReducedBody};
 use flexmbs_fe::ElementKind;
 use flexmbs_fe::SparseMatrix;
+use flexmbs_io::full_mass::rotary_inertias_to_si;
 use flexmbs_io::pipeline::{prepare, resolve, run_reduction};
 use nalgebra::{Matrix3, Vector3};
 use std::path::Path;

@@ -44,7 +44,10 @@ fn shaft_mm() -> String {
         .replace("name = \"shaft\"", "name = \"shaft\"\nunits = \"SI(mm)\"")
         .replace("end = [1.0, 0.0, 0.0]", "end = [1000.0, 0.0, 0.0]")
         .replace("width = 0.02, height = 0.02", "width = 20.0, height = 20.0")
-        .replace("e = 210e9, nu = 0.3, rho = 7850.0", "e = 210000.0, nu = 0.3, rho = 7.85e-9");
+        .replace(
+            "e = 210e9, nu = 0.3, rho = 7850.0",
+            "e = 210000.0, nu = 0.3, rho = 7.85e-9",
+        );
     assert!(s.contains("SI(mm)") && s.contains("1000.0") && s.contains("7.85e-9"));
     s
 }
@@ -123,10 +126,14 @@ fn run(dir: &Path, text: &str) -> Result<Vec<Vec<f64>>, String> {
         return Err(format!("run ended with {:?}", summary.status));
     }
     let r = read_results(&out.join("results.h5")).unwrap();
-    let s = ["tip.orientation.x", "tip.deformation.y", "tip.deformation.z"]
-        .iter()
-        .map(|s| r.series(s).unwrap().to_vec())
-        .collect();
+    let s = [
+        "tip.orientation.x",
+        "tip.deformation.y",
+        "tip.deformation.z",
+    ]
+    .iter()
+    .map(|s| r.series(s).unwrap().to_vec())
+    .collect();
     let _ = std::fs::remove_dir_all(&out);
     Ok(s)
 }
@@ -167,12 +174,18 @@ fn body_file_source_matches_fe_source_with_rotary_inertia() {
         std::fs::write(&part, text).unwrap();
         let h5 = dir.join(format!("shaft_{tag}.fmb.h5"));
         let written = reduce_to_file(&part, &h5);
-        let r = written.rotary_inertia.as_ref().expect("beam mesh: inertias");
+        let r = written
+            .rotary_inertia
+            .as_ref()
+            .expect("beam mesh: inertias");
         assert_eq!(r.len(), 11);
         let sum: nalgebra::Matrix3<f64> = r.iter().sum();
         let expected = nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(ixx, iyy, iyy));
         let dev = (sum / scale - expected).abs().max() / ixx.max(iyy);
-        eprintln!("{tag}: sum of node inertias {:?}, rel. dev {dev:e}", sum.diagonal());
+        eprintln!(
+            "{tag}: sum of node inertias {:?}, rel. dev {dev:e}",
+            sum.diagonal()
+        );
         assert!(dev < 1e-12, "{tag}: {sum} vs {expected}");
 
         for modes in ["", "modes = [1, 9]"] {
@@ -203,7 +216,11 @@ fn rotary_inertia_false_opts_out_for_body_files() {
     let h5 = dir.join("shaft.fmb.h5");
     reduce_to_file(&part, &h5);
     for src in [&part, &h5] {
-        let e = run(&dir, &model_text(src, "modes = [1, 9]\nrotary_inertia = false")).unwrap_err();
+        let e = run(
+            &dir,
+            &model_text(src, "modes = [1, 9]\nrotary_inertia = false"),
+        )
+        .unwrap_err();
         eprintln!("{}: {e}", src.display());
         assert!(e.contains("singular"), "{e}");
     }
@@ -247,9 +264,10 @@ fn rotary_inertia_true_on_file_without_them_is_located() {
         "{msg}"
     );
     assert!(compile_model(&model_text(&plain, "modes = [1, 2]"), &file).is_ok());
-    assert!(
-        compile_model(&model_text(&dir.join("full.fmb.h5"), "rotary_inertia = true"), &file)
-            .is_ok()
-    );
+    assert!(compile_model(
+        &model_text(&dir.join("full.fmb.h5"), "rotary_inertia = true"),
+        &file
+    )
+    .is_ok());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -99,7 +99,10 @@ fn body_file_source_matches_fe_source_with_stiffening() {
         g
     );
 
-    assert!(written.rotary_inertia.is_some(), "beam mesh: rotary inertias expected");
+    assert!(
+        written.rotary_inertia.is_some(),
+        "beam mesh: rotary inertias expected"
+    );
     let fe_src = |s: &str| s.to_string();
     let h5_source = format!("source = {:?}", h5.display().to_string());
     let file_src = |s: &str| s.replace("source = \"parts/rotor_tube.toml\"", &h5_source);

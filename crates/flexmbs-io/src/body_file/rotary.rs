@@ -30,7 +30,10 @@ pub(crate) fn check(
 ) -> Result<(), BodyFileError> {
     let bad = |message: String| invalid(path, object, message);
     if inertia.len() != n {
-        return Err(bad(format!("{} node inertias for {n} nodes", inertia.len())));
+        return Err(bad(format!(
+            "{} node inertias for {n} nodes",
+            inertia.len()
+        )));
     }
     for (j, ij) in inertia.iter().enumerate() {
         if let Some(v) = ij.iter().find(|v| !v.is_finite()) {
