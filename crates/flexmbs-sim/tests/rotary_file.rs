@@ -52,8 +52,8 @@ fn shaft_mm() -> String {
     s
 }
 
-/// The steps of `flexmbs reduce part.toml -o out`: prepare, reduce, centrifugal `K_G` is not
-/// needed here; the node rotary inertias of the beam mesh (body units) are stored.
+/// The steps of `flexmbs reduce part.toml -o out --no-geometric`: prepare, reduce, store the
+/// body with the node rotary inertias of the beam mesh (body units).
 fn reduce_to_file(part: &Path, out: &Path) -> BodyFile {
     let src = FeModelSource::read(part).unwrap();
     let spec = &src.model.body;
