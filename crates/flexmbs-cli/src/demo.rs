@@ -54,7 +54,15 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
         flexmbs_io::report::modal_csv(&rows),
     )?;
     let body_path = out.join("cantilever.h5");
-    flexmbs_io::body_file::write_body_file(&body_path, &reduced, kg.as_ref())?;
+    let rotary_inertia =
+        flexmbs_io::full_mass::beam_node_rotary_inertias(&body.mesh, reduced.num_nodes())
+            .map_err(anyhow::Error::msg)?;
+    flexmbs_io::body_file::BodyFile {
+        body: reduced.clone(),
+        geometric: kg,
+        rotary_inertia,
+    }
+    .write(&body_path)?;
     let vtk_dir = out.join("modes");
     let files = flexmbs_io::vtk::write_mode_shapes(&vtk_dir, &reduced, 0.1)?;
 

@@ -196,7 +196,7 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             no_geometric,
         } => {
             let f = reduce_model_file(&model, quiet, !no_geometric)?;
-            flexmbs_io::body_file::write_body_file(&output, &f.body, f.geometric.as_ref())
+            f.write(&output)
                 .with_context(|| format!("writing {}", output.display()))?;
             let kg = match (&f.geometric, no_geometric) {
                 (Some(g), _) => format!(
@@ -206,8 +206,13 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
                 (None, true) => String::new(),
                 (None, false) => ", no geometric stiffness (no fixed nodes)".into(),
             };
+            let rot = if f.rotary_inertia.is_some() {
+                ", beam node rotary inertias"
+            } else {
+                ""
+            };
             println!(
-                "wrote {} ({} nodes, {} modes{kg})",
+                "wrote {} ({} nodes, {} modes{kg}{rot})",
                 output.display(),
                 f.body.num_nodes(),
                 f.body.num_modes()
@@ -330,17 +335,16 @@ fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
 
 /// The reduced body of an FE model file and, if `geometric` and the body has fixed nodes, its
 /// centrifugal geometric stiffness (`flexmbs_io::geometric`, as a multibody model computes it
-/// from the FE model). Seed folders have no FE model and get none.
+/// from the FE model), and for a beam mesh its lumped node rotary inertias
+/// (`flexmbs_io::full_mass::beam_node_rotary_inertias`, as a multibody model computes them).
+/// Seed folders have no FE model and get neither.
 fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyFile> {
     let spec = read_fe_model(model)?.body;
     let base = model.parent().unwrap_or(Path::new("."));
     if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
         let dir = flexmbs_io::pipeline::resolve(base, dir);
         let body = flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)?;
-        return Ok(BodyFile {
-            body,
-            geometric: None,
-        });
+        return Ok(BodyFile::plain(body));
     }
     let (prepared, src) = load(model, quiet)?;
     let spec = &src.model.body;
@@ -364,7 +368,16 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
     };
     p.finish();
     let geometric = g.context("geometric stiffness")?;
-    Ok(BodyFile { body, geometric })
+    // beam meshes: the lumped node rotary inertias a multibody model applies to an FE source
+    let rotary_inertia =
+        flexmbs_io::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
+            .map_err(anyhow::Error::msg)
+            .context("node rotary inertias")?;
+    Ok(BodyFile {
+        body,
+        geometric,
+        rotary_inertia,
+    })
 }
 
 fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Result<()> {

@@ -1,6 +1,6 @@
 //! `flexmbs reduce` stores the centrifugal geometric stiffness of a body with fixed nodes in the
 //! reduced-body file (bitwise what a multibody model computes from the FE model), none for a
-//! free-free body, and none with `--no-geometric`.
+//! free-free body, and none with `--no-geometric`; beam meshes get their node rotary inertias.
 
 use flexmbs_io::body_file::read_body_file;
 use flexmbs_sim::bodies::load_reduced_with_fe;
@@ -66,5 +66,38 @@ fn reduce_stores_geometric_stiffness_of_supported_bodies() {
         "{msg}"
     );
     assert_eq!(read_body_file(&rod).unwrap().geometric, None);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `flexmbs reduce` stores the lumped node rotary inertias of a beam mesh (bitwise the ones a
+/// multibody model computes from the FE model file; the tube's torsion sum `rho (I_y + I_z) L`
+/// to 1e-12) and says so; a solid mesh gets none.
+#[test]
+fn reduce_stores_rotary_inertias_of_beam_meshes() {
+    let dir = std::env::temp_dir().join(format!("flexmbs_reduce_rot_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let tube = dir.join("tube.fmb.h5");
+    let msg = reduce(&part("rotor_tube"), &tube, &["--no-geometric"]);
+    assert!(msg.contains("beam node rotary inertias"), "{msg}");
+    let f = read_body_file(&tube).unwrap();
+    let (body, fe) =
+        load_reduced_with_fe(&part("rotor_tube"), Path::new("."), "b", Default::default()).unwrap();
+    let expected = flexmbs_sim::mass_model::beam_rotary_inertias(fe.as_ref().unwrap(), &body)
+        .unwrap()
+        .expect("beam mesh");
+    let stored = f.rotary_inertia.expect("no rotary inertias stored");
+    assert_eq!(stored, expected);
+    // tube r_o = 10 mm, wall 1 mm: I_y + I_z = pi (r_o^4 - r_i^4) / 2, rho = 2700, L = 1 m
+    let ip = std::f64::consts::PI * (0.01f64.powi(4) - 0.009f64.powi(4)) / 2.0;
+    let sum: f64 = stored.iter().map(|m| m[(0, 0)]).sum();
+    let rel = (sum - 2700.0 * ip) / (2700.0 * ip);
+    eprintln!("tube torsion inertia sum {sum:e} kg m^2, rel. dev {rel:e}");
+    assert!(rel.abs() < 1e-12, "{sum} vs {}", 2700.0 * ip);
+
+    let solid = dir.join("solid.fmb.h5");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cantilever_modal.toml");
+    let msg = reduce(&model, &solid, &["--no-geometric"]);
+    assert!(!msg.contains("rotary"), "{msg}");
+    assert_eq!(read_body_file(&solid).unwrap().rotary_inertia, None);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -12,8 +12,10 @@
 
 mod geometric;
 mod h5;
+mod rotary;
 
 pub use geometric::{parse_pattern_name, pattern_name, SYMMETRY_TOLERANCE};
+pub use rotary::ROTARY_INERTIA_TOLERANCE;
 
 use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::ReducedBody;
@@ -124,7 +126,8 @@ pub enum BodyFileError {
     },
 }
 
-/// Contents of a reduced-body file: the body and, if stored, its geometric stiffness.
+/// Contents of a reduced-body file: the body and, if stored, its geometric stiffness and node
+/// rotary inertias.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyFile {
     /// The reduced body.
@@ -133,6 +136,36 @@ pub struct BodyFile {
     /// units (optional group `geometric`; written by `flexmbs reduce` for bodies with fixed
     /// nodes: the six centrifugal patterns, supported on the fixed nodes).
     pub geometric: Option<GeometricStiffness>,
+    /// Lumped node rotary inertias `I_j` (one 3 x 3 matrix per node of `body`, body frame, units
+    /// of `body`: mass · length²; optional dataset `nodes/rotary_inertia`, written by
+    /// `flexmbs reduce` for beam meshes, see
+    /// [`crate::full_mass::beam_node_rotary_inertias`]). `None` for solid bodies and files
+    /// written before the dataset existed.
+    pub rotary_inertia: Option<Vec<nalgebra::Matrix3<f64>>>,
+}
+
+impl BodyFile {
+    /// A file holding `body` only (no geometric stiffness, no node rotary inertias).
+    pub fn plain(body: ReducedBody) -> Self {
+        Self {
+            body,
+            geometric: None,
+            rotary_inertia: None,
+        }
+    }
+
+    /// Writes the body and its optional parts to the reduced-body file `path` (see
+    /// [`write_body_file`]). The node rotary inertias must be one per node, finite, symmetric
+    /// and positive semi-definite (to [`ROTARY_INERTIA_TOLERANCE`] relative), else the result is
+    /// a [`BodyFileError::Invalid`] naming `nodes/rotary_inertia` and nothing is written.
+    pub fn write(&self, path: &Path) -> Result<(), BodyFileError> {
+        write_parts(
+            path,
+            &self.body,
+            self.geometric.as_ref(),
+            self.rotary_inertia.as_deref(),
+        )
+    }
 }
 
 /// Writes `body` to the reduced-body file `path` (HDF5, layout version [`FORMAT_VERSION`]),
@@ -151,17 +184,31 @@ pub fn write_body(path: &Path, body: &ReducedBody) -> Result<(), BodyFileError> 
 ///
 /// `geometric` must hold at least one valid, distinct load pattern and one finite, symmetric
 /// (to [`SYMMETRY_TOLERANCE`] relative) `N_f × N_f` matrix per pattern, else the result is a
-/// [`BodyFileError::Invalid`] naming `geometric/stiffness` and nothing is written.
+/// [`BodyFileError::Invalid`] naming `geometric/stiffness` and nothing is written. Node rotary
+/// inertias are written by [`BodyFile::write`].
 pub fn write_body_file(
     path: &Path,
     body: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
 ) -> Result<(), BodyFileError> {
+    write_parts(path, body, geometric, None)
+}
+
+/// Checks and writes a body with its optional parts (atomic replace of `path`).
+fn write_parts(
+    path: &Path,
+    body: &ReducedBody,
+    geometric: Option<&GeometricStiffness>,
+    rotary_inertia: Option<&[nalgebra::Matrix3<f64>]>,
+) -> Result<(), BodyFileError> {
     h5::check_body(path, body)?;
     if let Some(g) = geometric {
         geometric::check(path, geometric::STIFFNESS, g, body.num_modes())?;
     }
-    let bytes = h5::encode_body(path, body, geometric)?;
+    if let Some(r) = rotary_inertia {
+        rotary::check(path, rotary::ROTARY_INERTIA, r, body.num_nodes())?;
+    }
+    let bytes = h5::encode_body(path, body, geometric, rotary_inertia)?;
     let tmp = temporary_sibling(path);
     std::fs::write(&tmp, &bytes).map_err(|source| BodyFileError::Io {
         path: tmp.clone(),
@@ -177,15 +224,17 @@ pub fn write_body_file(
 }
 
 /// Reads a reduced-body file written by [`write_body`] (or by any HDF5 writer following the
-/// documented layout, e.g. h5py). A stored geometric stiffness is checked but not returned (see
-/// [`read_body_file`]).
+/// documented layout, e.g. h5py). A stored geometric stiffness or node rotary inertia is checked
+/// but not returned (see [`read_body_file`]).
 pub fn read_body(path: &Path) -> Result<ReducedBody, BodyFileError> {
     read_body_file(path).map(|f| f.body)
 }
 
 /// Reads a reduced-body file with its optional geometric stiffness (`None` if the file has no
-/// `geometric` group, as files written before it existed). A malformed group (one dataset
-/// without the other, unknown pattern name, wrong shape or type, non-finite or unsymmetric
+/// `geometric` group, as files written before it existed) and node rotary inertias (`None`
+/// without `nodes/rotary_inertia`). A malformed group (one dataset without the other, unknown
+/// pattern name, wrong shape or type, non-finite or unsymmetric matrix) or node inertia
+/// dataset (shape other than `[N, 3, 3]`, not float64, non-finite, unsymmetric or indefinite
 /// matrix) is an error naming the dataset.
 pub fn read_body_file(path: &Path) -> Result<BodyFile, BodyFileError> {
     let bytes = std::fs::read(path).map_err(|source| BodyFileError::Io {
@@ -204,7 +253,8 @@ pub fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<ReducedBody, BodyFileE
     decode_body_file(path, bytes).map(|f| f.body)
 }
 
-/// [`decode_body`] with the optional geometric stiffness (see [`read_body_file`]).
+/// [`decode_body`] with the optional geometric stiffness and node rotary inertias (see
+/// [`read_body_file`]).
 pub fn decode_body_file(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyFileError> {
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         h5::decode_body(path, bytes)

@@ -201,6 +201,31 @@ pub fn node_rotary_inertias(
     Ok(out)
 }
 
+/// Lumped node rotary inertias of a beam mesh, in the mesh's units, one per body node
+/// (`n_nodes >= mesh.num_nodes()`, extra nodes get zero): [`node_rotary_inertias`] of the **lumped** mass
+/// matrix of `mesh` (torsion `rho I_p L/2`, bending `rho A L^3/78 + rho I L/2` per element end,
+/// `flexmbs_fe::element::beam`), whatever mass the body was reduced with. `None` for meshes
+/// without rotational DOFs (solid meshes). This is what `flexmbs reduce` stores in the
+/// reduced-body file (`nodes/rotary_inertia`) and what a multibody model applies to an FE-source
+/// beam body, so both give the same body. Errors as text.
+pub fn beam_node_rotary_inertias(
+    mesh: &Mesh,
+    n_nodes: usize,
+) -> Result<Option<Vec<nalgebra::Matrix3<f64>>>, String> {
+    let dofs = mesh.node_dofs();
+    if !dofs.iter().any(|&c| c >= 6) {
+        return Ok(None);
+    }
+    let lumped = flexmbs_fe::assembly::assemble(
+        mesh,
+        flexmbs_fe::element::MassKind::Lumped,
+        &[],
+        &mut |_, _| {},
+    )
+    .map_err(|e| format!("lumped beam mass for the node rotary inertias: {e}"))?;
+    node_rotary_inertias(&lumped.m, &dofs, n_nodes).map(Some)
+}
+
 /// Node rotary inertias converted from `units` to SI (`mass_to_si * length_to_si^2`).
 pub fn rotary_inertias_to_si(
     inertias: &[nalgebra::Matrix3<f64>],

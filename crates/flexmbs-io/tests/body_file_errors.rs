@@ -3,7 +3,7 @@
 
 mod body_file_support;
 
-use body_file_support::{sample_body, sample_geometric, temp_dir};
+use body_file_support::{sample_body, sample_geometric, sample_rotary, temp_dir};
 use flexmbs_io::body_file::{
     decode_body_file, read_body, read_body_file, write_body, write_body_file, BodyFile,
     BodyFileError,
@@ -23,6 +23,20 @@ fn written_kg(tag: &str) -> (PathBuf, PathBuf) {
     let dir = temp_dir(tag);
     let path = dir.join("arm.fmb.h5");
     write_body_file(&path, &sample_body(20, 3, 2), Some(&sample_geometric(3, 4))).unwrap();
+    (dir, path)
+}
+
+/// A valid body file with geometric stiffness and node rotary inertias (20 nodes).
+fn written_rot(tag: &str) -> (PathBuf, PathBuf) {
+    let dir = temp_dir(tag);
+    let path = dir.join("arm.fmb.h5");
+    BodyFile {
+        body: sample_body(20, 3, 2),
+        geometric: Some(sample_geometric(3, 4)),
+        rotary_inertia: Some(sample_rotary(20, 5)),
+    }
+    .write(&path)
+    .unwrap();
     (dir, path)
 }
 
@@ -187,6 +201,7 @@ fn truncations_are_errors(path: PathBuf) {
 fn corrupted_bytes_never_panic() {
     corruptions_are_detected(written("err-flip").1, false);
     corruptions_are_detected(written_kg("err-flip-kg").1, true);
+    corruptions_are_detected(written_rot("err-flip-rot").1, true);
 }
 
 /// `b` with the variable-length strings of `like` (body name, provenance, mode label names):
@@ -417,6 +432,114 @@ fn corrupted_geometric_stiffness_data_is_detected() {
                 "byte {pos}: {e}"
             ),
             Ok(_) => panic!("corruption of K_G byte {} accepted", pos - start),
+        }
+    }
+}
+
+/// The stored node inertias of `written_rot` (20 nodes, row-major `[N, 3, 3]`).
+fn rot_data() -> Vec<f64> {
+    sample_rotary(20, 5)
+        .iter()
+        .flat_map(|m| (0..3).flat_map(move |a| (0..3).map(move |b| m[(a, b)])))
+        .collect()
+}
+
+/// Malformed node rotary inertias: every case is an error naming `nodes/rotary_inertia` (and
+/// the node), also through `read_body`; never a panic, never silently ignored.
+#[test]
+fn malformed_rotary_inertia_is_located() {
+    const DS: &str = "nodes/rotary_inertia";
+    let (_d, path) = written_rot("err-rot-ok");
+    assert!(read_body_file(&path).unwrap().rotary_inertia.is_some());
+
+    // not symmetric: node 6, entry (0, 2) changed by 1e-9 relative
+    let mut d = rot_data();
+    let scale = d[54..63].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    d[54 + 2] += 1e-9 * scale;
+    replace_f64(&path, DS, d, vec![20, 3, 3]);
+    let err = read_body(&path).unwrap_err();
+    assert!(matches!(err, BodyFileError::Invalid { .. }), "{err:?}");
+    let s = err.to_string();
+    assert!(
+        s.contains("'nodes/rotary_inertia'") && s.contains("node 6: not symmetric"),
+        "{s}"
+    );
+
+    // NaN entry at node 11
+    let mut d = rot_data();
+    d[11 * 9 + 4] = f64::NAN;
+    replace_f64(&path, DS, d, vec![20, 3, 3]);
+    let s = read_body_file(&path).unwrap_err().to_string();
+    assert!(s.contains("'nodes/rotary_inertia'") && s.contains("node 11: non-finite entry NaN"));
+
+    // indefinite: node 2 with a negative diagonal entry
+    let mut d = rot_data();
+    d[2 * 9 + 8] = -1.0;
+    replace_f64(&path, DS, d, vec![20, 3, 3]);
+    let s = read_body_file(&path).unwrap_err().to_string();
+    assert!(
+        s.contains("'nodes/rotary_inertia'") && s.contains("node 2: not positive semi-definite"),
+        "{s}"
+    );
+
+    // shapes other than [N, 3, 3]
+    for shape in [vec![19, 3, 3], vec![20, 9], vec![20, 3, 3, 1], vec![180]] {
+        let len: u64 = shape.iter().product();
+        replace_f64(&path, DS, vec![0.0; len as usize], shape.clone());
+        match read_body_file(&path) {
+            Err(BodyFileError::WrongShape {
+                dataset,
+                expected,
+                found,
+                ..
+            }) => {
+                assert_eq!(dataset, DS);
+                assert_eq!(expected, "[N, 3, 3] = [20, 3, 3]");
+                assert_eq!(found, shape);
+            }
+            r => panic!("shape {shape:?}: expected WrongShape, got {r:?}"),
+        }
+    }
+
+    // float32 refused (lossy)
+    edit(&path, |f| {
+        let root = f.root();
+        root.delete(DS).unwrap();
+        root.create_dataset(DS, |b| {
+            b.with_f32_data(&[0.0f32; 180]).with_shape(&[20, 3, 3]);
+        })
+        .unwrap();
+    });
+    assert!(matches!(
+        read_body_file(&path),
+        Err(BodyFileError::WrongType { ref dataset, .. }) if dataset == DS
+    ));
+
+    // removed: the file reads as one without rotary inertias (optional dataset)
+    edit(&path, |f| f.root().delete(DS).unwrap());
+    assert_eq!(read_body_file(&path).unwrap().rotary_inertia, None);
+}
+
+/// Every single-byte corruption of the stored node inertias (located in the file by their
+/// bytes) is detected by the Fletcher-32 checksum of `nodes/rotary_inertia`.
+#[test]
+fn corrupted_rotary_inertia_data_is_detected() {
+    let (_d, path) = written_rot("err-rot-flip");
+    let bytes = std::fs::read(&path).unwrap();
+    let data: Vec<u8> = rot_data().iter().flat_map(|x| x.to_le_bytes()).collect();
+    let start = bytes
+        .windows(data.len())
+        .position(|w| w == data.as_slice())
+        .expect("rotary inertia data not stored contiguously");
+    for pos in start..start + data.len() {
+        let mut b = bytes.clone();
+        b[pos] ^= 0x5a;
+        match decode_body_file(&path, b) {
+            Err(e) => assert!(
+                e.to_string().contains("nodes/rotary_inertia"),
+                "byte {pos}: {e}"
+            ),
+            Ok(_) => panic!("corruption of rotary inertia byte {} accepted", pos - start),
         }
     }
 }

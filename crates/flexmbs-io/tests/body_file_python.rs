@@ -10,7 +10,7 @@ use flexmbs_fe::geometric::InertialLoad;
 use flexmbs_fe::reduction::ReductionKind;
 use flexmbs_fe::UnitSystem;
 use flexmbs_io::body_file::{
-    read_body, read_body_file, write_body, write_body_file, BodyFileError,
+    read_body, read_body_file, write_body, write_body_file, BodyFile, BodyFileError,
 };
 use std::process::Command;
 
@@ -270,4 +270,63 @@ with h5py.File(sys.argv[1], 'a') as f:
             );
         }
     }
+}
+
+/// The optional `nodes/rotary_inertia`: h5py reads ours (shape `(N, 3, 3)`, row-major per node,
+/// exact bits) and we read node inertias h5py writes (a numpy stack of `diag(1, 2, 3) k / 7`),
+/// bit for bit; a non-symmetric one written by h5py is refused with the dataset and node named.
+#[test]
+fn rotary_inertia_interoperates_with_h5py() {
+    if !python_has(&["h5py", "numpy"], "rotary_inertia_interoperates_with_h5py") {
+        return;
+    }
+    let dir = temp_dir("py-rot");
+    let body = sample_body(20, 3, 5);
+    let r = body_file_support::sample_rotary(20, 6);
+    let path = dir.join("beam.fmb.h5");
+    BodyFile {
+        body: body.clone(),
+        geometric: None,
+        rotary_inertia: Some(r.clone()),
+    }
+    .write(&path)
+    .unwrap();
+    let code = r#"
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1], 'a') as f:
+    d = f['nodes/rotary_inertia']
+    assert d.dtype == np.float64 and d.shape == (20, 3, 3), (d.dtype, d.shape)
+    v = d[()]
+    assert np.array_equal(v, np.transpose(v, (0, 2, 1)))
+    print(int(np.float64(v[7, 0, 2]).view(np.uint64)))
+    del f['nodes/rotary_inertia']
+    k = np.arange(20.0).reshape(20, 1, 1)
+    f['nodes/rotary_inertia'] = np.diag([1.0, 2.0, 3.0])[None, :, :] * k / 7.0
+    if sys.argv[2] == 'asym':
+        d = f['nodes/rotary_inertia']
+        d[3, 0, 1] = 1.0
+"#;
+    let out = run_python(code, &[path.to_str().unwrap(), "sym"]);
+    assert_eq!(out.trim().parse::<u64>().unwrap(), r[7][(0, 2)].to_bits());
+    let back = read_body_file(&path).unwrap();
+    assert_eq!(back.body, body);
+    let stored = back.rotary_inertia.unwrap();
+    for (k, m) in stored.iter().enumerate() {
+        for a in 0..3 {
+            for b in 0..3 {
+                let e = if a == b {
+                    (a + 1) as f64 * k as f64 / 7.0
+                } else {
+                    0.0
+                };
+                assert_eq!(m[(a, b)].to_bits(), e.to_bits(), "node {k} ({a}, {b})");
+            }
+        }
+    }
+    run_python(code, &[path.to_str().unwrap(), "asym"]);
+    let s = read_body_file(&path).unwrap_err().to_string();
+    assert!(
+        s.contains("'nodes/rotary_inertia'") && s.contains("node 3: not symmetric"),
+        "{s}"
+    );
 }

@@ -7,7 +7,7 @@ use faer::Mat;
 use flexmbs_fe::geometric::InertialLoad;
 use flexmbs_fe::reduction::{ReducedBody, ReductionKind};
 use flexmbs_io::body_file::{
-    read_body, read_body_file, write_body, write_body_file, BodyFileError,
+    read_body, read_body_file, write_body, write_body_file, BodyFile, BodyFileError,
 };
 use std::time::Instant;
 
@@ -281,4 +281,84 @@ fn inconsistent_geometric_stiffness_is_rejected_before_writing() {
     g.load_patterns.clear();
     g.matrices.clear();
     expect(&g, "no load patterns");
+}
+
+/// Bits of node inertias, row-major per node.
+fn rotary_bits(r: &[nalgebra::Matrix3<f64>]) -> Vec<u64> {
+    r.iter()
+        .flat_map(|m| (0..3).flat_map(move |a| (0..3).map(move |b| m[(a, b)].to_bits())))
+        .collect()
+}
+
+/// The optional node rotary inertias (`nodes/rotary_inertia`) survive write -> read bit for bit,
+/// together with the geometric stiffness and alone, including a zero node, a rank-2 node and a
+/// subnormal off-diagonal pair; a file without them reads with `None`; `read_body` ignores them.
+#[test]
+fn rotary_inertia_round_trip_is_bit_identical() {
+    let dir = temp_dir("rt-rot");
+    let body = sample_body(20, 4, 21);
+    let mut r = body_file_support::sample_rotary(20, 22);
+    r[5][(0, 1)] = f64::MIN_POSITIVE / 8.0;
+    r[5][(1, 0)] = f64::MIN_POSITIVE / 8.0;
+    let path = dir.join("rot.fmb.h5");
+    for geometric in [Some(sample_geometric(4, 23)), None] {
+        let f = BodyFile {
+            body: body.clone(),
+            geometric,
+            rotary_inertia: Some(r.clone()),
+        };
+        f.write(&path).unwrap();
+        let back = read_body_file(&path).unwrap();
+        assert_bits_equal(&back.body, &body);
+        let rb = back
+            .rotary_inertia
+            .as_deref()
+            .expect("rotary inertias lost");
+        assert_eq!(rotary_bits(rb), rotary_bits(&r));
+        assert_eq!(back, f);
+        assert_eq!(read_body(&path).unwrap(), body);
+    }
+    BodyFile::plain(body.clone()).write(&path).unwrap();
+    let plain = read_body_file(&path).unwrap();
+    assert_eq!((plain.geometric, plain.rotary_inertia), (None, None));
+    write_body_file(&path, &body, None).unwrap();
+    assert_eq!(read_body_file(&path).unwrap().rotary_inertia, None);
+}
+
+/// The writer refuses node rotary inertias that do not fit the body or are not finite,
+/// symmetric (1e-12 relative) and positive semi-definite, naming `nodes/rotary_inertia` and the
+/// node; nothing is written.
+#[test]
+fn inconsistent_rotary_inertia_is_rejected_before_writing() {
+    let dir = temp_dir("rt-rot-bad");
+    let path = dir.join("bad.fmb.h5");
+    let body = sample_body(20, 3, 1);
+    let good = body_file_support::sample_rotary(20, 2);
+    let expect = |r: Vec<nalgebra::Matrix3<f64>>, fragment: &str| {
+        let f = BodyFile {
+            body: body.clone(),
+            geometric: None,
+            rotary_inertia: Some(r),
+        };
+        match f.write(&path) {
+            Err(BodyFileError::Invalid {
+                object, message, ..
+            }) => {
+                assert_eq!(object, "nodes/rotary_inertia");
+                assert!(message.contains(fragment), "{message}");
+            }
+            other => panic!("expected Invalid ({fragment}), got {other:?}"),
+        }
+        assert!(!path.exists());
+    };
+    expect(good[..19].to_vec(), "19 node inertias for 20 nodes");
+    let mut r = good.clone();
+    r[7][(2, 2)] = f64::INFINITY;
+    expect(r, "node 7: non-finite entry inf");
+    let mut r = good.clone();
+    r[3][(0, 2)] += 1e-9 * r[3].abs().max();
+    expect(r, "node 3: not symmetric");
+    let mut r = good.clone();
+    r[4] = -r[4];
+    expect(r, "node 4: not positive semi-definite");
 }

@@ -18,6 +18,7 @@ use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::{Cell, ReducedBody};
 use flexmbs_fe::ElementKind;
 use flexmbs_fe::SparseMatrix;
+use flexmbs_io::full_mass::rotary_inertias_to_si;
 use flexmbs_io::pipeline::{prepare, resolve, run_reduction};
 use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
@@ -57,7 +58,13 @@ const NO_FE_MODEL: &str = "geometric stiffening needs an FE model file (.toml wi
 
 /// Error of `rotary_inertia = true` without a beam mesh.
 const NO_BEAM_MESH: &str = "node rotary inertias need an FE model file (.toml) with a beam mesh \
-     (nodes with rotational DOFs)";
+     (nodes with rotational DOFs) or a reduced-body file (.fmb.h5) that stores them";
+
+/// Error of `rotary_inertia = true` on a reduced-body file without `nodes/rotary_inertia`.
+pub const NO_STORED_ROTARY_INERTIA: &str = "the reduced-body file has no node rotary inertias \
+     (dataset nodes/rotary_inertia: written by `flexmbs reduce` for beam meshes only, and not by \
+     older versions): re-export it with `flexmbs reduce` from the FE model file of the beam mesh, \
+     or use that FE model file as `source`";
 
 /// Builds the element of `body[i]`; `base` is the model file's folder.
 pub fn build_body(
@@ -292,7 +299,7 @@ fn ffr_body(
         return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL));
     }
     let not_fe_file = resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml");
-    if b.rotary_inertia == Some(true) && not_fe_file {
+    if b.rotary_inertia == Some(true) && not_fe_file && !body_file {
         return Err(ctx.err(&format!("{p}.rotary_inertia"), NO_BEAM_MESH));
     }
     let loaded = load_fe_body(
@@ -319,8 +326,15 @@ fn ffr_body(
             None if r == Some(true) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
             found => found,
         },
-        (None, Some(true)) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
-        (None, None) => None,
+        // stored in a reduced-body file (body units): converted like the FE-computed ones
+        (None, r) => match &loaded.rotary_inertia {
+            Some(i) => Some(rotary_inertias_to_si(i, reduced.units)),
+            None if r == Some(true) && body_file => {
+                return Err(ctx.err(&rkey, NO_STORED_ROTARY_INERTIA))
+            }
+            None if r == Some(true) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
+            None => None,
+        },
     };
     // all modes, body units: the FE model's K_G or the one stored in the body file
     let geometric = match (stiffening, &fe, loaded.geometric) {
@@ -451,6 +465,10 @@ pub struct LoadedBody {
     /// Geometric stiffness `K_G` stored in a reduced-body file (group `geometric`: all modes,
     /// body units); `None` for other sources and files without it.
     pub geometric: Option<GeometricStiffness>,
+    /// Node rotary inertias stored in a reduced-body file (dataset `nodes/rotary_inertia`: one
+    /// per node, body units); `None` for other sources and files without them (an FE model
+    /// file's are computed from `fe`, [`crate::mass_model::beam_rotary_inertias`]).
+    pub rotary_inertia: Option<Vec<Matrix3<f64>>>,
 }
 
 /// [`load_reduced_with_fe`], with the full translational mass matrix of an FE model when
@@ -467,6 +485,7 @@ pub fn load_fe_body(
         fe: None,
         full_mass: None,
         geometric: None,
+        rotary_inertia: None,
     };
     let path = resolve(base, source);
     if path.is_dir() {
@@ -502,6 +521,7 @@ pub fn load_fe_body(
                 fe: Some(FeModel { prepared, mass }),
                 full_mass: m_full,
                 geometric: None,
+                rotary_inertia: None,
             })
         }
         Some("h5") => flexmbs_io::body_file::read_body_file(&path)
@@ -510,6 +530,7 @@ pub fn load_fe_body(
                 fe: None,
                 full_mass: None,
                 geometric: f.geometric,
+                rotary_inertia: f.rotary_inertia,
             })
             .map_err(|e| e.to_string()),
         _ => Err(format!(

@@ -16,7 +16,7 @@ use crate::stiffening::FeModel;
 use flexmbs_fe::element::MassKind;
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_fe::SparseMatrix;
-use flexmbs_io::full_mass::{node_rotary_inertias, rotary_inertias_to_si};
+use flexmbs_io::full_mass::{beam_node_rotary_inertias, rotary_inertias_to_si};
 use nalgebra::Matrix3;
 
 /// Message of `inertia = "consistent"` on a source without an FE model.
@@ -53,20 +53,14 @@ pub fn has_rotational_dofs(fe: &FeModel) -> bool {
 
 /// Lumped node rotary inertias of the beam nodes of `fe` (SI, one per node of `body`, which
 /// was reduced from `fe`): the rotational 3 x 3 diagonal blocks of the lumped beam mass matrix
-/// ([`node_rotary_inertias`]), converted with [`rotary_inertias_to_si`]. `None` without
+/// ([`beam_node_rotary_inertias`]), converted with [`rotary_inertias_to_si`]. `None` without
 /// rotational DOFs (solid meshes). Errors as text.
 pub fn beam_rotary_inertias(
     fe: &FeModel,
     body: &ReducedBody,
 ) -> Result<Option<Vec<Matrix3<f64>>>, String> {
-    if !has_rotational_dofs(fe) {
-        return Ok(None);
-    }
-    let mesh = &fe.prepared.mesh;
-    let lumped = flexmbs_fe::assembly::assemble(mesh, MassKind::Lumped, &[], &mut |_, _| {})
-        .map_err(|e| format!("lumped beam mass for the node rotary inertias: {e}"))?;
-    let inertias = node_rotary_inertias(&lumped.m, &mesh.node_dofs(), body.nodes.len())?;
-    Ok(Some(rotary_inertias_to_si(&inertias, body.units)))
+    let inertias = beam_node_rotary_inertias(&fe.prepared.mesh, body.nodes.len())?;
+    Ok(inertias.map(|i| rotary_inertias_to_si(&i, body.units)))
 }
 
 /// The full translational mass matrix of a body in SI (see

@@ -165,8 +165,9 @@ pub struct BodySpec {
     /// Centrifugal geometric stiffening (ffr, FE model-file source with fixed nodes), default
     /// false.
     pub geometric_stiffening: Option<bool>,
-    /// Lumped node rotary inertias of a beam mesh (ffr, FE model-file source), default true for
-    /// beam meshes; false reproduces the translational-only node masses of seed 000/001.
+    /// Lumped node rotary inertias of a beam mesh (ffr, FE model-file source or a reduced-body
+    /// file that stores them in `nodes/rotary_inertia`), default true when available; false
+    /// reproduces the translational-only node masses of seed 000/001.
     pub rotary_inertia: Option<bool>,
     /// Rotation parametrization.
     #[serde(default)]

@@ -171,9 +171,11 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
         "inertia = \"exact\"",
         "unknown mass model",
     ),
+    // `.fmb.h5` source with rotary_inertia = true: the file's stored inertias are used; a file
+    // without them is a located error (tests/rotary_file.rs)
     (
         "source = \"parts/rod.toml\"",
-        "source = \"parts/rod.fmb.h5\"\nrotary_inertia = true",
+        "source = \"parts\"\nrotary_inertia = true",
         "body[1].rotary_inertia",
         "rotary_inertia = true",
         "need an FE model file (.toml) with a beam mesh",

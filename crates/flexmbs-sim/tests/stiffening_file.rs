@@ -4,6 +4,7 @@
 
 use flexmbs_fe::geometric::InertialLoad;
 use flexmbs_io::body_file::{read_body_file, write_body, write_body_file, BodyFile};
+use flexmbs_io::full_mass::beam_node_rotary_inertias;
 use flexmbs_io::geometric::{centrifugal_geometric_stiffness, system_mass_kind};
 use flexmbs_io::model_check::FeModelSource;
 use flexmbs_io::pipeline::{prepare, run_reduction};
@@ -25,8 +26,9 @@ fn temp(name: &str) -> PathBuf {
     d
 }
 
-/// The steps of `flexmbs reduce model.toml -o out.fmb.h5`: prepare, reduce, and for a body with
-/// fixed nodes the centrifugal `K_G` (all modes, body units), written to `out`.
+/// The steps of `flexmbs reduce model.toml -o out.fmb.h5`: prepare, reduce, for a body with
+/// fixed nodes the centrifugal `K_G` (all modes, body units) and for a beam mesh the node rotary
+/// inertias, written to `out`.
 fn reduce_to_file(model: &Path, out: &Path) -> BodyFile {
     let src = FeModelSource::read(model).unwrap();
     let spec = &src.model.body;
@@ -35,8 +37,14 @@ fn reduce_to_file(model: &Path, out: &Path) -> BodyFile {
     let body = run_reduction(spec, &prepared, &mut |_| {}).unwrap();
     let mass = system_mass_kind(&spec.mesh, spec.reduction.mass);
     let geometric = centrifugal_geometric_stiffness(&prepared, mass, &body).unwrap();
-    write_body_file(out, &body, geometric.as_ref()).unwrap();
-    BodyFile { body, geometric }
+    let rotary_inertia = beam_node_rotary_inertias(&prepared.mesh, body.num_nodes()).unwrap();
+    let f = BodyFile {
+        body,
+        geometric,
+        rotary_inertia,
+    };
+    f.write(out).unwrap();
+    f
 }
 
 /// The rotating-beam example, 20 ms (through the 10 ms pulse), with `edit` applied to its text;
@@ -68,8 +76,8 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
 /// The stored `K_G` of the rotor tube is bitwise the one the model compiler computes from the FE
 /// model, and the rotating-beam example gives the same tip history (to 1e-12 relative to the
 /// peak deflection) with the `.fmb.h5` source as with the FE source, for all modes and for the
-/// selection `modes = [2, 1, 4]`. The FE source has `rotary_inertia = false`: a body file
-/// carries no node rotary inertias. Without stiffening the history differs by > 10 %, so the
+/// selection `modes = [2, 1, 4]`, both with the default node rotary inertias (computed from the
+/// beam mesh, stored in the file). Without stiffening the history differs by > 10 %, so the
 /// stored `K_G` is really in use.
 #[test]
 fn body_file_source_matches_fe_source_with_stiffening() {
@@ -91,12 +99,11 @@ fn body_file_source_matches_fe_source_with_stiffening() {
         g
     );
 
-    let fe_src = |s: &str| {
-        s.replace(
-            "geometric_stiffening = true",
-            "geometric_stiffening = true\nrotary_inertia = false",
-        )
-    };
+    assert!(
+        written.rotary_inertia.is_some(),
+        "beam mesh: rotary inertias expected"
+    );
+    let fe_src = |s: &str| s.to_string();
     let h5_source = format!("source = {:?}", h5.display().to_string());
     let file_src = |s: &str| s.replace("source = \"parts/rotor_tube.toml\"", &h5_source);
     for (tag, modes) in [("all", ""), ("sel", "\nmodes = [2, 1, 4]")] {
@@ -135,9 +142,9 @@ fn body_file_source_matches_fe_source_with_stiffening() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The rotor tube in SI(mm): the file stores `K_G` in the file's units (mm, t, s), converted to
-/// SI at model compile time like the FE-computed one; the two sources give the same tip history
-/// to 1e-12 relative.
+/// The rotor tube in SI(mm): the file stores `K_G` and the node rotary inertias in the file's
+/// units (mm, t, s), converted to SI at model compile time like the FE-computed ones; the two
+/// sources give the same tip history to 1e-12 relative.
 #[test]
 fn body_file_in_si_mm_matches_fe_source() {
     let dir = temp("mm");
@@ -167,7 +174,8 @@ fn body_file_in_si_mm_matches_fe_source() {
         let src = format!("source = {:?}{extra}", src.display().to_string());
         move |s: &str| s.replace("source = \"parts/rotor_tube.toml\"", &src)
     };
-    let w_fe = tip_signal("mm-fe", &with(&mm, "\nrotary_inertia = false"));
+    assert!(written.rotary_inertia.is_some());
+    let w_fe = tip_signal("mm-fe", &with(&mm, ""));
     let w_h5 = tip_signal("mm-h5", &with(&h5, ""));
     let wmax = w_fe.iter().map(|x| x.abs()).fold(0.0, f64::max);
     let dw = max_abs_diff(&w_fe, &w_h5);

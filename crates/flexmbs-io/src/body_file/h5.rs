@@ -208,6 +208,7 @@ pub(crate) fn encode_body(
     path: &Path,
     b: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
+    rotary_inertia: Option<&[nalgebra::Matrix3<f64>]>,
 ) -> Result<Vec<u8>, BodyFileError> {
     let n = b.num_nodes() as u64;
     let nf = b.num_modes() as u64;
@@ -250,6 +251,10 @@ pub(crate) fn encode_body(
         &as_u64(&b.interface_nodes),
     );
     checksummed_u64(nodes.create_dataset("fixed"), &as_u64(&b.fixed_nodes));
+    if let Some(r) = rotary_inertia {
+        let data = super::rotary::flatten(r);
+        checksummed(nodes.create_dataset("rotary_inertia"), &data, &[n, 3, 3]);
+    }
     fb.add_group(nodes.finish());
 
     let mut modes = fb.create_group("modes");
@@ -645,7 +650,12 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyF
     };
     check_body(path, &body)?;
     let geometric = super::geometric::decode(&r, nf)?;
-    Ok(BodyFile { body, geometric })
+    let rotary_inertia = super::rotary::decode(&r, n)?;
+    Ok(BodyFile {
+        body,
+        geometric,
+        rotary_inertia,
+    })
 }
 
 /// Cells from `cells/kind`, `cells/offsets` and `cells/connectivity`.

@@ -192,3 +192,24 @@ pub fn run_python(code: &str, args: &[&str]) -> String {
     );
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
+
+/// Node rotary inertias for a body of `n` nodes: node 0 zero (a solid node), node 1 rank 2
+/// (`diag(a, b, 0)`), the others `B Bᵀ` with full-mantissa entries (exactly symmetric: the same
+/// products are summed in the same order), all positive semi-definite.
+pub fn sample_rotary(n: usize, seed: u64) -> Vec<nalgebra::Matrix3<f64>> {
+    let mut rng = Rng::new(seed);
+    (0..n)
+        .map(|j| match j {
+            0 => nalgebra::Matrix3::zeros(),
+            1 => nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(
+                rng.next().abs(),
+                rng.next().abs(),
+                0.0,
+            )),
+            _ => {
+                let b = nalgebra::Matrix3::from_fn(|_, _| 1e-3 * rng.next());
+                b * b.transpose()
+            }
+        })
+        .collect()
+}
