@@ -247,9 +247,9 @@ impl GenAlpha {
                     *r += m * x;
                 }
             }
-            for (k, l) in b.lambda_new.iter().enumerate() {
-                for (i, r) in r_acc.iter_mut().enumerate() {
-                    *r += sys.g_jac[(k, i)] * l;
+            for (i, r) in r_acc.iter_mut().enumerate() {
+                for (g, l) in sys.g_jac.col_as_slice(i).iter().zip(&b.lambda_new) {
+                    *r += g * l;
                 }
             }
             for i in 0..nu {
