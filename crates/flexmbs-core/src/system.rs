@@ -77,6 +77,27 @@ fn zero_outside_diagonal_blocks(model: &Model, mut m: MatMut<'_, f64>) {
     }
 }
 
+/// `out = M(q) v` for the global (block-diagonal) mass matrix, body by body with
+/// [`crate::Element::mass_times_vector`]; `mass` (nu x nu) is scratch for elements without their
+/// own product: afterwards it is not a valid assembled `M` (use [`assemble_mass`] for that).
+pub fn mass_times_vector(
+    model: &Model,
+    q: &[f64],
+    v: &[f64],
+    mut mass: MatMut<'_, f64>,
+    out: &mut [f64],
+) {
+    for b in &model.bodies {
+        let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
+        b.element.mass_times_vector(
+            &q[b.q_offset..b.q_offset + nq],
+            &v[o..o + nu],
+            mass.as_mut().submatrix_mut(o, o, nu, nu),
+            &mut out[o..o + nu],
+        );
+    }
+}
+
 /// Global forces `h(t, q, u)` of the elements (gravity scaled by `load_factor`) plus all
 /// loads. `frames` must be up to date ([`update_frames`]).
 pub fn assemble_forces(
