@@ -274,12 +274,13 @@ fn write_joint_jacobian(
         }
     }
     // with finite row coefficients an all-zero Jacobian column gives exactly zero entries
-    // (e.g. the modal columns of a point fixed in a floating frame): skip its products
-    let finite = rows.iter().all(|r| {
-        [r.t_a, r.r_a, r.t_b, r.r_b]
-            .iter()
-            .all(|v| v.iter().all(|x| x.is_finite()))
-    });
+    // (e.g. the modal columns of a point fixed in a floating frame): skip its products. The sum
+    // of all coefficients is finite only if each one is (an overflow only disables the skip).
+    let coefficient_sum: f64 = rows
+        .iter()
+        .map(|r| (r.t_a + r.r_a + r.t_b + r.r_b).sum())
+        .sum();
+    let finite = coefficient_sum.is_finite();
     let sides = [
         (joint.frame_a, body_a, true),
         (joint.frame_b, body_b, body_a != body_b),

@@ -92,7 +92,8 @@ pub struct FfrScratch {
     pub m: DMatrix<f64>,
     /// Force buffer for [`FfrBody::accelerations`], n_u.
     pub rhs: DVector<f64>,
-    /// `S_kl^T q_f` (9 n_f, block `3 k + l` = `P_kl - Ī_kl`).
+    /// Work buffer of length 9 n_f. No longer written by [`FfrBody::update`] (formerly
+    /// `P_kl - Ī_kl` in blocks `3 k + l`; the moments now land in [`FfrScratch::p`] directly).
     pub p_flat: DVector<f64>,
 }
 

@@ -39,21 +39,20 @@ impl MomentOperator {
 impl FfrBody {
     /// `P_kl = Ī_kl + S_kl^T q_f`, `S_t = I_bar + S_bar q_f` (2.55), `Ī_θθ = tr(u) I - u` with
     /// `u_kl = sym(I_kl + Σ_a (Ī_lk,a + P_kl,a) q_f,a)` (2.59)-(2.64), `Ī_θf` rows
-    /// `P_23 - P_32, P_31 - P_13, P_12 - P_21` (2.67)-(2.68), from `s.qf`; also
-    /// `s.p_flat` (`P_kl - Ī_kl`, block `3 k + l`). O(9 n_f^2), no allocation.
+    /// `P_23 - P_32, P_31 - P_13, P_12 - P_21` (2.67)-(2.68), from `s.qf`. O(9 n_f^2), no
+    /// allocation.
     pub(super) fn update_moments(&self, s: &mut FfrScratch) {
         let nf = self.nf();
         let inv = &self.invariants;
         let FfrScratch {
             qf,
             p,
-            p_flat,
             s_t,
             i_tt,
             i_tf,
             ..
         } = s;
-        let (qf, p, p_flat) = (qf.as_slice(), p.as_mut_slice(), p_flat.as_mut_slice());
+        let (qf, p) = (qf.as_slice(), p.as_mut_slice());
         self.moments.apply(qf, p);
         let ikb = inv.i_kl_bar.as_slice();
         let s_bar = inv.s_bar.as_slice();
@@ -68,8 +67,7 @@ impl FfrBody {
         for a in 0..nf {
             let x = qf[a];
             let (pa, ika) = (&mut p[9 * a..9 * a + 9], &ikb[9 * a..9 * a + 9]);
-            for (kl, (pv, ik)) in pa.iter_mut().zip(ika).enumerate() {
-                p_flat[kl * nf + a] = *pv;
+            for (pv, ik) in pa.iter_mut().zip(ika) {
                 *pv += ik;
             }
             for k in 0..3 {
