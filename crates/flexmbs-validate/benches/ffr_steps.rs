@@ -176,13 +176,16 @@ fn tip_node(nodes: &[[f64; 3]]) -> usize {
         .expect("nodes")
 }
 
+/// The tube's FE model and its 100 clamped modes.
+struct FeModel {
+    mesh: flexmbs_fe::mesh::Mesh,
+    sys: FeSystem,
+    modal: flexmbs_fe::reduction::ModalResult,
+}
+
 /// Where the reduced bodies come from: the FE model, or data exported by an earlier run.
 enum Source {
-    Fe {
-        mesh: flexmbs_fe::mesh::Mesh,
-        sys: FeSystem,
-        modal: flexmbs_fe::reduction::ModalResult,
-    },
+    Fe(Box<FeModel>),
     Imported {
         nodes: Vec<[f64; 3]>,
         masses: Vec<f64>,
@@ -210,9 +213,16 @@ impl Source {
     /// FFR body with `n` modes and the tip y row of its modes.
     fn body(&self, n: usize) -> (FfrBody, Vec<f64>) {
         match self {
-            Source::Fe { mesh, sys, modal } => {
-                let body = reduce_modal(mesh, sys, modal, n, "tube", Provenance::default())
-                    .expect("reduce");
+            Source::Fe(fe) => {
+                let body = reduce_modal(
+                    &fe.mesh,
+                    &fe.sys,
+                    &fe.modal,
+                    n,
+                    "tube",
+                    Provenance::default(),
+                )
+                .expect("reduce");
                 let tip = tip_node(&body.nodes);
                 let phi = (0..n).map(|a| body.modes_t[(3 * tip + 1, a)]).collect();
                 let ffr = FfrBody::from_reduced(&body, RotationParam::Cardan).expect("ffr");
@@ -286,7 +296,11 @@ fn fe_source() -> (Source, f64, f64) {
         mesh.num_nodes(),
         sys.len(),
     );
-    (Source::Fe { mesh, sys, modal }, t_mesh, t_modal)
+    (
+        Source::Fe(Box::new(FeModel { mesh, sys, modal })),
+        t_mesh,
+        t_modal,
+    )
 }
 
 fn main() {
@@ -299,9 +313,16 @@ fn main() {
     let counts: Vec<usize> = std::env::var("FFR_BENCH_MODES")
         .map(|v| v.split(',').filter_map(|x| x.trim().parse().ok()).collect())
         .unwrap_or_else(|_| vec![6, 12, 24, 50, 100]);
-    if let (Some(dir), Source::Fe { mesh, sys, modal }) = (&export_dir, &source) {
-        let body =
-            reduce_modal(mesh, sys, modal, 100, "tube", Provenance::default()).expect("reduce");
+    if let (Some(dir), Source::Fe(fe)) = (&export_dir, &source) {
+        let body = reduce_modal(
+            &fe.mesh,
+            &fe.sys,
+            &fe.modal,
+            100,
+            "tube",
+            Provenance::default(),
+        )
+        .expect("reduce");
         export(dir, &body);
         println!(
             "exported reduced data to {} (tip node {})",

@@ -58,12 +58,8 @@ impl FfrBody {
         let s_bar = inv.s_bar.as_slice();
         let i_tf = i_tf.as_mut_slice();
         let mut st = [inv.i_bar[0], inv.i_bar[1], inv.i_bar[2]];
-        let mut u = [[0.0; 3]; 3];
-        for k in 0..3 {
-            for l in 0..3 {
-                u[k][l] = inv.i_kl[(k, l)];
-            }
-        }
+        let mut u: [[f64; 3]; 3] =
+            std::array::from_fn(|k| std::array::from_fn(|l| inv.i_kl[(k, l)]));
         for a in 0..nf {
             let x = qf[a];
             let (pa, ika) = (&mut p[9 * a..9 * a + 9], &ikb[9 * a..9 * a + 9]);
