@@ -153,6 +153,25 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn normalize(&self, _q: &mut [f64]) {}
     /// Mass matrix `M(q)` (nu x nu, symmetric positive definite), overwriting `m`.
     fn mass_matrix(&self, q: &[f64], m: MatMut<'_, f64>);
+    /// `out = M(q) v` (`v`, `out`: nu), for residuals that need only the product. Default:
+    /// [`Element::mass_matrix`] into the scratch matrix `m_scratch` (nu x nu, left holding `M`),
+    /// then the product column by column; elements with a cheaper product (FFR bodies) override
+    /// it and may leave `m_scratch` untouched.
+    fn mass_times_vector(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        mut m_scratch: MatMut<'_, f64>,
+        out: &mut [f64],
+    ) {
+        self.mass_matrix(q, m_scratch.as_mut());
+        out.fill(0.0);
+        for (j, x) in v.iter().enumerate() {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o += m_scratch[(i, j)] * x;
+            }
+        }
+    }
     /// Generalized forces `h(t, q, u)`, overwriting `h`: minus quadratic velocity vector, minus
     /// elastic `K q` and damping `D u` forces, plus gravity `gravity` (global acceleration vector).
     fn forces(&self, t: f64, q: &[f64], u: &[f64], gravity: &Vector3<f64>, h: &mut [f64]);

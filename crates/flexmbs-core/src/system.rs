@@ -50,14 +50,50 @@ pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKin
     }
 }
 
-/// Global mass matrix `M(q)`.
+/// Global mass matrix `M(q)`. Every element overwrites its diagonal block
+/// ([`crate::Element::mass_matrix`]); only the entries outside these blocks are zeroed.
 pub fn assemble_mass(model: &Model, q: &[f64], mut mass: MatMut<'_, f64>) {
-    mass.fill(0.0);
+    zero_outside_diagonal_blocks(model, mass.as_mut());
     for b in &model.bodies {
         let (nq, nu) = (b.element.nq(), b.element.nu());
         b.element.mass_matrix(
             &q[b.q_offset..b.q_offset + nq],
             mass.as_mut().submatrix_mut(b.u_offset, b.u_offset, nu, nu),
+        );
+    }
+}
+
+/// Zeroes the entries of a `nu x nu` matrix that lie outside the bodies' diagonal blocks
+/// (the coupling blocks between bodies, zero in `M`). Nothing to do for a single body.
+fn zero_outside_diagonal_blocks(model: &Model, mut m: MatMut<'_, f64>) {
+    for b in &model.bodies {
+        let (o, nu) = (b.u_offset, b.element.nu());
+        for j in o..o + nu {
+            let mut col = m.as_mut().col_mut(j);
+            for i in (0..o).chain(o + nu..col.nrows()) {
+                col[i] = 0.0;
+            }
+        }
+    }
+}
+
+/// `out = M(q) v` for the global (block-diagonal) mass matrix, body by body with
+/// [`crate::Element::mass_times_vector`]; `mass` (nu x nu) is scratch for elements without their
+/// own product: afterwards it is not a valid assembled `M` (use [`assemble_mass`] for that).
+pub fn mass_times_vector(
+    model: &Model,
+    q: &[f64],
+    v: &[f64],
+    mut mass: MatMut<'_, f64>,
+    out: &mut [f64],
+) {
+    for b in &model.bodies {
+        let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
+        b.element.mass_times_vector(
+            &q[b.q_offset..b.q_offset + nq],
+            &v[o..o + nu],
+            mass.as_mut().submatrix_mut(o, o, nu, nu),
+            &mut out[o..o + nu],
         );
     }
 }
@@ -187,7 +223,8 @@ fn add_difference_column(m: &mut Mat<f64>, col: usize, hp: &[f64], hm: &[f64], e
 }
 
 /// Constraint values `g`, Jacobian `G`, `g_t` and acceleration bias of all joints at `t`.
-/// `frames` must be up to date.
+/// `frames` must be up to date. The rows of `G` are written, not accumulated
+/// ([`write_joint_jacobian`]): no separate zeroing pass over the whole `nc x nu` matrix.
 pub fn assemble_constraints(
     model: &Model,
     t: f64,
@@ -197,35 +234,96 @@ pub fn assemble_constraints(
     g_t: &mut [f64],
     g_bias: &mut [f64],
 ) {
-    g_jac.fill(0.0);
     let mut rows = [ConstraintRow::ZERO; MAX_JOINT_ROWS];
     for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
         let n = joint.num_rows();
         let (ka, kb) = (&frames[joint.frame_a.0], &frames[joint.frame_b.0]);
         joint_rows(joint, t, ka, kb, &mut rows[..n]);
         for (i, row) in rows[..n].iter().enumerate() {
-            let r = r0 + i;
-            g[r] = row.g;
-            g_t[r] = row.g_t;
-            g_bias[r] = row.bias;
-            for (frame, ct, cr) in [
-                (joint.frame_a, &row.t_a, &row.r_a),
-                (joint.frame_b, &row.t_b, &row.r_b),
-            ] {
-                if let FrameOwner::Body(b) = model.frames[frame.0].owner {
-                    let off = model.bodies[b.0].u_offset;
-                    let k = &frames[frame.0];
-                    for j in 0..k.jac_t.ncols() {
-                        let mut s = 0.0;
-                        for d in 0..3 {
-                            s += ct[d] * k.jac_t[(d, j)] + cr[d] * k.jac_r[(d, j)];
-                        }
-                        g_jac[(r, off + j)] += s;
-                    }
+            g[r0 + i] = row.g;
+            g_t[r0 + i] = row.g_t;
+            g_bias[r0 + i] = row.bias;
+        }
+        write_joint_jacobian(model, joint, &rows[..n], frames, g_jac.as_mut(), r0);
+    }
+}
+
+/// Writes the rows `r0..r0 + rows.len()` of `G` of one joint: row `i` is
+/// `t_a^T J_T^a + r_a^T J_R^a` in the columns of the body of frame `a`, plus
+/// `t_b^T J_T^b + r_b^T J_R^b` in those of the body of frame `b` (added if it is the same body),
+/// and zero in all other columns. Column by column (contiguous Jacobian and `G` columns).
+fn write_joint_jacobian(
+    model: &Model,
+    joint: &crate::Joint,
+    rows: &[ConstraintRow],
+    frames: &[FrameKinematics],
+    mut g_jac: MatMut<'_, f64>,
+    r0: usize,
+) {
+    let n = rows.len();
+    let body_of = |frame: crate::FrameId| match model.frames[frame.0].owner {
+        FrameOwner::Body(b) => Some(b.0),
+        FrameOwner::Ground => None,
+    };
+    let (body_a, body_b) = (body_of(joint.frame_a), body_of(joint.frame_b));
+    for (i, b) in model.bodies.iter().enumerate() {
+        if Some(i) != body_a && Some(i) != body_b {
+            for j in b.u_offset..b.u_offset + b.element.nu() {
+                col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
+            }
+        }
+    }
+    // with finite row coefficients an all-zero Jacobian column gives exactly zero entries
+    // (e.g. the modal columns of a point fixed in a floating frame): skip its products. The sum
+    // of all coefficients is finite only if each one is (an overflow only disables the skip).
+    let coefficient_sum: f64 = rows
+        .iter()
+        .map(|r| (r.t_a + r.r_a + r.t_b + r.r_b).sum())
+        .sum();
+    let finite = coefficient_sum.is_finite();
+    let sides = [
+        (joint.frame_a, body_a, true),
+        (joint.frame_b, body_b, body_a != body_b),
+    ];
+    for (side, (frame, body, first)) in sides.into_iter().enumerate() {
+        let Some(b) = body else { continue };
+        let off = model.bodies[b].u_offset;
+        let k = &frames[frame.0];
+        for j in 0..k.jac_t.ncols() {
+            let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
+            let col = &mut col_slice_mut(g_jac.as_mut(), off + j)[r0..r0 + n];
+            if finite && jt.iter().chain(jr).all(|x| *x == 0.0) {
+                if first {
+                    col.fill(0.0);
+                }
+                continue;
+            }
+            for (gj, row) in col.iter_mut().zip(rows) {
+                let (ct, cr) = if side == 0 {
+                    (&row.t_a, &row.r_a)
+                } else {
+                    (&row.t_b, &row.r_b)
+                };
+                let mut s = 0.0;
+                for d in 0..3 {
+                    s += ct[d] * jt[d] + cr[d] * jr[d];
+                }
+                if first {
+                    *gj = s;
+                } else {
+                    *gj += s;
                 }
             }
         }
     }
+}
+
+/// Column `j` of a matrix view with contiguous columns (as all `Mat` views here) as a slice.
+fn col_slice_mut(m: MatMut<'_, f64>, j: usize) -> &mut [f64] {
+    m.col_mut(j)
+        .try_as_col_major_mut()
+        .expect("column-major matrix")
+        .as_slice_mut()
 }
 
 /// Energies at `(q, u)`; `frames` must be up to date (for the springs).

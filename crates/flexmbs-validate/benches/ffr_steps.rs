@@ -11,11 +11,14 @@
 //! - `FFR_BENCH_EXPORT=dir`: write the 100-mode reduced data (`nodes.npy`, `masses.npy`,
 //!   `modes.npy`, `kff.npy`) and the tip responses `tip_flexmbs_<n>_{full,modified}.csv` (full / modified Newton) for
 //!   `benches/exudyn/ffr_exudyn.py`;
+//! - `FFR_BENCH_IMPORT=dir`: skip the FE model and the modal analysis and use the reduced data an
+//!   earlier `FFR_BENCH_EXPORT=dir` run wrote (the first n modes and the leading n x n block of
+//!   k_ff): seconds instead of minutes under valgrind;
 //! - `FFR_BENCH_MODES=6,12`: restrict the mode counts;
 //! - `FFR_BENCH_NEWTON=modified` (or `full`): run only that Newton variant (for profiling with
 //!   `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*GenAlpha*integrate*'`).
 
-use flexmbs_core::ffr::{FfrBody, FfrElement, RotationParam};
+use flexmbs_core::ffr::{FfrBody, FfrElement, FfrInvariants, RotationParam};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
 use flexmbs_core::{Joint, ModelSpec, PrescribedMotion, TimeFunction, Workspace};
 use flexmbs_fe::constraint::BoundaryConditions;
@@ -84,13 +87,12 @@ fn export(dir: &std::path::Path, body: &ReducedBody) {
 /// One timed run; returns (wall seconds of the stepping, mean Newton iterations per step, tip
 /// deflection series every 10 steps).
 fn run(
-    body: &ReducedBody,
-    tip: usize,
+    ffr: FfrBody,
+    phi_tip: &[f64],
     fd: bool,
     modified: bool,
     steps: usize,
 ) -> (f64, f64, Vec<(f64, f64)>) {
-    let ffr = FfrBody::from_reduced(body, RotationParam::Cardan).expect("ffr");
     let nf = ffr.nf();
     let element = if fd {
         FfrElement::new(ffr).with_finite_difference_tangent()
@@ -129,7 +131,6 @@ fn run(
         .expect("integrator")
         .with_step_energy(false);
     ga.initialize(&model, &mut s, &mut ws).expect("init");
-    let phi_tip: Vec<f64> = (0..nf).map(|a| body.modes_t[(3 * tip + 1, a)]).collect();
     let mut series = Vec::with_capacity(steps / 10 + 1);
     let (mut k, mut iterations) = (0usize, 0usize);
     let t0 = Instant::now();
@@ -146,7 +147,117 @@ fn run(
     (wall, iterations as f64 / k.max(1) as f64, series)
 }
 
-fn main() {
+/// Reads a little-endian f64 `.npy` file written by [`write_npy`]: (shape, data in C order).
+fn read_npy(path: &std::path::Path) -> (Vec<usize>, Vec<f64>) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let hlen = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + hlen]).expect("npy header");
+    assert!(
+        header.contains("'<f8'") && header.contains("False"),
+        "{header}"
+    );
+    let shape_s = &header[header.find("'shape': (").expect("shape") + 10..];
+    let shape: Vec<usize> = shape_s[..shape_s.find(')').expect("shape end")]
+        .split(',')
+        .filter_map(|x| x.trim().parse().ok())
+        .collect();
+    let data = bytes[10 + hlen..]
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect();
+    (shape, data)
+}
+
+/// Index of the tip node (x = L, y = R, z = 0).
+fn tip_node(nodes: &[[f64; 3]]) -> usize {
+    let d = |x: &[f64; 3]| (x[0] - 1.0).powi(2) + (x[1] - 0.01).powi(2) + x[2].powi(2);
+    (0..nodes.len())
+        .min_by(|&a, &b| d(&nodes[a]).total_cmp(&d(&nodes[b])))
+        .expect("nodes")
+}
+
+/// The tube's FE model and its 100 clamped modes.
+struct FeModel {
+    mesh: flexmbs_fe::mesh::Mesh,
+    sys: FeSystem,
+    modal: flexmbs_fe::reduction::ModalResult,
+}
+
+/// Where the reduced bodies come from: the FE model, or data exported by an earlier run.
+enum Source {
+    Fe(Box<FeModel>),
+    Imported {
+        nodes: Vec<[f64; 3]>,
+        masses: Vec<f64>,
+        /// 3N x 100, C order.
+        modes: (usize, Vec<f64>),
+        /// 100 x 100, C order.
+        kff: (usize, Vec<f64>),
+    },
+}
+
+impl Source {
+    fn import(dir: &std::path::Path) -> Self {
+        let (_, n) = read_npy(&dir.join("nodes.npy"));
+        let (_, masses) = read_npy(&dir.join("masses.npy"));
+        let (ms, modes) = read_npy(&dir.join("modes.npy"));
+        let (ks, kff) = read_npy(&dir.join("kff.npy"));
+        Source::Imported {
+            nodes: n.chunks_exact(3).map(|x| [x[0], x[1], x[2]]).collect(),
+            masses,
+            modes: (ms[1], modes),
+            kff: (ks[1], kff),
+        }
+    }
+
+    /// FFR body with `n` modes and the tip y row of its modes.
+    fn body(&self, n: usize) -> (FfrBody, Vec<f64>) {
+        match self {
+            Source::Fe(fe) => {
+                let body = reduce_modal(
+                    &fe.mesh,
+                    &fe.sys,
+                    &fe.modal,
+                    n,
+                    "tube",
+                    Provenance::default(),
+                )
+                .expect("reduce");
+                let tip = tip_node(&body.nodes);
+                let phi = (0..n).map(|a| body.modes_t[(3 * tip + 1, a)]).collect();
+                let ffr = FfrBody::from_reduced(&body, RotationParam::Cardan).expect("ffr");
+                (ffr, phi)
+            }
+            Source::Imported {
+                nodes,
+                masses,
+                modes,
+                kff,
+            } => {
+                let modes_t =
+                    faer::Mat::from_fn(3 * nodes.len(), n, |i, j| modes.1[i * modes.0 + j]);
+                let k = faer::Mat::from_fn(n, n, |i, j| kff.1[i * kff.0 + j]);
+                let inv = FfrInvariants::from_lumped(nodes, masses, modes_t.as_ref()).expect("inv");
+                let tip = tip_node(nodes);
+                let phi = (0..n).map(|a| modes_t[(3 * tip + 1, a)]).collect();
+                let ffr = FfrBody::new(
+                    inv,
+                    RotationParam::Cardan,
+                    nodes,
+                    modes_t.as_ref(),
+                    None,
+                    k.as_ref(),
+                )
+                .expect("ffr");
+                (ffr, phi)
+            }
+        }
+    }
+}
+
+/// Meshes the tube and computes its first 100 clamped modes; returns the source and the times
+/// (mesh + assembly, modal analysis).
+fn fe_source() -> (Source, f64, f64) {
     let start = Instant::now();
     let material = Material {
         e: 70e9,
@@ -185,28 +296,38 @@ fn main() {
         mesh.num_nodes(),
         sys.len(),
     );
-    // tip node: x = L, y = R, z = 0
-    let tip = (0..mesh.num_nodes())
-        .min_by(|&a, &b| {
-            let d = |n: usize| {
-                let x = mesh.nodes[n];
-                (x[0] - 1.0).powi(2) + (x[1] - 0.01).powi(2) + x[2].powi(2)
-            };
-            d(a).total_cmp(&d(b))
-        })
-        .expect("nodes");
+    (
+        Source::Fe(Box::new(FeModel { mesh, sys, modal })),
+        t_mesh,
+        t_modal,
+    )
+}
+
+fn main() {
     let export_dir = std::env::var_os("FFR_BENCH_EXPORT").map(std::path::PathBuf::from);
+    let (source, t_mesh, t_modal) = match std::env::var_os("FFR_BENCH_IMPORT") {
+        Some(dir) => (Source::import(std::path::Path::new(&dir)), 0.0, 0.0),
+        None => fe_source(),
+    };
     let with_fd = std::env::var("FFR_BENCH_FD").is_ok_and(|v| v == "1");
     let counts: Vec<usize> = std::env::var("FFR_BENCH_MODES")
         .map(|v| v.split(',').filter_map(|x| x.trim().parse().ok()).collect())
         .unwrap_or_else(|_| vec![6, 12, 24, 50, 100]);
-    if let Some(dir) = &export_dir {
-        let body =
-            reduce_modal(&mesh, &sys, &modal, 100, "tube", Provenance::default()).expect("reduce");
+    if let (Some(dir), Source::Fe(fe)) = (&export_dir, &source) {
+        let body = reduce_modal(
+            &fe.mesh,
+            &fe.sys,
+            &fe.modal,
+            100,
+            "tube",
+            Provenance::default(),
+        )
+        .expect("reduce");
         export(dir, &body);
         println!(
-            "exported reduced data to {} (tip node {tip})",
-            dir.display()
+            "exported reduced data to {} (tip node {})",
+            dir.display(),
+            tip_node(&body.nodes)
         );
     }
     println!(
@@ -215,8 +336,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
         let t_set = Instant::now();
-        let body =
-            reduce_modal(&mesh, &sys, &modal, n, "tube", Provenance::default()).expect("reduce");
+        let (ffr, phi_tip) = source.body(n);
         let setup = t_set.elapsed().as_secs_f64();
         let mut variants = vec![(false, false, STEPS), (false, true, STEPS)];
         match std::env::var("FFR_BENCH_NEWTON").as_deref() {
@@ -234,7 +354,7 @@ fn main() {
             variants.push((true, false, fd_steps));
         }
         for (fd, modified, steps) in variants {
-            let (wall, iters, series) = run(&body, tip, fd, modified, steps);
+            let (wall, iters, series) = run(ffr.clone(), &phi_tip, fd, modified, steps);
             let whole = t_mesh + t_modal + setup + wall * STEPS as f64 / steps as f64;
             let last = series.last().map_or(f64::NAN, |x| x.1);
             println!(

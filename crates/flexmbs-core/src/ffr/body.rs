@@ -58,9 +58,9 @@ pub struct FfrBody {
     pub(super) s_skew: [DMatrix<f64>; 3],
     /// Transposes of `s_skew` (a row of `D_k` as a contiguous column, for `D_k q_f_dot`).
     pub(super) s_skew_t: [DMatrix<f64>; 3],
-    /// `[S_11^T; S_12^T; ...; S_33^T]` (9 n_f x n_f, block `3 k + l` = `S_kl^T`): the deformed
-    /// moments are one matrix-vector product `P - Ī = S_stack q_f`.
-    pub(super) s_stack: DMatrix<f64>,
+    /// The nine `S_kl^T` interleaved in the layout of `P` (see `moments.rs`): the deformed
+    /// moments are one matrix-vector product `P - Ī = S q_f`.
+    pub(super) moments: super::moments::MomentOperator,
     /// Geometric (centrifugal) stiffening, off (`None`) by default (see `stiffening.rs`).
     pub(super) geometric: Option<super::GeometricStiffening>,
 }
@@ -92,7 +92,8 @@ pub struct FfrScratch {
     pub m: DMatrix<f64>,
     /// Force buffer for [`FfrBody::accelerations`], n_u.
     pub rhs: DVector<f64>,
-    /// `S_stack q_f` (9 n_f, block `3 k + l` = `P_kl - Ī_kl`).
+    /// Work buffer of length 9 n_f. No longer written by [`FfrBody::update`] (formerly
+    /// `P_kl - Ī_kl` in blocks `3 k + l`; the moments now land in [`FfrScratch::p`] directly).
     pub p_flat: DVector<f64>,
 }
 
@@ -177,14 +178,8 @@ impl FfrBody {
             inv.s(2, 0) - inv.s(0, 2),
             inv.s(0, 1) - inv.s(1, 0),
         ];
-        let mut s_stack = DMatrix::zeros(9 * nf, nf);
-        for (kl, skl) in inv.s_kl.iter().enumerate() {
-            s_stack
-                .view_mut((kl * nf, 0), (nf, nf))
-                .copy_from(&skl.transpose());
-        }
         Ok(Self {
-            s_stack,
+            moments: super::moments::MomentOperator::new(&inv.s_kl, nf),
             rotation,
             u0: u0.iter().map(|x| Vector3::new(x[0], x[1], x[2])).collect(),
             modes_t: copy_modes(modes_t),
@@ -347,39 +342,7 @@ impl FfrBody {
         s.omega = s.h * w;
         s.qf.copy_from_slice(&q[3 + nr..]);
         s.qfd.copy_from_slice(&u[6..]);
-        let inv = &self.invariants;
-        // P_kl = Ī_kl + q_f^T S_kl = Ī_kl + S_kl^T q_f: one matrix-vector product
-        mat_vec(&self.s_stack, s.qf.as_slice(), s.p_flat.as_mut_slice());
-        for a in 0..nf {
-            for kl in 0..9 {
-                s.p[(kl, a)] = inv.i_kl_bar[(kl, a)] + s.p_flat[kl * nf + a];
-            }
-        }
-        // S_t = I_bar + S_bar q_f (2.55)
-        s.s_t = inv.i_bar;
-        for k in 0..3 {
-            for a in 0..nf {
-                s.s_t[k] += inv.s_bar[(k, a)] * s.qf[a];
-            }
-        }
-        // u_kl = I_kl + Ī_lk q_f + P_kl q_f (2.64)
-        let mut ukl = inv.i_kl;
-        for k in 0..3 {
-            for l in 0..3 {
-                for a in 0..nf {
-                    ukl[(k, l)] += (inv.i_kl_bar[(3 * l + k, a)] + s.p[(3 * k + l, a)]) * s.qf[a];
-                }
-            }
-        }
-        let ukl = 0.5 * (ukl + ukl.transpose());
-        let tr = ukl.trace();
-        s.i_tt = Matrix3::identity() * tr - ukl; // (2.59)
-                                                 // Ī_θf rows (2.68): P_23 - P_32, P_31 - P_13, P_12 - P_21
-        for a in 0..nf {
-            s.i_tf[(0, a)] = s.p[(5, a)] - s.p[(7, a)];
-            s.i_tf[(1, a)] = s.p[(6, a)] - s.p[(2, a)];
-            s.i_tf[(2, a)] = s.p[(1, a)] - s.p[(3, a)];
-        }
+        self.update_moments(s);
         Ok(())
     }
 

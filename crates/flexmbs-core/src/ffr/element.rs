@@ -174,6 +174,24 @@ impl Element for FfrElement {
         }
     }
 
+    fn mass_times_vector(&self, q: &[f64], v: &[f64], mut m: MatMut<'_, f64>, out: &mut [f64]) {
+        // the product covers the translational terms; with node rotary inertia assemble M
+        if self.body.rotary.is_some() {
+            self.mass_matrix(q, m.as_mut());
+            out.fill(0.0);
+            for (j, x) in v.iter().enumerate() {
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o += m[(i, j)] * x;
+                }
+            }
+            return;
+        }
+        let done = self.with_q_state(q, |b, s| b.mass_times_vector(s, v, out));
+        if done.is_none() {
+            fill_nan(out);
+        }
+    }
+
     fn forces(&self, _t: f64, q: &[f64], u: &[f64], gravity: &Vector3<f64>, h: &mut [f64]) {
         let done = self.with_state(q, u, |b, s| {
             b.quadratic_velocity(s, h);

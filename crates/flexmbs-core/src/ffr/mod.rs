@@ -17,6 +17,8 @@ mod consistent;
 mod element;
 mod invariants;
 mod kinematics;
+mod mass_product;
+mod moments;
 mod rotary;
 mod si;
 mod stiffening;

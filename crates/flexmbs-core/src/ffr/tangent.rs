@@ -178,11 +178,13 @@ impl FfrBody {
             });
         }
         // velocity products: y_kl = S_kl q_f_dot, D_k q_f_dot, K q_f + D q_f_dot
-        super::body::mat_vec(&self.s_stack, s.qfd.as_slice(), ts.y_flat.as_mut_slice());
+        // y_flat[9 a + 3 k + l] = (S_kl^T q_f_dot)[a]
+        self.moments
+            .apply(s.qfd.as_slice(), ts.y_flat.as_mut_slice());
         for a in 0..nf {
             for k in 0..3 {
                 for l in 0..3 {
-                    ts.y[(3 * k + l, a)] = ts.y_flat[(3 * l + k) * nf + a];
+                    ts.y[(3 * k + l, a)] = ts.y_flat[9 * a + 3 * l + k];
                 }
             }
         }

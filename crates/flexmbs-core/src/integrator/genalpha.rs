@@ -223,7 +223,6 @@ impl GenAlpha {
             kinematic_update(model, p, h, s, b);
             let sys = &mut ws.sys;
             system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
-            system::assemble_mass(model, &b.q_new, sys.mass.as_mut());
             system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, &sys.frames, &mut sys.h);
             system::assemble_constraints(
                 model,
@@ -234,22 +233,18 @@ impl GenAlpha {
                 &mut sys.g_t,
                 &mut sys.g_bias,
             );
-            // residual r = M u_dot - h + G^T lambda,  g / beta'
-            // accumulated column by column (contiguous columns of M); per entry the terms are
-            // added in the same order as a row-wise loop: -h_i, M_i0 u_dot_0, ..., G_0i lambda_0, ...
+            // residual r = M u_dot - h + G^T lambda,  g / beta': the product M u_dot from the
+            // elements (no assembled M; that is built only with a new iteration matrix), then
+            // -h_i, G_0i lambda_0, G_1i lambda_1, ... (contiguous columns of G)
             let (mut r_max, mut g_max) = (0.0_f64, 0.0_f64);
             let r_acc = &mut b.rhs[..nu];
+            system::mass_times_vector(model, &b.q_new, &b.u_dot_new, sys.mass.as_mut(), r_acc);
             for (r, h) in r_acc.iter_mut().zip(&sys.h) {
-                *r = -h;
+                *r -= h;
             }
-            for (j, x) in b.u_dot_new.iter().enumerate() {
-                for (r, m) in r_acc.iter_mut().zip(sys.mass.col_as_slice(j)) {
-                    *r += m * x;
-                }
-            }
-            for (k, l) in b.lambda_new.iter().enumerate() {
-                for (i, r) in r_acc.iter_mut().enumerate() {
-                    *r += sys.g_jac[(k, i)] * l;
+            for (i, r) in r_acc.iter_mut().enumerate() {
+                for (g, l) in sys.g_jac.col_as_slice(i).iter().zip(&b.lambda_new) {
+                    *r += g * l;
                 }
             }
             for i in 0..nu {
@@ -295,6 +290,7 @@ impl GenAlpha {
             };
             if refresh {
                 ws.newton_matrix_h = f64::NAN;
+                system::assemble_mass(model, &b.q_new, sys.mass.as_mut());
                 system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
                 for j in 0..nu {
                     for i in 0..nu {
