@@ -350,7 +350,7 @@ pub(crate) fn solver_config(
                         return Err(ctx.err("solver.adaptive.h_min", "h_min must not exceed h_max"));
                     }
                     if rho_inf >= 1.0 && !mf.joint.is_empty() {
-                        return Err(ctx.err("solver.adaptive", ADAPTIVE_UNDAMPED));
+                        return Err(ctx.err("solver.rho_inf", ADAPTIVE_UNDAMPED));
                     }
                     Some(c)
                 }

@@ -281,8 +281,8 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
     (
         "t_end = \"0.01 s\"",
         "t_end = \"0.01 s\"\nrho_inf = 1.0\nadaptive = { rtol = 1e-6 }",
-        "solver.adaptive",
-        "adaptive = { rtol = 1e-6 }",
+        "solver.rho_inf",
+        "rho_inf = 1.0",
         "needs numerical damping (rho_inf < 1)",
     ),
     (
