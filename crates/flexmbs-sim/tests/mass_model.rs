@@ -2,6 +2,8 @@
 //! of beam meshes: clamped bodies (reference frame fixed to ground) hit by a short pulse vibrate
 //! freely afterwards at the FE modal frequency of the selected mode.
 
+mod common;
+
 use flexmbs_core::ffr::{reduced_body_to_si, FfrBody, RotaryInertia, RotationParam};
 use flexmbs_io::calculix::ccx_available;
 use flexmbs_io::results::{read_results, RunStatus};
@@ -10,33 +12,7 @@ use flexmbs_sim::compile_model;
 use flexmbs_sim::mass_model::beam_rotary_inertias;
 use flexmbs_sim::run::{run_model, RunOptions};
 use flexmbs_validate::complex_beam_frequencies::zero_crossing_frequency;
-use std::path::{Path, PathBuf};
-
-fn work_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs-sim-mass-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// Steel cantilever 1 m x 20 mm x 20 mm, 10 beam elements (lumped mass), clamped at x = 0,
-/// 12 modes: 4 bending pairs, then torsion (mode 9).
-const BEAM_PART: &str = r#"
-[body]
-name = "shaft"
-[body.mesh]
-type = "beam"
-start = [0.0, 0.0, 0.0]
-end = [1.0, 0.0, 0.0]
-elements = 10
-section = { shape = "rectangle", width = 0.02, height = 0.02 }
-material = { e = 210e9, nu = 0.3, rho = 7850.0 }
-[body.boundary]
-fixed = [{ nearest = [0.0, 0.0, 0.0] }]
-[body.reduction]
-method = "modal"
-modes = 12
-"#;
+use std::path::Path;
 
 /// Clamped FFR body `source` with `extra` body keys, a load `load_vector` (type `load`) at the
 /// frame nearest `tip` for `pulse`, step `h`, end `t_end`; returns `(t, series)` of `signals`.
@@ -130,9 +106,9 @@ fn free_frequency(t: &[f64], series: &[Vec<f64>], t_after: f64) -> f64 {
 /// the tip twist after a 0.1 ms torque pulse oscillates at the FE torsion frequency (0.5 %).
 #[test]
 fn beam_torsion_mode_runs_with_lumped_rotary_inertia() {
-    let dir = work_dir("torsion");
+    let dir = common::work_dir("mass", "torsion");
     let part = dir.join("part.toml");
-    std::fs::write(&part, BEAM_PART).unwrap();
+    std::fs::write(&part, common::SHAFT).unwrap();
     let (reduced, fe) =
         load_reduced_with_fe(&part, &dir, "shaft", flexmbs_fe::UnitSystem::Si).unwrap();
     let fe = fe.unwrap();
@@ -222,7 +198,7 @@ mass = "{mass}"
 /// invariants compile together with `geometric_stiffening` and a mode list.
 #[test]
 fn consistent_and_lumped_solid_body_both_run() {
-    let dir = work_dir("solid");
+    let dir = common::work_dir("mass", "solid");
     let mut f_fe = Vec::new();
     for model in ["consistent", "lumped"] {
         let part = dir.join(format!("{model}.toml"));
@@ -303,7 +279,7 @@ fn consistent_ccx_body_matches_modal_frequency() {
         eprintln!("SKIPPED: ccx (CalculiX) not installed; apt-get install calculix-ccx");
         return;
     }
-    let dir = work_dir("ccx");
+    let dir = common::work_dir("mass", "ccx");
     let part = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples/calculix_beam.toml")
         .canonicalize()

@@ -3,6 +3,8 @@
 //! its FE model file, with the default `rotary_inertia` (on), in SI and SI(mm); the key's
 //! opt-out and its errors work on `.fmb.h5` sources as on FE sources.
 
+mod common;
+
 use flexmbs_io::body_file::{write_body, BodyFile};
 use flexmbs_io::full_mass::beam_node_rotary_inertias;
 use flexmbs_io::model_check::FeModelSource;
@@ -10,37 +12,11 @@ use flexmbs_io::pipeline::{prepare, run_reduction};
 use flexmbs_io::results::{read_results, RunStatus};
 use flexmbs_sim::run::{run_model, RunOptions};
 use flexmbs_sim::{compile_model, SimError};
-use std::path::{Path, PathBuf};
-
-fn work_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs-sim-rotfile-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// Steel shaft 1 m x 20 mm x 20 mm, 10 Euler-Bernoulli beam elements (lumped mass), clamped at
-/// x = 0, 12 modes: 4 bending pairs, then torsion (mode 9), in SI.
-const SHAFT: &str = r#"
-[body]
-name = "shaft"
-[body.mesh]
-type = "beam"
-start = [0.0, 0.0, 0.0]
-end = [1.0, 0.0, 0.0]
-elements = 10
-section = { shape = "rectangle", width = 0.02, height = 0.02 }
-material = { e = 210e9, nu = 0.3, rho = 7850.0 }
-[body.boundary]
-fixed = [{ nearest = [0.0, 0.0, 0.0] }]
-[body.reduction]
-method = "modal"
-modes = 12
-"#;
+use std::path::Path;
 
 /// The shaft in SI(mm) (mm, t, s): the same body, numbers scaled.
 fn shaft_mm() -> String {
-    let s = SHAFT
+    let s = common::SHAFT
         .replace("name = \"shaft\"", "name = \"shaft\"\nunits = \"SI(mm)\"")
         .replace("end = [1.0, 0.0, 0.0]", "end = [1000.0, 0.0, 0.0]")
         .replace("width = 0.02, height = 0.02", "width = 20.0, height = 20.0")
@@ -165,11 +141,14 @@ fn max_rel_diff(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
 /// selection `modes = [1, 9]` (first bending and torsion, which needs the rotary inertias).
 #[test]
 fn body_file_source_matches_fe_source_with_rotary_inertia() {
-    let dir = work_dir("traj");
+    let dir = common::work_dir("rotfile", "traj");
     let (rho, a, i, l) = (7850.0, 4e-4, 0.02f64.powi(4) / 12.0, 1.0);
     let ixx = rho * 2.0 * i * l;
     let iyy = rho * a * l * (l / 10.0).powi(2) / 39.0 + rho * i * l;
-    for (tag, text, scale) in [("si", SHAFT.to_string(), 1.0), ("mm", shaft_mm(), 1e3)] {
+    for (tag, text, scale) in [
+        ("si", common::SHAFT.to_string(), 1.0),
+        ("mm", shaft_mm(), 1e3),
+    ] {
         let part = dir.join(format!("shaft_{tag}.toml"));
         std::fs::write(&part, text).unwrap();
         let h5 = dir.join(format!("shaft_{tag}.fmb.h5"));
@@ -210,9 +189,9 @@ fn body_file_source_matches_fe_source_with_rotary_inertia() {
 /// by more than 1e-6 relative, so the stored inertias are really applied.
 #[test]
 fn rotary_inertia_false_opts_out_for_body_files() {
-    let dir = work_dir("off");
+    let dir = common::work_dir("rotfile", "off");
     let part = dir.join("shaft.toml");
-    std::fs::write(&part, SHAFT).unwrap();
+    std::fs::write(&part, common::SHAFT).unwrap();
     let h5 = dir.join("shaft.fmb.h5");
     reduce_to_file(&part, &h5);
     for src in [&part, &h5] {
@@ -241,9 +220,9 @@ fn rotary_inertia_false_opts_out_for_body_files() {
 /// line that says how to re-export; without the key such a file compiles (no inertias).
 #[test]
 fn rotary_inertia_true_on_file_without_them_is_located() {
-    let dir = work_dir("errs");
+    let dir = common::work_dir("rotfile", "errs");
     let part = dir.join("shaft.toml");
-    std::fs::write(&part, SHAFT).unwrap();
+    std::fs::write(&part, common::SHAFT).unwrap();
     let f = reduce_to_file(&part, &dir.join("full.fmb.h5"));
     let plain = dir.join("plain.fmb.h5");
     write_body(&plain, &f.body).unwrap();

@@ -1,0 +1,31 @@
+//! Fixtures shared by the integration tests of `flexmbs-sim`.
+#![allow(dead_code)] // each test binary uses a subset
+
+use std::path::PathBuf;
+
+/// An empty scratch folder `flexmbs-sim-<group>-<pid>-<name>` in the temporary directory.
+pub fn work_dir(group: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("flexmbs-sim-{group}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// FE model file of a steel shaft 1 m x 20 mm x 20 mm, 10 Euler-Bernoulli beam elements (lumped
+/// mass), clamped at x = 0, 12 modes: 4 bending pairs, then torsion (mode 9), in SI.
+pub const SHAFT: &str = r#"
+[body]
+name = "shaft"
+[body.mesh]
+type = "beam"
+start = [0.0, 0.0, 0.0]
+end = [1.0, 0.0, 0.0]
+elements = 10
+section = { shape = "rectangle", width = 0.02, height = 0.02 }
+material = { e = 210e9, nu = 0.3, rho = 7850.0 }
+[body.boundary]
+fixed = [{ nearest = [0.0, 0.0, 0.0] }]
+[body.reduction]
+method = "modal"
+modes = 12
+"#;
