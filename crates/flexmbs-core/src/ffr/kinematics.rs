@@ -2,10 +2,30 @@
 //! (2.70) and rotation (2.72) and the acceleration bias terms `J_dot u` needed by constraints;
 //! generalized forces of point forces and torques (2.76).
 //!
+//! **Node frames with rotational modes** (beam nodes) extend (2.71), (2.72) exactly. The elastic
+//! rotation vector of node `p` is `theta = Phi_r^p q_f`; the node frame is the orthonormal
+//!
+//! `F = A exp(skew(theta))`
+//!
+//! (not the linearized `A (I + skew(theta))`). With `exp(skew(theta))_dot exp(skew(theta))^T =
+//! skew(J_l(theta) theta_dot)` (the SO(3) left Jacobian [`so3_left_jacobian`]) and
+//! `A^T A_dot = skew(omega_bar)`:
+//!
+//! `skew(omega) = F_dot F^T = A skew(omega_bar + J_l(theta) theta_dot) A^T`, so
+//! `omega = A (omega_bar + J_l Phi_r q_f_dot)` and, with `omega_bar = H w`,
+//!
+//! `J_R = [0, A H, A J_l(theta) Phi_r]` ((2.72) with the elastic term exact at any `q_f`).
+//!
+//! Differentiating `omega = A (H w + J_l theta_dot)` once more (`A_dot = A skew(omega_bar)`):
+//! `omega_dot = J_R u_dot + A [omega_bar x (J_l theta_dot) + H_dot w + J_l_dot theta_dot]`,
+//! the last bracket (times `A`) being the bias `J_R_dot u` ([`so3_left_jacobian_dot`]).
+//! At `q_f = 0` all of this reduces to the linear formulas (`J_l(0) = I`, `J_l_dot(0) theta_dot
+//! = skew(theta_dot)/2 theta_dot = 0`).
+//!
 //! All functions need [`FfrBody::update`] first and cost O(n_f) per node.
 
 use super::{FfrBody, FfrError, FfrScratch};
-use crate::rotation::skew;
+use crate::rotation::{rotation_vector_matrix, skew, so3_left_jacobian, so3_left_jacobian_dot};
 use faer::MatMut;
 use nalgebra::{Matrix3, Vector3};
 
@@ -20,12 +40,12 @@ pub struct NodeKinematics {
     pub v: Vector3<f64>,
     /// Translational bias acceleration `J_dot_T u = A [ω̄×(ω̄×ū) + 2 ω̄×(Φ q_f_dot) + (H_dot w)×ū]`.
     pub a_bias: Vector3<f64>,
-    /// Orientation of the node frame `A (I + skew(Φ_r q_f))` (small rotations; `A` without
+    /// Orientation of the node frame `A exp(skew(θ))`, `θ = Φ_r q_f` (orthonormal; `A` without
     /// rotational modes).
     pub frame: Matrix3<f64>,
-    /// Angular velocity `A (ω̄ + Φ_r q_f_dot)` (2.71 with rotational modes).
+    /// Angular velocity `A (ω̄ + J_l(θ) Φ_r q_f_dot)` ((2.71) with rotational modes).
     pub omega: Vector3<f64>,
-    /// Rotational bias acceleration `J_dot_R u = A [ω̄ × (Φ_r q_f_dot) + H_dot w]`.
+    /// Rotational bias acceleration `J_dot_R u = A [ω̄ × (J_l θ_dot) + H_dot w + J_l_dot θ_dot]`.
     pub alpha_bias: Vector3<f64>,
 }
 
@@ -98,10 +118,12 @@ impl FfrBody {
             Some(mr) => {
                 let th = Self::mode_rows_times(mr, node, &s.qf);
                 let thd = Self::mode_rows_times(mr, node, &s.qfd);
+                let jl_thd = so3_left_jacobian(&th) * thd;
+                let jl_dot_thd = so3_left_jacobian_dot(&th, &thd) * thd;
                 (
-                    s.a * (Matrix3::identity() + skew(&th)),
-                    s.a * (w + thd),
-                    s.a * (w.cross(&thd) + z),
+                    s.a * rotation_vector_matrix(&th),
+                    s.a * (w + jl_thd),
+                    s.a * (w.cross(&jl_thd) + z + jl_dot_thd),
                 )
             }
             None => (s.a, s.a * w, s.a * z),
@@ -144,8 +166,17 @@ impl FfrBody {
         Ok(())
     }
 
-    /// Jacobian of rotation of node `node`, `J_R = [0, A H, A Φ_r]` ((2.72) extended by the
-    /// rotational modes, zero without them), into `jr` (3 x n_u).
+    /// `A J_l(θ)` of node `node` (`θ = Φ_r q_f`), the factor of `Φ_r` in `J_R`; `None` without
+    /// rotational modes.
+    fn elastic_rotation_factor(&self, node: usize, s: &FfrScratch) -> Option<Matrix3<f64>> {
+        let mr = self.modes_r.as_ref()?;
+        let th = Self::mode_rows_times(mr, node, &s.qf);
+        Some(s.a * so3_left_jacobian(&th))
+    }
+
+    /// Jacobian of rotation of node `node`, `J_R = [0, A H, A J_l(θ) Φ_r]` ((2.72) extended
+    /// exactly by the rotational modes, see the module doc; zero without them), into `jr`
+    /// (3 x n_u).
     pub fn node_jacobian_rotation(
         &self,
         node: usize,
@@ -154,6 +185,7 @@ impl FfrBody {
     ) -> Result<(), FfrError> {
         self.check_node(node)?;
         let ah = s.a * s.h;
+        let factor = self.elastic_rotation_factor(node, s);
         for i in 0..3 {
             for j in 0..3 {
                 jr[(i, j)] = 0.0;
@@ -161,9 +193,9 @@ impl FfrBody {
             }
             for a in 0..self.nf() {
                 let mut acc = 0.0;
-                if let Some(mr) = &self.modes_r {
+                if let (Some(mr), Some(f)) = (&self.modes_r, &factor) {
                     for k in 0..3 {
-                        acc += s.a[(i, k)] * mr[(3 * node + k, a)];
+                        acc += f[(i, k)] * mr[(3 * node + k, a)];
                     }
                 }
                 jr[(i, 6 + a)] = acc;
@@ -213,11 +245,13 @@ impl FfrBody {
         for i in 0..3 {
             out[3 + i] += tw[i];
         }
-        if let Some(mr) = &self.modes_r {
+        if let (Some(mr), Some(f)) = (&self.modes_r, self.elastic_rotation_factor(node, s)) {
+            // (A J_l Φ_r)^T τ = Φ_r^T (J_l^T A^T τ)
+            let te = f.transpose() * tau;
             for a in 0..self.nf() {
                 let mut acc = 0.0;
                 for k in 0..3 {
-                    acc += mr[(3 * node + k, a)] * tb[k];
+                    acc += mr[(3 * node + k, a)] * te[k];
                 }
                 out[6 + a] += acc;
             }

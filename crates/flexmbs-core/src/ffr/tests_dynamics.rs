@@ -2,9 +2,8 @@
 //! damping, SI conversion, errors and absence of run-time allocation.
 
 use super::body::faer_view_mut;
-use super::tests::{advance, body_of, jt, random_data, random_state, rnd};
+use super::tests::{body_of, jt, random_data, random_state, rnd};
 use super::*;
-use crate::rotation::skew;
 use nalgebra::{DMatrix, DVector, Vector3};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -158,42 +157,6 @@ fn generalized_forces_equal_jacobian_transposes() {
         b.add_node_torque(4, &f, &s, &mut got).unwrap();
         let exp = jr.transpose() * f;
         assert!((DVector::from_column_slice(&got) - &exp).norm() < 1e-12 * exp.norm());
-    }
-}
-
-/// J_R: at q_f = 0, skew(J_R u) = F_dot F^T of the node frame F = A (I + skew(Φ_r q_f)) by
-/// central differences (1e-7); the bias J_dot_R u equals central differences of J_R along the
-/// motion (1e-6); angular velocity of the node kinematics equals J_R u.
-#[test]
-fn rotation_jacobian_and_bias() {
-    let mut seed = 8;
-    for rot in [RotationParam::Cardan, RotationParam::Quaternion] {
-        let d = random_data(&mut seed, 4, 2, 0.3);
-        let b = body_of(&d, rot, true);
-        let (mut q, u) = random_state(&mut seed, &b, 0.0);
-        let nq = q.len();
-        q[nq - 2] = 0.0;
-        q[nq - 1] = 0.0;
-        let uv = DVector::from_column_slice(&u);
-        let jr_at = |q: &[f64]| {
-            let mut s = FfrScratch::new(b.nf());
-            b.update(q, &u, &mut s).unwrap();
-            let mut jr = DMatrix::zeros(3, b.nu());
-            b.node_jacobian_rotation(1, &s, faer_view_mut(&mut jr))
-                .unwrap();
-            (jr, b.node_kinematics(1, q, &u, &s).unwrap())
-        };
-        let h = 1e-6;
-        let (jr, k) = jr_at(&q);
-        let (jp, kp) = jr_at(&advance(&b, &q, &u, h));
-        let (jm, km) = jr_at(&advance(&b, &q, &u, -h));
-        let w = &jr * &uv;
-        let wd = Vector3::new(w[0], w[1], w[2]);
-        assert!((k.omega - wd).norm() < 1e-13 * wd.norm());
-        let fdot = (kp.frame - km.frame) / (2.0 * h);
-        assert!((fdot * k.frame.transpose() - skew(&wd)).abs().max() < 1e-7);
-        let bias_fd = (jp - jm) / (2.0 * h) * &uv;
-        assert!((k.alpha_bias - Vector3::new(bias_fd[0], bias_fd[1], bias_fd[2])).norm() < 1e-6);
     }
 }
 
