@@ -16,6 +16,7 @@ pub mod plot;
 pub mod report;
 pub mod results;
 pub mod seed;
+pub mod toml_locate;
 pub mod vtk;
 
 pub use error::IoError;

@@ -6,8 +6,8 @@ use crate::model::{
     read_fe_model_text, BoxSpec, FeModelFile, MaterialSpec, MeshSpec, ModelError, NodeSelector,
     PlaneSpec, ReductionMethod,
 };
-use crate::model_locate::{line_of, SpannedDoc};
 use crate::pipeline::PipelineError;
+use crate::toml_locate::{line_of, SpannedDoc};
 use flexmbs_fe::Material;
 use serde::de::{self, Deserialize, Deserializer, MapAccess, Visitor};
 use std::fmt;
