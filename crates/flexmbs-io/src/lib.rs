@@ -5,6 +5,7 @@
 pub mod body_file;
 pub mod calculix;
 pub mod error;
+pub mod file_kind;
 pub mod full_mass;
 pub mod geometric;
 pub mod inp_writer;
