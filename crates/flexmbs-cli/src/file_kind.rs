@@ -3,7 +3,7 @@
 //! file is and what the command expects.
 
 use anyhow::{bail, Result};
-use flexmbs_io::model_check::{classify_model_file, ModelFileKind};
+use flexmbs_io::file_kind::{classify_model_file, ModelFileKind};
 use std::path::Path;
 
 /// What an HDF5 file holds, for messages: a reduced-body file, a results file, or neither.
@@ -15,17 +15,6 @@ fn describe_hdf5(path: &Path) -> &'static str {
     } else {
         "an HDF5 file that is neither a reduced-body nor a results file"
     }
-}
-
-/// Whether `text` is TOML with one top-level `[body]` table (an FE body file).
-fn is_fe_body_text(text: &str) -> bool {
-    toml::de::DeTable::parse(text)
-        .map(|t| {
-            t.get_ref().iter().any(|(k, v)| {
-                k.get_ref() == "body" && matches!(v.get_ref(), toml::de::DeValue::Table(_))
-            })
-        })
-        .unwrap_or(false)
 }
 
 /// Fails unless `path` can be a TOML model file for `command`; `multibody_only` for `run`.
@@ -49,9 +38,7 @@ pub fn expect_model_file(path: &Path, command: &str, multibody_only: bool) -> Re
             "{} is a binary file (not UTF-8 text), not a model file: `flexmbs {command}` expects {expects}",
             path.display()
         ),
-        ModelFileKind::Other
-            if multibody_only && is_fe_body_text(&String::from_utf8_lossy(&bytes)) =>
-        {
+        ModelFileKind::FeBody if multibody_only => {
             bail!(
                 "{} is an FE body file (no [model] table): use `flexmbs modal`, `reduce` or \
                  `check` on it, or reference it from a multibody model as a body's `source`",
@@ -78,7 +65,7 @@ pub fn not_a_results_file(path: &Path, err: &dyn std::fmt::Display) -> anyhow::E
             "a multibody model file: run it first with `flexmbs run`".into()
         }
         ModelFileKind::Binary => "a binary file, not HDF5".into(),
-        ModelFileKind::Other => "a text file, not HDF5".into(),
+        ModelFileKind::FeBody | ModelFileKind::Other => "a text file, not HDF5".into(),
     };
     anyhow::anyhow!(
         "{} is not a flexmbs results file: it is {what}; `flexmbs plot` reads the results.h5 that \

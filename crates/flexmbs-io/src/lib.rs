@@ -5,6 +5,7 @@
 pub mod body_file;
 pub mod calculix;
 pub mod error;
+pub mod file_kind;
 pub mod full_mass;
 pub mod geometric;
 pub mod inp_writer;
@@ -16,6 +17,7 @@ pub mod plot;
 pub mod report;
 pub mod results;
 pub mod seed;
+pub mod toml_locate;
 pub mod vtk;
 
 pub use error::IoError;

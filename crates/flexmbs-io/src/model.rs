@@ -21,7 +21,7 @@
 //! modes = 10
 //! ```
 
-use crate::model_locate::SpannedDoc;
+use crate::toml_locate::SpannedDoc;
 use flexmbs_fe::mesh::{BeamSection, BeamTheory};
 use flexmbs_fe::{ElementKind, Material, UnitSystem};
 use serde::Deserialize;
@@ -601,7 +601,12 @@ pub fn parse_fe_model(text: &str, file: &Path) -> Result<FeModelFile, ModelError
     let model: FeModelFile = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
-        let r = doc.refine(&path, inner.message(), inner.span().map(|s| s.start));
+        let r = crate::model_locate::refine(
+            &doc,
+            &path,
+            inner.message(),
+            inner.span().map(|s| s.start),
+        );
         ModelError::Schema {
             file: file.to_path_buf(),
             line: doc.line(r.offset),

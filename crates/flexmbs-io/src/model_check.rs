@@ -1,55 +1,20 @@
-//! Checks of FE body model files beyond their schema: what kind of file it is (an FE body file,
-//! a multibody model file, HDF5, binary), value ranges, node selectors, and the location (line and
-//! key path) of errors found later, while meshing and applying boundary conditions.
+//! Checks of FE body model files beyond their schema: refusing other kinds of file (a multibody
+//! model file, HDF5, binary; classified by [`crate::file_kind`]), value ranges, node selectors,
+//! and the location (line and key path) of errors found later, while meshing and applying
+//! boundary conditions.
 
+use crate::file_kind::{classify_model_file, classify_toml_table, ModelFileKind};
 use crate::model::{
     read_fe_model_text, BoxSpec, FeModelFile, MaterialSpec, MeshSpec, ModelError, NodeSelector,
     PlaneSpec, ReductionMethod,
 };
-use crate::model_locate::{line_of, SpannedDoc};
 use crate::pipeline::PipelineError;
+use crate::toml_locate::{line_of, SpannedDoc};
 use flexmbs_fe::Material;
 use serde::de::{self, Deserialize, Deserializer, MapAccess, Visitor};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use toml::de::{DeTable, DeValue};
-
-/// The 8-byte signature that starts an HDF5 file (at offset 0, 512, 1024, ...).
-const HDF5_SIGNATURE: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
-
-/// What a file given as a model file is, judged from its content.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ModelFileKind {
-    /// An HDF5 file (a reduced-body file or a results file).
-    Hdf5,
-    /// Not UTF-8 text (or holds NUL bytes).
-    Binary,
-    /// TOML with a top-level `[model]` table: a multibody model file.
-    Multibody,
-    /// Text that is not a multibody model file: an FE body file, or a broken file of either kind.
-    Other,
-}
-
-/// Classifies a file's bytes (see [`ModelFileKind`]).
-pub fn classify_model_file(bytes: &[u8]) -> ModelFileKind {
-    let hdf5_at = |o: usize| bytes.get(o..o + 8) == Some(HDF5_SIGNATURE.as_slice());
-    if [0usize, 512, 1024, 2048].into_iter().any(hdf5_at) {
-        return ModelFileKind::Hdf5;
-    }
-    match std::str::from_utf8(bytes) {
-        Ok(t) if !t.contains('\0') => {
-            let multibody = DeTable::parse(t)
-                .map(|d| d.get_ref().iter().any(|(k, _)| k.get_ref() == "model"))
-                .unwrap_or(false);
-            if multibody {
-                ModelFileKind::Multibody
-            } else {
-                ModelFileKind::Other
-            }
-        }
-        _ => ModelFileKind::Binary,
-    }
-}
 
 /// The text of a model file, or [`ModelError::WrongKind`] for an HDF5 or binary file.
 pub(crate) fn model_text<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, ModelError> {
@@ -93,7 +58,7 @@ const KINDS_HELP: &str = "an FE body file needs a [body] table (name, mesh, boun
 /// Refuses files that are not FE body files: a multibody model file (`[model]`), an empty file,
 /// a file without `[body]` or with the multibody `[[body]]` list.
 pub(crate) fn check_kind(doc: &SpannedDoc<'_>, file: &Path) -> Result<(), ModelError> {
-    if doc.top_entry("model").is_some() {
+    if classify_toml_table(doc.top()) == ModelFileKind::Multibody {
         return Err(ModelError::WrongKind {
             file: file.into(),
             what: "is a multibody model file ([model] table), not an FE body file: run it with \
@@ -408,22 +373,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn classifies_files_by_content() {
-        let mut h5 = HDF5_SIGNATURE.to_vec();
+    fn refuses_hdf5_as_model_text() {
+        let mut h5 = crate::file_kind::HDF5_SIGNATURE.to_vec();
         h5.extend_from_slice(&[0, 1, 2, 255]);
-        assert_eq!(classify_model_file(&h5), ModelFileKind::Hdf5);
-        let mut late = vec![0u8; 512];
-        late.extend_from_slice(HDF5_SIGNATURE);
-        assert_eq!(classify_model_file(&late), ModelFileKind::Hdf5);
-        assert_eq!(classify_model_file(&[0xff, 0xfe, 0]), ModelFileKind::Binary);
-        assert_eq!(
-            classify_model_file(b"[model]\nname = \"m\"\n"),
-            ModelFileKind::Multibody
-        );
-        assert_eq!(
-            classify_model_file(b"[body]\nname = \"b\"\n"),
-            ModelFileKind::Other
-        );
         let e = model_text(&h5, Path::new("b.h5")).unwrap_err().to_string();
         assert!(e.starts_with("b.h5 is an HDF5 file"), "{e}");
     }

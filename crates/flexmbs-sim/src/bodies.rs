@@ -6,7 +6,9 @@ use crate::error::SimError;
 use crate::mass_model::{
     beam_rotary_inertias, check_consistent_source, full_mass_to_si, CONSISTENT_NEEDS_FE_MODEL,
 };
-use crate::schema::{BodySpec, BodyType, InertiaSpec, MassModel, ModeSelection, RotationName};
+use crate::schema::{
+    BodySpec, BodyType, DampingSpec, InertiaSpec, MassModel, ModeSelection, RotationName,
+};
 use crate::stiffening::{
     centrifugal_stiffness, geometric_to_si, select_geometric_modes, FeModel, NO_STORED_STIFFNESS,
 };
@@ -128,6 +130,41 @@ fn rigid_body(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(BuiltElement, BodyGeo
             format!("mass must be > 0, got {mass} kg"),
         ));
     }
+    let inertia = rigid_inertia(ctx, p, b)?;
+    let rotation = match b.rotation {
+        RotationName::Cardan => RotationParam::Cardan,
+        RotationName::Quaternion => RotationParam::Quaternion,
+    };
+    let size = match &b.box_size {
+        Some(s) => {
+            let v = ctx.vec3(s, Dimension::Length, &format!("{p}.box"))?;
+            if !v.iter().all(|x| *x > 0.0 && x.is_finite()) {
+                return Err(ctx.err(&format!("{p}.box"), "box edges must be > 0"));
+            }
+            v
+        }
+        None => equivalent_box(mass, &inertia),
+    };
+    let geometry = BodyGeometry {
+        points: box_corners(&size),
+        fe_nodes: false,
+        node_ids: Vec::new(),
+        cells: vec![Cell {
+            kind: ElementKind::Hex8,
+            nodes: (0..8).collect(),
+        }],
+        modes: 0,
+        rotation: b.rotation,
+    };
+    Ok((
+        BuiltElement::Rigid(RigidBody::new(mass, inertia).with_rotation(rotation)),
+        geometry,
+    ))
+}
+
+/// The inertia tensor of a rigid body (kg m^2) from `inertia` (principal moments) or
+/// `inertia_matrix`: symmetric, positive definite and a real mass distribution's.
+fn rigid_inertia(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<Matrix3<f64>, SimError> {
     let principal = match &b.inertia {
         Some(InertiaSpec::Principal(d)) => Some(d),
         Some(InertiaSpec::Model(_)) => {
@@ -199,35 +236,7 @@ fn rigid_body(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(BuiltElement, BodyGeo
             ));
         }
     }
-    let rotation = match b.rotation {
-        RotationName::Cardan => RotationParam::Cardan,
-        RotationName::Quaternion => RotationParam::Quaternion,
-    };
-    let size = match &b.box_size {
-        Some(s) => {
-            let v = ctx.vec3(s, Dimension::Length, &format!("{p}.box"))?;
-            if !v.iter().all(|x| *x > 0.0 && x.is_finite()) {
-                return Err(ctx.err(&format!("{p}.box"), "box edges must be > 0"));
-            }
-            v
-        }
-        None => equivalent_box(mass, &inertia),
-    };
-    let geometry = BodyGeometry {
-        points: box_corners(&size),
-        fe_nodes: false,
-        node_ids: Vec::new(),
-        cells: vec![Cell {
-            kind: ElementKind::Hex8,
-            nodes: (0..8).collect(),
-        }],
-        modes: 0,
-        rotation: b.rotation,
-    };
-    Ok((
-        BuiltElement::Rigid(RigidBody::new(mass, inertia).with_rotation(rotation)),
-        geometry,
-    ))
+    Ok(inertia)
 }
 
 /// Edge lengths of the homogeneous box with the same mass and principal moments (diagonal of
@@ -259,28 +268,65 @@ fn box_corners(s: &Vector3<f64>) -> Vec<[f64; 3]> {
     ]
 }
 
-fn ffr_body(
+/// Where an ffr body's data comes from, decided once from its `source` path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BodySource {
+    /// A seed 4-file folder (seed 000 §5.3): reduced data only, no FE model.
+    SeedFolder,
+    /// An FE model file (`.toml`), reduced through the pipeline; a built-in mesh or a CalculiX
+    /// deck gives an FE model, a `seed` mesh does not (known once it is read).
+    FeModel,
+    /// A reduced-body file (`.h5`, as `flexmbs reduce` writes), which may store `K_G` and node
+    /// rotary inertias.
+    BodyFile,
+}
+
+impl BodySource {
+    /// The kind of the resolved source `path`: a folder, a `.toml` or an `.h5` file. Errors as
+    /// text (the caller adds the key path).
+    pub fn of(path: &Path) -> Result<Self, String> {
+        if path.is_dir() {
+            return Ok(BodySource::SeedFolder);
+        }
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("toml") => Ok(BodySource::FeModel),
+            Some("h5") => Ok(BodySource::BodyFile),
+            _ => Err(format!(
+                "{}: not an FE model file (.toml), a reduced-body file (.h5) or a seed folder",
+                path.display()
+            )),
+        }
+    }
+
+    /// Can have an FE model (mesh and system): needed by the consistent mass model and by
+    /// computed `K_G` and rotary inertias.
+    pub fn can_have_fe_model(self) -> bool {
+        self == BodySource::FeModel
+    }
+
+    /// Can store the geometric stiffness `K_G` (group `geometric` of a reduced-body file).
+    pub fn can_store_geometric_stiffness(self) -> bool {
+        self == BodySource::BodyFile
+    }
+
+    /// Can store node rotary inertias (dataset `nodes/rotary_inertia` of a reduced-body file).
+    pub fn can_store_rotary_inertia(self) -> bool {
+        self == BodySource::BodyFile
+    }
+}
+
+/// Reads the mass model of an ffr body (`inertia = "lumped" | "consistent"`, default lumped)
+/// and refuses options that the kind of source cannot serve, before it is loaded (an FE model
+/// file with a `seed` mesh is refused after loading, when it shows it has no FE model).
+fn check_source_options(
     ctx: &Ctx,
     p: &str,
     b: &BodySpec,
-    base: &Path,
-) -> Result<(BuiltElement, BodyGeometry), SimError> {
-    let source = b.source.as_ref().ok_or_else(|| {
-        ctx.err(
-            p,
-            "an ffr body needs `source` (FE model file, .h5 body file or seed folder)",
-        )
-    })?;
-    let key = format!("{p}.source");
-    let stiffening = b.geometric_stiffening.unwrap_or(false);
-    let gkey = format!("{p}.geometric_stiffening");
-    let resolved = resolve(base, source);
-    let body_file = !resolved.is_dir() && resolved.extension().is_some_and(|e| e == "h5");
-    if stiffening
-        && !body_file
-        && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml"))
-    {
-        return Err(ctx.err(&gkey, NO_FE_MODEL));
+    kind: BodySource,
+) -> Result<MassModel, SimError> {
+    let fe = kind.can_have_fe_model();
+    if b.geometric_stiffening == Some(true) && !fe && !kind.can_store_geometric_stiffness() {
+        return Err(ctx.err(&format!("{p}.geometric_stiffening"), NO_FE_MODEL));
     }
     let ikey = format!("{p}.inertia");
     let mass_model = match &b.inertia {
@@ -294,75 +340,58 @@ fn ffr_body(
             ))
         }
     };
-    let consistent = mass_model == MassModel::Consistent;
-    if consistent && (resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml")) {
+    if mass_model == MassModel::Consistent && !fe {
         return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL));
     }
-    let not_fe_file = resolved.is_dir() || resolved.extension().is_some_and(|e| e != "toml");
-    if b.rotary_inertia == Some(true) && not_fe_file && !body_file {
+    if b.rotary_inertia == Some(true) && !fe && !kind.can_store_rotary_inertia() {
         return Err(ctx.err(&format!("{p}.rotary_inertia"), NO_BEAM_MESH));
     }
-    let loaded = load_fe_body(
-        source,
-        base,
-        &b.name,
-        b.units.unwrap_or_default(),
-        consistent,
-    )
-    .map_err(|m| ctx.err(&key, m))?;
-    let (reduced, fe) = (loaded.reduced, loaded.fe);
-    let full_mass = match (consistent, &fe, loaded.full_mass) {
-        (false, _, _) => None,
-        (true, Some(fe), Some(m)) => {
-            check_consistent_source(fe).map_err(|m| ctx.err(&ikey, m))?;
-            Some(m)
+    Ok(mass_model)
+}
+
+fn ffr_body(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    base: &Path,
+) -> Result<(BuiltElement, BodyGeometry), SimError> {
+    let source = b.source.as_ref().ok_or_else(|| {
+        ctx.err(
+            p,
+            "an ffr body needs `source` (FE model file, .h5 body file or seed folder)",
+        )
+    })?;
+    let key = format!("{p}.source");
+    let path = resolve(base, source);
+    let kind = BodySource::of(&path).map_err(|m| ctx.err(&key, m))?;
+    let consistent = check_source_options(ctx, p, b, kind)? == MassModel::Consistent;
+    let units = b.units.unwrap_or_default();
+    let loaded =
+        load_body_source(kind, &path, &b.name, units, consistent).map_err(|m| ctx.err(&key, m))?;
+    let ikey = format!("{p}.inertia");
+    if consistent {
+        match (&loaded.fe, &loaded.full_mass) {
+            (Some(fe), Some(_)) => check_consistent_source(fe).map_err(|m| ctx.err(&ikey, m))?,
+            _ => return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL)),
         }
-        (true, _, _) => return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL)),
-    };
-    let rkey = format!("{p}.rotary_inertia");
-    let rotary = match (&fe, b.rotary_inertia) {
-        (_, Some(false)) => None,
-        (Some(fe), r) => match beam_rotary_inertias(fe, &reduced).map_err(|m| ctx.err(&key, m))? {
-            None if r == Some(true) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
-            found => found,
-        },
-        // stored in a reduced-body file (body units): converted like the FE-computed ones
-        (None, r) => match &loaded.rotary_inertia {
-            Some(i) => Some(rotary_inertias_to_si(i, reduced.units)),
-            None if r == Some(true) && body_file => {
-                return Err(ctx.err(&rkey, NO_STORED_ROTARY_INERTIA))
-            }
-            None if r == Some(true) => return Err(ctx.err(&rkey, NO_BEAM_MESH)),
-            None => None,
-        },
-    };
-    // all modes, body units: the FE model's K_G or the one stored in the body file
-    let geometric = match (stiffening, &fe, loaded.geometric) {
-        (false, _, _) => None,
-        (true, Some(fe), _) => {
-            Some(centrifugal_stiffness(fe, &reduced).map_err(|m| ctx.err(&gkey, m))?)
-        }
-        (true, None, Some(g)) => Some(g),
-        (true, None, None) if body_file => return Err(ctx.err(&gkey, NO_STORED_STIFFNESS)),
-        (true, None, None) => return Err(ctx.err(&gkey, NO_FE_MODEL)),
-    };
-    let (reduced, geometric) = match &b.modes {
-        Some(sel) => {
-            let cols = mode_columns(ctx, p, reduced.num_modes(), sel)?;
-            (
-                restrict_modes(&reduced, &cols),
-                geometric.map(|g| select_geometric_modes(&g, &cols)),
-            )
-        }
-        None => (reduced, geometric),
-    };
+    }
+    let rotary = node_rotary_inertias(ctx, p, b, kind, &loaded)?;
+    let geometric = geometric_stiffness(ctx, p, b, kind, &loaded)?;
+    let LoadedBody {
+        reduced,
+        fe,
+        full_mass,
+        ..
+    } = loaded;
+    let (reduced, geometric) = select_modes(ctx, p, b, reduced, geometric)?;
     let geometric = geometric.map(|g| geometric_to_si(&g, reduced.units));
     let si = reduced_body_to_si(&reduced);
     let rotation = match b.rotation {
         RotationName::Cardan => ffr::RotationParam::Cardan,
         RotationName::Quaternion => ffr::RotationParam::Quaternion,
     };
-    let mut body = match &full_mass {
+    // `full_mass` is loaded only for the consistent mass model
+    let mut body = match full_mass {
         None => FfrBody::from_reduced(&si, rotation).map_err(|e| {
             let hint = match &fe {
                 Some(fe) if fe.mass == MassKind::Consistent => {
@@ -372,7 +401,7 @@ fn ffr_body(
             };
             ctx.err(&key, format!("{e}{hint}"))
         })?,
-        Some(m) => FfrBody::from_reduced_consistent(&si, &full_mass_to_si(m, &reduced), rotation)
+        Some(m) => FfrBody::from_reduced_consistent(&si, &full_mass_to_si(&m, &reduced), rotation)
             .map_err(|e| ctx.err(&ikey, e.to_string()))?,
     };
     if let Some(r) = &rotary {
@@ -382,40 +411,10 @@ fn ffr_body(
     if let Some(g) = &geometric {
         body = body
             .with_geometric_stiffening(g)
-            .map_err(|e| ctx.err(&gkey, e.to_string()))?;
+            .map_err(|e| ctx.err(&format!("{p}.geometric_stiffening"), e.to_string()))?;
     }
     if let Some(d) = &b.damping {
-        let dk = format!("{p}.damping");
-        match (&d.rayleigh, &d.modal) {
-            (Some([a, bb]), None) => {
-                if !(*a >= 0.0 && *bb >= 0.0) {
-                    return Err(ctx.err(&format!("{dk}.rayleigh"), "alpha and beta must be >= 0"));
-                }
-                body.set_rayleigh_damping(*a, *bb);
-            }
-            (None, Some(z)) => {
-                let zeta = if z.len() == 1 {
-                    vec![z[0]; body.nf()]
-                } else {
-                    z.clone()
-                };
-                if zeta.iter().any(|x| x.is_nan() || *x < 0.0) {
-                    return Err(ctx.err(&format!("{dk}.modal"), "damping ratios must be >= 0"));
-                }
-                body.set_modal_damping(&zeta).map_err(|e| {
-                    ctx.err(
-                        &format!("{dk}.modal"),
-                        format!("{e} (give one ratio per selected mode, or one for all)"),
-                    )
-                })?;
-            }
-            _ => {
-                return Err(ctx.err(
-                    &dk,
-                    "give exactly one of `rayleigh = [alpha, beta]` and `modal = [zeta, ...]`",
-                ))
-            }
-        }
+        set_damping(ctx, &format!("{p}.damping"), d, &mut body)?;
     }
     let geometry = BodyGeometry {
         points: si.nodes.clone(),
@@ -426,6 +425,98 @@ fn ffr_body(
         rotation: b.rotation,
     };
     Ok((BuiltElement::Ffr(Box::new(FfrElement::new(body))), geometry))
+}
+
+/// Node rotary inertias of an ffr body (SI), if asked for or available: computed from a beam
+/// mesh of the FE model, or stored in a reduced-body file (body units, converted like the
+/// computed ones). `rotary_inertia = false` turns them off; `true` requires them.
+fn node_rotary_inertias(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    kind: BodySource,
+    loaded: &LoadedBody,
+) -> Result<Option<Vec<Matrix3<f64>>>, SimError> {
+    let rkey = format!("{p}.rotary_inertia");
+    let required = b.rotary_inertia == Some(true);
+    match (&loaded.fe, b.rotary_inertia) {
+        (_, Some(false)) => Ok(None),
+        (Some(fe), _) => match beam_rotary_inertias(fe, &loaded.reduced)
+            .map_err(|m| ctx.err(&format!("{p}.source"), m))?
+        {
+            None if required => Err(ctx.err(&rkey, NO_BEAM_MESH)),
+            found => Ok(found),
+        },
+        (None, _) => match &loaded.rotary_inertia {
+            Some(i) => Ok(Some(rotary_inertias_to_si(i, loaded.reduced.units))),
+            None if required && kind.can_store_rotary_inertia() => {
+                Err(ctx.err(&rkey, NO_STORED_ROTARY_INERTIA))
+            }
+            None if required => Err(ctx.err(&rkey, NO_BEAM_MESH)),
+            None => Ok(None),
+        },
+    }
+}
+
+/// The geometric stiffness `K_G` of an ffr body with `geometric_stiffening = true` (all modes,
+/// body units): computed from the FE model, or stored in a reduced-body file.
+fn geometric_stiffness(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    kind: BodySource,
+    loaded: &LoadedBody,
+) -> Result<Option<GeometricStiffness>, SimError> {
+    let gkey = format!("{p}.geometric_stiffening");
+    if !b.geometric_stiffening.unwrap_or(false) {
+        return Ok(None);
+    }
+    match (&loaded.fe, &loaded.geometric) {
+        (Some(fe), _) => centrifugal_stiffness(fe, &loaded.reduced)
+            .map(Some)
+            .map_err(|m| ctx.err(&gkey, m)),
+        (None, Some(g)) => Ok(Some(g.clone())),
+        (None, None) if kind.can_store_geometric_stiffness() => {
+            Err(ctx.err(&gkey, NO_STORED_STIFFNESS))
+        }
+        (None, None) => Err(ctx.err(&gkey, NO_FE_MODEL)),
+    }
+}
+
+/// Sets the damping of an ffr body: `rayleigh = [alpha, beta]` or `modal = [zeta, ...]` (one
+/// ratio per selected mode, or one for all). `dk` is the key path of the `damping` table.
+fn set_damping(ctx: &Ctx, dk: &str, d: &DampingSpec, body: &mut FfrBody) -> Result<(), SimError> {
+    match (&d.rayleigh, &d.modal) {
+        (Some([a, bb]), None) => {
+            if !(*a >= 0.0 && *bb >= 0.0) {
+                return Err(ctx.err(&format!("{dk}.rayleigh"), "alpha and beta must be >= 0"));
+            }
+            body.set_rayleigh_damping(*a, *bb);
+        }
+        (None, Some(z)) => {
+            let zeta = if z.len() == 1 {
+                vec![z[0]; body.nf()]
+            } else {
+                z.clone()
+            };
+            if zeta.iter().any(|x| x.is_nan() || *x < 0.0) {
+                return Err(ctx.err(&format!("{dk}.modal"), "damping ratios must be >= 0"));
+            }
+            body.set_modal_damping(&zeta).map_err(|e| {
+                ctx.err(
+                    &format!("{dk}.modal"),
+                    format!("{e} (give one ratio per selected mode, or one for all)"),
+                )
+            })?;
+        }
+        _ => {
+            return Err(ctx.err(
+                dk,
+                "give exactly one of `rayleigh = [alpha, beta]` and `modal = [zeta, ...]`",
+            ))
+        }
+    }
+    Ok(())
 }
 
 /// Reads a reduced body: FE model file (`.toml`, reduced through the pipeline), reduced-body
@@ -480,51 +571,37 @@ pub fn load_fe_body(
     units: flexmbs_fe::UnitSystem,
     full_mass: bool,
 ) -> Result<LoadedBody, String> {
-    let plain = |reduced| LoadedBody {
-        reduced,
-        fe: None,
-        full_mass: None,
-        geometric: None,
-        rotary_inertia: None,
-    };
     let path = resolve(base, source);
-    if path.is_dir() {
-        return flexmbs_io::seed_body::read_seed_body(&path, name, units)
-            .map(plain)
-            .map_err(|e| e.to_string());
-    }
-    match path.extension().and_then(|e| e.to_str()) {
-        Some("toml") => {
-            let source =
-                flexmbs_io::model_check::FeModelSource::read(&path).map_err(|e| e.to_string())?;
-            let spec = source.model.body.clone();
-            let fe_base = path.parent().unwrap_or(Path::new("."));
-            if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
-                let dir = resolve(fe_base, dir);
-                return flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)
-                    .map(plain)
-                    .map_err(|e| e.to_string());
-            }
-            // errors of meshing, supports and reduction at the line of the FE file's key
-            let located = |e: flexmbs_io::pipeline::PipelineError| source.locate(e).to_string();
-            let (prepared, m_full) = if full_mass {
-                let (p, m) = flexmbs_io::full_mass::prepare_with_mass(&spec, fe_base, &mut |_| {})
-                    .map_err(located)?;
-                (p, Some(m))
-            } else {
-                (prepare(&spec, fe_base, &mut |_| {}).map_err(located)?, None)
-            };
-            let body = run_reduction(&spec, &prepared, &mut |_| {}).map_err(located)?;
-            let mass = FeModel::mass_kind(&spec.mesh, spec.reduction.mass);
-            Ok(LoadedBody {
-                reduced: body,
-                fe: Some(FeModel { prepared, mass }),
-                full_mass: m_full,
-                geometric: None,
-                rotary_inertia: None,
-            })
+    load_body_source(BodySource::of(&path)?, &path, name, units, full_mass)
+}
+
+impl LoadedBody {
+    /// A body with reduced data only (a seed folder).
+    fn reduced_only(reduced: ReducedBody) -> Self {
+        LoadedBody {
+            reduced,
+            fe: None,
+            full_mass: None,
+            geometric: None,
+            rotary_inertia: None,
         }
-        Some("h5") => flexmbs_io::body_file::read_body_file(&path)
+    }
+}
+
+/// Loads the resolved source `path` of kind `kind` ([`load_fe_body`]).
+fn load_body_source(
+    kind: BodySource,
+    path: &Path,
+    name: &str,
+    units: flexmbs_fe::UnitSystem,
+    full_mass: bool,
+) -> Result<LoadedBody, String> {
+    match kind {
+        BodySource::SeedFolder => flexmbs_io::seed_body::read_seed_body(path, name, units)
+            .map(LoadedBody::reduced_only)
+            .map_err(|e| e.to_string()),
+        BodySource::FeModel => load_fe_model_file(path, full_mass),
+        BodySource::BodyFile => flexmbs_io::body_file::read_body_file(path)
             .map(|f| LoadedBody {
                 reduced: f.body,
                 fe: None,
@@ -533,11 +610,56 @@ pub fn load_fe_body(
                 rotary_inertia: f.rotary_inertia,
             })
             .map_err(|e| e.to_string()),
-        _ => Err(format!(
-            "{}: not an FE model file (.toml), a reduced-body file (.h5) or a seed folder",
-            path.display()
-        )),
     }
+}
+
+/// Reads an FE model file and reduces it (a `seed` mesh is read as the seed folder it names);
+/// errors of meshing, supports and reduction are located at the line of the FE file's key.
+fn load_fe_model_file(path: &Path, full_mass: bool) -> Result<LoadedBody, String> {
+    let source = flexmbs_io::model_check::FeModelSource::read(path).map_err(|e| e.to_string())?;
+    let spec = source.model.body.clone();
+    let fe_base = path.parent().unwrap_or(Path::new("."));
+    if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
+        let dir = resolve(fe_base, dir);
+        return flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)
+            .map(LoadedBody::reduced_only)
+            .map_err(|e| e.to_string());
+    }
+    let located = |e: flexmbs_io::pipeline::PipelineError| source.locate(e).to_string();
+    let (prepared, m_full) = if full_mass {
+        let (p, m) = flexmbs_io::full_mass::prepare_with_mass(&spec, fe_base, &mut |_| {})
+            .map_err(located)?;
+        (p, Some(m))
+    } else {
+        (prepare(&spec, fe_base, &mut |_| {}).map_err(located)?, None)
+    };
+    let body = run_reduction(&spec, &prepared, &mut |_| {}).map_err(located)?;
+    let mass = FeModel::mass_kind(&spec.mesh, spec.reduction.mass);
+    Ok(LoadedBody {
+        reduced: body,
+        fe: Some(FeModel { prepared, mass }),
+        full_mass: m_full,
+        geometric: None,
+        rotary_inertia: None,
+    })
+}
+
+/// The body and its `K_G` restricted to the modes selected by `modes` (all if absent).
+fn select_modes(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    reduced: ReducedBody,
+    geometric: Option<GeometricStiffness>,
+) -> Result<(ReducedBody, Option<GeometricStiffness>), SimError> {
+    let Some(sel) = &b.modes else {
+        return Ok((reduced, geometric));
+    };
+    let cols = mode_columns(ctx, p, reduced.num_modes(), sel)?;
+    Ok((
+        restrict_modes(&reduced, &cols),
+        geometric.map(|g| select_geometric_modes(&g, &cols)),
+    ))
 }
 
 /// The 0-based columns of the selected basis vectors (1-based numbers in the file) of a body
@@ -601,4 +723,37 @@ fn restrict_modes(body: &ReducedBody, cols: &[usize]) -> ReducedBody {
         out.labels = cols.iter().map(|&c| body.labels[c].clone()).collect();
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn source_kind_is_decided_by_folder_or_extension() {
+        let dir = std::env::temp_dir();
+        assert_eq!(BodySource::of(&dir), Ok(BodySource::SeedFolder));
+        let kind = |f: &str| BodySource::of(&dir.join("flexmbs-no-such-dir").join(f));
+        assert_eq!(kind("blade.toml"), Ok(BodySource::FeModel));
+        assert_eq!(kind("blade.fmb.h5"), Ok(BodySource::BodyFile));
+        for bad in ["blade.txt", "blade"] {
+            let e = kind(bad).unwrap_err();
+            assert!(
+                e.ends_with(
+                    ": not an FE model file (.toml), a reduced-body file (.h5) or a seed folder"
+                ),
+                "{e}"
+            );
+        }
+        let caps = |k: BodySource| {
+            (
+                k.can_have_fe_model(),
+                k.can_store_geometric_stiffness(),
+                k.can_store_rotary_inertia(),
+            )
+        };
+        assert_eq!(caps(BodySource::SeedFolder), (false, false, false));
+        assert_eq!(caps(BodySource::FeModel), (true, false, false));
+        assert_eq!(caps(BodySource::BodyFile), (false, true, true));
+    }
 }

@@ -135,13 +135,8 @@ pub fn parse_model_file(text: &str, file: &Path) -> Result<ModelFile, SimError> 
 /// True if `text` is a multibody model file (has a top-level `[model]` table) rather than an FE
 /// body file (top-level `[body]` table).
 pub fn is_multibody_model(text: &str) -> bool {
-    toml::de::DeTable::parse(text)
-        .map(|t| {
-            t.get_ref()
-                .iter()
-                .any(|(k, _)| k.get_ref().as_ref() == "model")
-        })
-        .unwrap_or(false)
+    flexmbs_io::file_kind::classify_model_text(text)
+        == flexmbs_io::file_kind::ModelFileKind::Multibody
 }
 
 /// Reads and compiles a model file.
