@@ -111,6 +111,9 @@ pub struct Workspace {
     pub lu_newton: DenseLu,
     /// Step size `lu_newton` was built for (NaN: no valid factorization).
     pub newton_matrix_h: f64,
+    /// Solves done with the current `lu_newton` (modified Newton), counted across steps: the
+    /// matrix is rebuilt after [`crate::integrator::MODIFIED_NEWTON_MAX_REUSE`].
+    pub newton_matrix_solves: usize,
 }
 
 impl Workspace {
@@ -164,6 +167,7 @@ impl Workspace {
             lu_mass: DenseLu::new(nu),
             lu_newton: DenseLu::new(nu + nc),
             newton_matrix_h: f64::NAN,
+            newton_matrix_solves: 0,
         }
     }
 }

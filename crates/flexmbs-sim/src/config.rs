@@ -289,6 +289,15 @@ pub(crate) fn solver_config(
             }
             (newton.rtol, newton.atol) = (t, t);
         }
+        if let Some(t) = n.constraint_tol {
+            if !(t > 0.0 && t < 1.0) {
+                return Err(ctx.err(
+                    "solver.newton.constraint_tol",
+                    format!("must be in (0, 1), got {t}"),
+                ));
+            }
+            newton.constraint_tol = t;
+        }
         if let Some(m) = n.modified {
             if m && s.kind != SolverType::GeneralizedAlpha {
                 return Err(ctx.err(

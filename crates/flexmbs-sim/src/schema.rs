@@ -109,6 +109,8 @@ pub struct NewtonSpec {
     pub max_iterations: Option<usize>,
     /// Relative and absolute increment tolerance, default 1e-10.
     pub tol: Option<f64>,
+    /// Tolerance on the position constraints, relative to `max(1, |q|_inf)`, default 1e-12.
+    pub constraint_tol: Option<f64>,
     /// Modified Newton (keep the factorized iteration matrix across iterations and steps;
     /// generalized-alpha only), default false.
     pub modified: Option<bool>,

@@ -308,6 +308,13 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
     ),
     ("h = \"1 ms\"", "h = 0", "solver.h", "h = 0", "must be > 0"),
     (
+        "t_end = \"0.01 s\"",
+        "t_end = \"0.01 s\"\nnewton = { constraint_tol = 2.0 }",
+        "solver.newton.constraint_tol",
+        "constraint_tol = 2.0",
+        "must be in (0, 1)",
+    ),
+    (
         "t1 = \"5 ms\"",
         "t1 = \"5 ms\", t3 = 2",
         "load[0].time.t3",

@@ -225,6 +225,7 @@ impl Dopri5 {
                     g_dot_max,
                     error_estimate: err,
                     rejected: run.rejected,
+                    factorizations: 0,
                 };
                 evals = 0;
                 if on_step(s, &stats).is_break() {

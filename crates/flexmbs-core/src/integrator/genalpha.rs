@@ -33,8 +33,9 @@ use super::{
     consistent_accelerations, fill_saddle_matrix, ControlledRun, NewtonSettings, StepStats,
 };
 use crate::error::SolverError;
+use crate::linsolve::DenseLu;
 use crate::model::Model;
-use crate::state::{State, StepBuffers, Workspace};
+use crate::state::{State, StepBuffers, SystemBuffers, Workspace};
 use crate::system;
 use std::ops::ControlFlow;
 
@@ -186,7 +187,9 @@ impl GenAlpha {
     }
 
     /// Newton iterations of one step; the result is left in `ws.step` (`q_new`, `u_new`,
-    /// `u_dot_new`, `a_new`, `lambda_new`); `s` is not touched.
+    /// `u_dot_new`, `a_new`, `lambda_new`); `s` is not touched. Convergence:
+    /// [`NewtonSettings`](super::NewtonSettings) (increments of `u_dot` and `lambda`, force
+    /// residual, constraint error, round-off floor).
     fn solve_step(
         &self,
         model: &Model,
@@ -198,12 +201,6 @@ impl GenAlpha {
         let (nu, t1) = (model.nu, s.t + h);
         let c = (1.0 - p.alpha_f) / (1.0 - p.alpha_m);
         let (beta_p, gamma_p) = (h * h * p.beta * c, h * p.gamma * c);
-        let fail = |what, residual| SolverError::NonFinite {
-            what,
-            t: s.t,
-            h,
-            residual,
-        };
         if !(h > 0.0 && h.is_finite()) {
             return Err(SolverError::InvalidSetting {
                 name: "h",
@@ -211,78 +208,44 @@ impl GenAlpha {
                 reason: "step must be positive",
             });
         }
-        let b = &mut ws.step;
-        b.u_dot_new.copy_from_slice(&s.u_dot); // predictor: constant acceleration
-        b.lambda_new.copy_from_slice(&s.lambda);
-        let mut increment = f64::INFINITY;
-        // modified Newton: previous increment and solves with the current iteration matrix
-        let mut last_increment = f64::INFINITY;
-        let mut reuse = 0usize;
+        ws.step.u_dot_new.copy_from_slice(&s.u_dot); // predictor: constant acceleration
+        ws.step.lambda_new.copy_from_slice(&s.lambda);
+        // max |du_dot|, max |d lambda| of the last solve (none yet)
+        let (mut du, mut dl) = (f64::INFINITY, f64::INFINITY);
+        // scaled increment and residual of the previous iterate (modified Newton's refresh test)
+        let (mut last_e, mut last_r) = (f64::INFINITY, f64::INFINITY);
+        let mut factorizations = 0;
         let mut residual = f64::NAN;
         for iter in 1..=nt.max_iterations + 1 {
-            kinematic_update(model, p, h, s, b);
-            let sys = &mut ws.sys;
-            system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
-            system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, &sys.frames, &mut sys.h);
-            system::assemble_constraints(
-                model,
-                t1,
-                &sys.frames,
-                &mut sys.g,
-                sys.g_jac.as_mut(),
-                &mut sys.g_t,
-                &mut sys.g_bias,
-            );
-            // residual r = M u_dot - h + G^T lambda,  g / beta': the product M u_dot from the
-            // elements (no assembled M; that is built only with a new iteration matrix), then
-            // -h_i, G_0i lambda_0, G_1i lambda_1, ... (contiguous columns of G)
-            let (mut r_max, mut g_max) = (0.0_f64, 0.0_f64);
-            let r_acc = &mut b.rhs[..nu];
-            system::mass_times_vector(model, &b.q_new, &b.u_dot_new, sys.mass.as_mut(), r_acc);
-            for (r, h) in r_acc.iter_mut().zip(&sys.h) {
-                *r -= h;
-            }
-            for (i, r) in r_acc.iter_mut().enumerate() {
-                for (g, l) in sys.g_jac.col_as_slice(i).iter().zip(&b.lambda_new) {
-                    *r += g * l;
-                }
-            }
-            for i in 0..nu {
-                let r = b.rhs[i];
-                if !r.is_finite() {
-                    return Err(fail("force residual", residual));
-                }
-                r_max = r_max.max(r.abs());
-                b.rhs[i] = -r;
-            }
-            for gk in &sys.g {
-                if !gk.is_finite() {
-                    return Err(fail("constraint", residual));
-                }
-                g_max = g_max.max(gk.abs());
-            }
-            residual = r_max;
-            // Increment small, or at the round-off floor of the positions (beta' du_dot ~ eps |q|).
-            let q_scale = super::max_abs(&b.q_new).max(1.0);
-            let small = increment <= nt.atol + nt.rtol * super::max_abs(&b.u_dot_new)
-                || beta_p * increment <= 16.0 * f64::EPSILON * q_scale;
-            if small && g_max <= nt.constraint_tol * q_scale {
+            kinematic_update(model, p, h, s, &mut ws.step);
+            let it = newton_residual(model, t1, &mut ws.step, &mut ws.sys)
+                .map_err(|what| nonfinite(what, s.t, h, residual))?;
+            residual = it.r_max;
+            let b = &ws.step;
+            let conv = judge_convergence(nt, &it, b, du, dl, beta_p);
+            if iter > 1 && conv.converged {
                 return Ok(StepStats {
                     t: t1,
                     h,
                     iterations: iter - 1,
                     residual,
+                    factorizations,
                     ..Default::default()
                 });
             }
             if iter > nt.max_iterations {
                 break;
             }
-            let rate = increment / last_increment;
+            // modified Newton: a fresh matrix if the scaled increments contract too slowly or
+            // the residual grows (a stale matrix lets the multipliers diverge), after
+            // MODIFIED_NEWTON_MAX_REUSE solves (counted across steps), or on a new step size
+            let diverging = conv.e > super::MODIFIED_NEWTON_CONTRACTION * last_e
+                || (it.r_max > last_r && !conv.at_roundoff);
             let refresh = !nt.modified
                 || ws.newton_matrix_h.to_bits() != h.to_bits()
-                || rate > super::MODIFIED_NEWTON_CONTRACTION
-                || reuse >= super::MODIFIED_NEWTON_MAX_REUSE;
+                || diverging
+                || ws.newton_matrix_solves >= super::MODIFIED_NEWTON_MAX_REUSE;
+            (last_e, last_r) = (conv.e, it.r_max);
             let lu = if nt.modified {
                 &mut ws.lu_newton
             } else {
@@ -290,39 +253,30 @@ impl GenAlpha {
             };
             if refresh {
                 ws.newton_matrix_h = f64::NAN;
-                system::assemble_mass(model, &b.q_new, sys.mass.as_mut());
-                system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
-                for j in 0..nu {
-                    for i in 0..nu {
-                        sys.dh_dq[(i, j)] = sys.mass[(i, j)]
-                            - gamma_p * sys.dh_du[(i, j)]
-                            - beta_p * sys.dh_dq[(i, j)];
-                    }
-                }
-                fill_saddle_matrix(&mut lu.a, &sys.dh_dq, 1.0, &sys.g_jac);
-                if !lu.factor() {
+                if !factor_iteration_matrix(model, t1, beta_p, gamma_p, &ws.step, &mut ws.sys, lu) {
                     return Err(SolverError::Singular {
                         what: "iteration",
                         t: s.t,
                         h,
                     });
                 }
+                factorizations += 1;
+                ws.newton_matrix_solves = 0;
                 if nt.modified {
                     ws.newton_matrix_h = h;
                 }
-                reuse = 0;
             }
-            reuse += 1;
+            ws.newton_matrix_solves += 1;
+            let b = &mut ws.step;
             let sol = &mut b.rhs;
-            for (k, gk) in sys.g.iter().enumerate() {
+            for (k, gk) in ws.sys.g.iter().enumerate() {
                 sol[nu + k] = -gk / beta_p;
             }
             lu.solve_in_place(sol);
-            last_increment = increment;
-            increment = super::max_abs(&sol[..nu]);
             if sol.iter().any(|x| !x.is_finite()) {
-                return Err(fail("Newton increment", residual));
+                return Err(nonfinite("Newton increment", s.t, h, residual));
             }
+            (du, dl) = (super::max_abs(&sol[..nu]), super::max_abs(&sol[nu..]));
             for (x, d) in b.u_dot_new.iter_mut().zip(&sol[..nu]) {
                 *x += d;
             }
@@ -468,6 +422,148 @@ fn kinematic_update(model: &Model, p: &GenAlphaParams, h: f64, s: &State, b: &mu
         b.dv[i] = h * (s.u[i] + h * ((0.5 - p.beta) * s.a[i] + p.beta * a_new));
     }
     system::integrate_positions(model, &s.q, &b.dv, &mut b.q_new);
+}
+
+/// A non-finite quantity in the Newton iteration of the step `(t, h)`.
+fn nonfinite(what: &'static str, t: f64, h: f64, residual: f64) -> SolverError {
+    SolverError::NonFinite {
+        what,
+        t,
+        h,
+        residual,
+    }
+}
+
+/// Residual measures of one Newton iterate.
+struct IterateResidual {
+    /// `max |r|`, `r = M u_dot - h + G^T lambda`.
+    r_max: f64,
+    /// `max |g|`.
+    g_max: f64,
+    /// Force scale `max(|h|_inf, |M u_dot|_inf)` (the terms `r` balances; `G^T lambda` is left
+    /// out so that diverging multipliers cannot inflate it).
+    f_scale: f64,
+}
+
+/// Evaluates the model at the iterate in `b` (frames, forces, constraints into `sys`) and writes
+/// `-r` into `b.rhs[..nu]`, `r = M(q) u_dot - h(t, q, u) + G^T lambda` (the product `M u_dot`
+/// from the elements; no assembled `M`). Err: the name of a non-finite quantity.
+fn newton_residual(
+    model: &Model,
+    t1: f64,
+    b: &mut StepBuffers,
+    sys: &mut SystemBuffers,
+) -> Result<IterateResidual, &'static str> {
+    let nu = model.nu;
+    system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
+    system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, &sys.frames, &mut sys.h);
+    system::assemble_constraints(
+        model,
+        t1,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
+    let r_acc = &mut b.rhs[..nu];
+    system::mass_times_vector(model, &b.q_new, &b.u_dot_new, sys.mass.as_mut(), r_acc);
+    let f_scale = super::max_abs(r_acc).max(super::max_abs(&sys.h));
+    // -h_i, then G_0i lambda_0, G_1i lambda_1, ... (contiguous columns of G)
+    let mut r_max = 0.0_f64;
+    for (i, (r, h)) in r_acc.iter_mut().zip(&sys.h).enumerate() {
+        *r -= h;
+        for (g, l) in sys.g_jac.col_as_slice(i).iter().zip(&b.lambda_new) {
+            *r += g * l;
+        }
+        if !r.is_finite() {
+            return Err("force residual");
+        }
+        r_max = r_max.max(r.abs());
+        *r = -*r;
+    }
+    let mut g_max = 0.0_f64;
+    for gk in &sys.g {
+        if !gk.is_finite() {
+            return Err("constraint");
+        }
+        g_max = g_max.max(gk.abs());
+    }
+    Ok(IterateResidual {
+        r_max,
+        g_max,
+        f_scale,
+    })
+}
+
+/// Outcome of [`judge_convergence`].
+struct Convergence {
+    /// The iterate is accepted.
+    converged: bool,
+    /// Scaled increment `max(|du_dot| / w_u, |d lambda| / w_lambda)` of the last solve.
+    e: f64,
+    /// The force residual is at its round-off floor ([`ROUNDOFF_RESIDUAL`]).
+    at_roundoff: bool,
+}
+
+/// Force residual at round-off, relative to the force scale: below it, further iterations
+/// only move the iterate by rounding noise (an ill-conditioned direction can amplify that
+/// noise above the increment tolerance: the clamped slider-crank rod stalled at
+/// `|r| = 8e-12` N for `|h| = 230` N, 36 eps relative).
+const ROUNDOFF_RESIDUAL: f64 = 1e3 * f64::EPSILON;
+
+/// The Newton acceptance test of [`NewtonSettings`](super::NewtonSettings) for the iterate in
+/// `b` with residual `it`, reached by a solve with increments `du` (accelerations) and `dl`
+/// (multipliers).
+fn judge_convergence(
+    nt: &super::NewtonSettings,
+    it: &IterateResidual,
+    b: &StepBuffers,
+    du: f64,
+    dl: f64,
+    beta_p: f64,
+) -> Convergence {
+    let q_scale = super::max_abs(&b.q_new).max(1.0);
+    let w_u = nt.atol + nt.rtol * super::max_abs(&b.u_dot_new);
+    let w_l = nt.atol + nt.rtol * super::max_abs(&b.lambda_new).max(it.f_scale);
+    let e = (du / w_u).max(dl / w_l);
+    // increment at the round-off floor of the positions (beta' du_dot ~ eps |q|)
+    let du_floor = beta_p * du <= 16.0 * f64::EPSILON * q_scale;
+    let at_roundoff = it.r_max <= ROUNDOFF_RESIDUAL * it.f_scale;
+    let residual_ok = it.r_max <= nt.rtol.max(ROUNDOFF_RESIDUAL) * it.f_scale;
+    let increments_ok = (du <= w_u || du_floor) && dl <= w_l;
+    Convergence {
+        converged: it.g_max <= nt.constraint_tol * q_scale
+            && residual_ok
+            && (increments_ok || at_roundoff),
+        e,
+        at_roundoff,
+    }
+}
+
+/// Builds the iteration matrix `S` of the module doc at the iterate in `b` (mass, tangents,
+/// constraint Jacobian already in `sys.g_jac`) and factors it into `lu`; `false` if singular.
+fn factor_iteration_matrix(
+    model: &Model,
+    t1: f64,
+    beta_p: f64,
+    gamma_p: f64,
+    b: &StepBuffers,
+    sys: &mut SystemBuffers,
+    lu: &mut DenseLu,
+) -> bool {
+    let nu = model.nu;
+    system::assemble_mass(model, &b.q_new, sys.mass.as_mut());
+    system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
+    // the iteration block M - gamma' dh/du - beta' dh/dq, written over dh/dq
+    for j in 0..nu {
+        for i in 0..nu {
+            sys.dh_dq[(i, j)] =
+                sys.mass[(i, j)] - gamma_p * sys.dh_du[(i, j)] - beta_p * sys.dh_dq[(i, j)];
+        }
+    }
+    fill_saddle_matrix(&mut lu.a, &sys.dh_dq, 1.0, &sys.g_jac);
+    lu.factor()
 }
 
 /// [`super::monitor`] right after a converged [`GenAlpha::solve_step`] and [`commit`]: the last

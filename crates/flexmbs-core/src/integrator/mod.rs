@@ -40,6 +40,9 @@ pub struct StepStats {
     pub error_estimate: f64,
     /// Steps rejected so far in this run (adaptive integrators; 0 for fixed steps).
     pub rejected: usize,
+    /// Iteration matrices built and factored in this step (implicit; full Newton: one per
+    /// iteration, modified Newton: see [`NewtonSettings::modified`]).
+    pub factorizations: usize,
 }
 
 /// Outcome of an integration whose step callback can stop it
@@ -53,24 +56,37 @@ pub struct ControlledRun {
 }
 
 /// Newton settings of the implicit solvers.
+///
+/// Generalized-alpha accepts an iterate (after at least one solve) when all of these hold:
+/// - constraints: `max |g| <= constraint_tol max(1, |q|_inf)`;
+/// - force residual `r = M u_dot - h + G^T lambda`: `max |r| <= rtol F`, with the force scale
+///   `F = max(|h|_inf, |M u_dot|_inf)` of the iterate (not `G^T lambda`, so diverging multipliers
+///   cannot inflate it);
+/// - increments of the last solve: `max |du_dot| <= atol + rtol max |u_dot|` (or at the
+///   positions' round-off floor `beta' max |du_dot| <= 16 eps max(1, |q|_inf)`) and
+///   `max |d lambda| <= atol + rtol max(|lambda|_inf, F)`;
+///   or instead of both increment tests: the residual is at round-off, `max |r| <= 1e3 eps F`
+///   (an ill-conditioned direction may then amplify rounding noise into increments above the
+///   tolerance, which no further iteration reduces).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewtonSettings {
     /// Maximum iterations per step. Default 25.
     pub max_iterations: usize,
-    /// Relative tolerance on the increment. Default 1e-10.
+    /// Relative tolerance on the increments and the force residual. Default 1e-10.
     pub rtol: f64,
-    /// Absolute tolerance on the increment. Default 1e-10.
+    /// Absolute tolerance on the increments. Default 1e-10.
     pub atol: f64,
     /// Tolerance on `max |g|` (position constraints), relative to `max(1, |q|_inf)`. Default 1e-12.
-    /// (Generalized-alpha also accepts an increment with `beta' |du_dot| <= 16 eps max(1, |q|)`,
-    /// the round-off floor of the scaled constraint rows.)
     pub constraint_tol: f64,
     /// Modified Newton (generalized-alpha only): keep the factorized iteration matrix across
     /// iterations and steps, and rebuild it (tangent + LU) only when the step size changed, the
-    /// increments contract by less than [`MODIFIED_NEWTON_CONTRACTION`] per iteration, or after
-    /// [`MODIFIED_NEWTON_MAX_REUSE`] solves with one matrix. The residual is always evaluated
-    /// exactly, so converged steps agree with full Newton to the Newton tolerances. Default
-    /// `false` (full Newton: a fresh matrix every iteration).
+    /// scaled increments (of `u_dot` and `lambda`) contract by less than
+    /// [`MODIFIED_NEWTON_CONTRACTION`] per iteration, the force residual grows (above its
+    /// round-off floor), or after [`MODIFIED_NEWTON_MAX_REUSE`] solves with one matrix (counted
+    /// across steps, [`crate::Workspace::newton_matrix_solves`]). A step is accepted only by the
+    /// full test above, so never with diverging multipliers; converged steps agree with full
+    /// Newton to the Newton tolerances. Default `false` (full Newton: a fresh matrix every
+    /// iteration).
     pub modified: bool,
 }
 

@@ -225,7 +225,9 @@ impl Statics {
             }
             residual = super::max_abs(&rhs[..nu]);
             let g_max = super::max_abs(&rhs[nu..]);
-            if residual <= tol && g_max <= nt.constraint_tol {
+            // constraints as in generalized-alpha: relative to max(1, |q|_inf)
+            let q_scale = super::max_abs(&s.q).max(1.0);
+            if residual <= tol && g_max <= nt.constraint_tol * q_scale {
                 return Ok((iter, residual, g_max));
             }
             if iter == nt.max_iterations {
