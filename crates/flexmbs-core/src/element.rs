@@ -178,6 +178,20 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     /// Kinematics of a local frame of this element (position, rotation, velocities,
     /// Jacobians, bias accelerations), overwriting `out` (its Jacobians are 3 x nu).
     fn frame_kinematics(&self, q: &[f64], u: &[f64], frame: &LocalFrame, out: &mut FrameKinematics);
+    /// [`Element::frame_kinematics`] for callers that need only the frame (the load and
+    /// constraint-force tangents evaluate frames at many perturbed states): same results, but an
+    /// element whose full evaluation is expensive computes only what the frame needs and leaves its
+    /// evaluated state for mass and forces untouched (FFR bodies: O(n_f) per frame instead of the
+    /// O(n_f^2) deformed moments). Default: [`Element::frame_kinematics`].
+    fn frame_kinematics_only(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        frame: &LocalFrame,
+        out: &mut FrameKinematics,
+    ) {
+        self.frame_kinematics(q, u, frame, out);
+    }
     /// Tangents `dh_dq` (along `q ⊕ dv`) and `dh_du` (both nu x nu), overwriting them.
     /// Default: central finite differences ([`finite_difference_tangents`]).
     #[allow(clippy::too_many_arguments)]

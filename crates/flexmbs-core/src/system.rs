@@ -3,11 +3,12 @@
 
 use crate::element::FrameKinematics;
 use crate::error::SolverError;
+use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
-use crate::load::FrameWrench;
+use crate::load::{FrameWrench, Load};
 use crate::model::{FrameOwner, Model};
 use crate::state::{State, SystemBuffers, Workspace};
-use faer::{Mat, MatMut};
+use faer::MatMut;
 use nalgebra::Vector3;
 
 /// Energies of a state (seed 000 eq. (2.43) for the kinetic part).
@@ -130,28 +131,40 @@ pub fn add_load_forces(
     frames: &[FrameKinematics],
     h: &mut [f64],
 ) {
-    let mut w: [FrameWrench; 2] = [(crate::FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
     for load in &model.loads {
-        let n = load.wrenches(t, load_factor, frames, &mut w);
-        for (frame, f, m) in &w[..n] {
-            if let FrameOwner::Body(b) = model.frames[frame.0].owner {
-                let off = model.bodies[b.0].u_offset;
-                let k = &frames[frame.0];
-                for j in 0..k.jac_t.ncols() {
-                    let mut s = 0.0;
-                    for i in 0..3 {
-                        s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
-                    }
-                    h[off + j] += s;
+        add_one_load_force(model, load, t, load_factor, frames, h);
+    }
+}
+
+/// Adds the generalized forces of one load to `h` (the rows of the owners of its frames).
+fn add_one_load_force(
+    model: &Model,
+    load: &Load,
+    t: f64,
+    load_factor: f64,
+    frames: &[FrameKinematics],
+    h: &mut [f64],
+) {
+    let mut w: [FrameWrench; 2] = [(FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
+    let n = load.wrenches(t, load_factor, frames, &mut w);
+    for (frame, f, m) in &w[..n] {
+        if let FrameOwner::Body(b) = model.frames[frame.0].owner {
+            let off = model.bodies[b.0].u_offset;
+            let k = &frames[frame.0];
+            for j in 0..k.jac_t.ncols() {
+                let mut s = 0.0;
+                for i in 0..3 {
+                    s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
                 }
+                h[off + j] += s;
             }
         }
     }
 }
 
 /// Tangents `ws.dh_dq` (along `q ⊕ dv`) and `ws.dh_du` of the full `h`: element blocks via
-/// [`crate::Element::force_tangents`], load contributions by central differences of
-/// [`add_load_forces`] (loads couple bodies). Leaves `ws.frames` at `(q, u)`.
+/// [`crate::Element::force_tangents`], load contributions by central differences
+/// ([`add_load_tangents`]). Leaves `ws.frames` at `(q, u)` (expects them there).
 pub fn assemble_tangents(
     model: &Model,
     t: f64,
@@ -175,50 +188,181 @@ pub fn assemble_tangents(
             scratch,
         );
     }
-    if !model.loads.is_empty() {
-        let (qp, up, dv) = (&mut ws.q_pert, &mut ws.u_pert, &mut ws.dv_pert);
-        let (hp, hm) = (&mut ws.h_plus, &mut ws.h_minus);
-        up.copy_from_slice(u);
-        qp.copy_from_slice(q);
-        dv.fill(0.0);
-        for b in &model.bodies {
-            let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
-            for j in 0..nu {
-                // position direction
-                let eps = 1e-6;
-                for (sign, hh) in [(1.0, &mut *hp), (-1.0, &mut *hm)] {
-                    dv[o + j] = sign * eps;
-                    b.element.integrate_position(
-                        &q[oq..oq + nq],
-                        &dv[o..o + nu],
-                        &mut qp[oq..oq + nq],
-                    );
-                    update_frames(model, qp, u, &mut ws.frames);
-                    hh.fill(0.0);
-                    add_load_forces(model, t, load_factor, &ws.frames, hh);
-                }
-                dv[o + j] = 0.0;
-                qp[oq..oq + nq].copy_from_slice(&q[oq..oq + nq]);
-                add_difference_column(&mut ws.dh_dq, o + j, hp, hm, eps);
-                // velocity direction
-                let eps = 1e-6 * u[o + j].abs().max(1.0);
-                for (sign, hh) in [(1.0, &mut *hp), (-1.0, &mut *hm)] {
-                    up[o + j] = u[o + j] + sign * eps;
-                    update_frames(model, q, up, &mut ws.frames);
-                    hh.fill(0.0);
-                    add_load_forces(model, t, load_factor, &ws.frames, hh);
-                }
-                up[o + j] = u[o + j];
-                add_difference_column(&mut ws.dh_du, o + j, hp, hm, eps);
-            }
-        }
-        update_frames(model, q, u, &mut ws.frames);
+    add_load_tangents(model, t, q, u, load_factor, ws);
+}
+
+/// The frames a load acts on (one for point loads, two for a spring-damper).
+fn load_frames(load: &Load) -> ([FrameId; 2], usize) {
+    match load {
+        Load::Force { frame, .. } | Load::Torque { frame, .. } => ([*frame, *frame], 1),
+        Load::SpringDamper {
+            frame_a, frame_b, ..
+        } => ([*frame_a, *frame_b], 2),
     }
 }
 
-fn add_difference_column(m: &mut Mat<f64>, col: usize, hp: &[f64], hm: &[f64], eps: f64) {
-    for i in 0..hp.len() {
-        m[(i, col)] += (hp[i] - hm[i]) / (2.0 * eps);
+/// The distinct bodies owning `frames` (ground frames have none), at most two.
+fn frame_owners(model: &Model, frames: &[FrameId]) -> ([usize; 2], usize) {
+    let mut owners = [usize::MAX; 2];
+    let mut n = 0;
+    for f in frames {
+        if let FrameOwner::Body(b) = model.frames[f.0].owner {
+            if !owners[..n].contains(&b.0) {
+                owners[n] = b.0;
+                n += 1;
+            }
+        }
+    }
+    (owners, n)
+}
+
+/// Re-evaluates the frames in `frames` owned by `body` at `(q, u)` through the kinematics-only
+/// path ([`crate::Element::frame_kinematics_only`]).
+fn update_owned_frames(
+    model: &Model,
+    body: usize,
+    frames: &[FrameId],
+    q: &[f64],
+    u: &[f64],
+    out: &mut [FrameKinematics],
+) {
+    let b = &model.bodies[body];
+    let (qb, ub) = (
+        &q[b.q_offset..b.q_offset + b.element.nq()],
+        &u[b.u_offset..b.u_offset + b.element.nu()],
+    );
+    for f in frames {
+        let frame = &model.frames[f.0];
+        if frame.owner == FrameOwner::Body(crate::BodyId(body)) {
+            b.element
+                .frame_kinematics_only(qb, ub, &frame.local, &mut out[f.0]);
+        }
+    }
+}
+
+/// A generalized force of some frames (one load, or one joint's constraint forces) evaluated
+/// from the frame kinematics into the rows of the frames' owners.
+trait FrameForce {
+    /// Adds the force to `h` with `frames` evaluated at the current state.
+    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]);
+}
+
+/// Central differences of a [`FrameForce`] along `q ⊕ dv` (position columns) and `u` (velocity
+/// columns) of the owners of its frames only, re-evaluating only those frames: adds
+/// `sign * d(force)/dq` to `ws.dh_dq` and, with `velocity`, `sign * d(force)/du` to `ws.dh_du`
+/// (rows and columns of the owners). Expects `ws.frames` of `frames` at `(q, u)` and leaves them
+/// there. Steps: `1e-6` for positions, `1e-6 max(1, |u_j|)` for velocities.
+#[allow(clippy::too_many_arguments)]
+fn add_local_force_tangent(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    frames: &[FrameId],
+    force: &dyn FrameForce,
+    sign: f64,
+    velocity: bool,
+    ws: &mut SystemBuffers,
+) {
+    let (owners, n_owners) = frame_owners(model, frames);
+    let owners = &owners[..n_owners];
+    let rows = |o: usize| {
+        let b = &model.bodies[o];
+        b.u_offset..b.u_offset + b.element.nu()
+    };
+    for &ob in owners {
+        let b = &model.bodies[ob];
+        let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+        ws.q_pert[oq..oq + nq].copy_from_slice(&q[oq..oq + nq]);
+        ws.u_pert[o..o + nu].copy_from_slice(&u[o..o + nu]);
+        ws.dv_pert[o..o + nu].fill(0.0);
+        for j in 0..nu {
+            let directions: &[bool] = if velocity { &[true, false] } else { &[true] };
+            for &position in directions {
+                let eps = if position {
+                    1e-6
+                } else {
+                    1e-6 * u[o + j].abs().max(1.0)
+                };
+                for plus in [true, false] {
+                    let e = if plus { eps } else { -eps };
+                    if position {
+                        ws.dv_pert[o + j] = e;
+                        b.element.integrate_position(
+                            &q[oq..oq + nq],
+                            &ws.dv_pert[o..o + nu],
+                            &mut ws.q_pert[oq..oq + nq],
+                        );
+                        update_owned_frames(model, ob, frames, &ws.q_pert, u, &mut ws.frames);
+                    } else {
+                        ws.u_pert[o + j] = u[o + j] + e;
+                        update_owned_frames(model, ob, frames, q, &ws.u_pert, &mut ws.frames);
+                    }
+                    let hh = if plus {
+                        &mut ws.h_plus
+                    } else {
+                        &mut ws.h_minus
+                    };
+                    for &r in owners {
+                        hh[rows(r)].fill(0.0);
+                    }
+                    force.add(&ws.frames, hh);
+                }
+                ws.dv_pert[o + j] = 0.0;
+                ws.u_pert[o + j] = u[o + j];
+                let m = if position {
+                    &mut ws.dh_dq
+                } else {
+                    &mut ws.dh_du
+                };
+                for &r in owners {
+                    for i in rows(r) {
+                        m[(i, o + j)] += sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
+                    }
+                }
+            }
+        }
+        update_owned_frames(model, ob, frames, q, u, &mut ws.frames);
+    }
+}
+
+/// One load as a [`FrameForce`].
+struct LoadForce<'a> {
+    model: &'a Model,
+    load: &'a Load,
+    t: f64,
+    load_factor: f64,
+}
+
+impl FrameForce for LoadForce<'_> {
+    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]) {
+        add_one_load_force(self.model, self.load, self.t, self.load_factor, frames, h);
+    }
+}
+
+/// Adds the load tangents `d(J^T w)/dq` and `d(J^T w)/du` of every load to `ws.dh_dq`, `ws.dh_du`
+/// by central differences ([`add_local_force_tangent`]): per load, only the coordinates of the
+/// owners of its frames are perturbed and only its frames re-evaluated, so the cost does not grow
+/// with the size of the rest of the model; velocity columns only for damped springs (point loads
+/// and undamped springs do not depend on `u`: their `dh_du` is exactly zero). Expects `ws.frames` at `(q, u)` and leaves them there.
+pub fn add_load_tangents(
+    model: &Model,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    load_factor: f64,
+    ws: &mut SystemBuffers,
+) {
+    for load in &model.loads {
+        let (frames, n) = load_frames(load);
+        let force = LoadForce {
+            model,
+            load,
+            t,
+            load_factor,
+        };
+        // point loads and undamped springs do not depend on u: no velocity columns
+        let velocity = matches!(load, Load::SpringDamper { damping, .. } if *damping != 0.0);
+        add_local_force_tangent(model, q, u, &frames[..n], &force, 1.0, velocity, ws);
     }
 }
 
@@ -384,9 +528,50 @@ pub fn normalize(model: &Model, q: &mut [f64]) {
     }
 }
 
+/// The constraint forces `G_j^T lambda_j` of one joint as a [`FrameForce`].
+struct JointForce<'a> {
+    model: &'a Model,
+    joint: &'a crate::Joint,
+    t: f64,
+    lambda: &'a [f64],
+}
+
+impl FrameForce for JointForce<'_> {
+    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]) {
+        let joint = self.joint;
+        let n = joint.num_rows();
+        let mut rows = [ConstraintRow::ZERO; MAX_JOINT_ROWS];
+        let (ka, kb) = (&frames[joint.frame_a.0], &frames[joint.frame_b.0]);
+        joint_rows(joint, self.t, ka, kb, &mut rows[..n]);
+        // G^T lambda = sum_rows lambda_i (J_T^T t + J_R^T r) per side: a wrench per frame
+        let mut sides = [(Vector3::zeros(), Vector3::zeros()); 2];
+        for (row, l) in rows[..n].iter().zip(self.lambda) {
+            sides[0].0 += row.t_a * *l;
+            sides[0].1 += row.r_a * *l;
+            sides[1].0 += row.t_b * *l;
+            sides[1].1 += row.r_b * *l;
+        }
+        for (frame, (f, m)) in [joint.frame_a, joint.frame_b].into_iter().zip(sides) {
+            if let FrameOwner::Body(b) = self.model.frames[frame.0].owner {
+                let off = self.model.bodies[b.0].u_offset;
+                let k = &frames[frame.0];
+                for j in 0..k.jac_t.ncols() {
+                    let mut s = 0.0;
+                    for i in 0..3 {
+                        s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
+                    }
+                    h[off + j] += s;
+                }
+            }
+        }
+    }
+}
+
 /// Subtracts the geometric stiffness of the constraint forces, `d(G^T lambda)/dq` (along
 /// `q ⊕ dv`, central differences), from `sys.dh_dq`. Needed by statics, where the reduced
-/// stiffness of a mechanism comes from it. Leaves frames and constraint buffers at `(q, u)`.
+/// stiffness of a mechanism comes from it. Per joint, only the coordinates of the owners of its
+/// two frames are perturbed and only those frames re-evaluated ([`add_local_force_tangent`]).
+/// Expects `sys.frames` at `(q, u)` and leaves them there; the constraint buffers are untouched.
 pub fn subtract_constraint_force_tangent(
     model: &Model,
     t: f64,
@@ -395,57 +580,16 @@ pub fn subtract_constraint_force_tangent(
     lambda: &[f64],
     sys: &mut SystemBuffers,
 ) {
-    if model.nc == 0 {
-        return;
+    for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
+        let force = JointForce {
+            model,
+            joint,
+            t,
+            lambda: &lambda[r0..r0 + joint.num_rows()],
+        };
+        let frames = [joint.frame_a, joint.frame_b];
+        add_local_force_tangent(model, q, u, &frames, &force, -1.0, false, sys);
     }
-    sys.dv_pert.fill(0.0);
-    let eps = 1e-6;
-    for b in &model.bodies {
-        let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
-        sys.q_pert.copy_from_slice(q);
-        for j in 0..nu {
-            for sign in [1.0, -1.0] {
-                sys.dv_pert[o + j] = sign * eps;
-                b.element.integrate_position(
-                    &q[oq..oq + nq],
-                    &sys.dv_pert[o..o + nu],
-                    &mut sys.q_pert[oq..oq + nq],
-                );
-                update_frames(model, &sys.q_pert, u, &mut sys.frames);
-                assemble_constraints(
-                    model,
-                    t,
-                    &sys.frames,
-                    &mut sys.g,
-                    sys.g_jac.as_mut(),
-                    &mut sys.g_t,
-                    &mut sys.g_bias,
-                );
-                let out = if sign > 0.0 {
-                    &mut sys.h_plus
-                } else {
-                    &mut sys.h_minus
-                };
-                for (i, v) in out.iter_mut().enumerate() {
-                    *v = (0..model.nc).map(|k| sys.g_jac[(k, i)] * lambda[k]).sum();
-                }
-            }
-            sys.dv_pert[o + j] = 0.0;
-            for i in 0..model.nu {
-                sys.dh_dq[(i, o + j)] -= (sys.h_plus[i] - sys.h_minus[i]) / (2.0 * eps);
-            }
-        }
-    }
-    update_frames(model, q, u, &mut sys.frames);
-    assemble_constraints(
-        model,
-        t,
-        &sys.frames,
-        &mut sys.g,
-        sys.g_jac.as_mut(),
-        &mut sys.g_t,
-        &mut sys.g_bias,
-    );
 }
 
 /// Position tolerance of [`check_assembly`] (m or rad); velocities are checked to this tolerance

@@ -16,11 +16,16 @@
 //!   k_ff): seconds instead of minutes under valgrind;
 //! - `FFR_BENCH_MODES=6,12`: restrict the mode counts;
 //! - `FFR_BENCH_NEWTON=modified` (or `full`): run only that Newton variant (for profiling with
-//!   `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*GenAlpha*integrate*'`).
+//!   `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*GenAlpha*integrate*'`);
+//! - `FFR_BENCH_LOAD=1`: add a follower tip force (1 N along the tip node frame's y axis) at the
+//!   tip node (x = L, y = R, z = 0): the cost of one load's tangent;
+//! - `FFR_BENCH_STEPS=200`: fewer steps (e.g. under callgrind; default 2000).
 
 use flexmbs_core::ffr::{FfrBody, FfrElement, FfrInvariants, RotationParam};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
-use flexmbs_core::{Joint, ModelSpec, PrescribedMotion, TimeFunction, Workspace};
+use flexmbs_core::{
+    Joint, Load, LoadCoordinates, ModelSpec, PrescribedMotion, TimeFunction, Workspace,
+};
 use flexmbs_fe::constraint::BoundaryConditions;
 use flexmbs_fe::eigen::EigenOptions;
 use flexmbs_fe::element::MassKind;
@@ -84,11 +89,21 @@ fn export(dir: &std::path::Path, body: &ReducedBody) {
     write_npy(&dir.join("kff.npy"), &[nf, nf], &k);
 }
 
+/// The tip node: its index, undeformed position, the y row of its modes, and whether a tip force
+/// is applied there.
+#[derive(Clone, Copy)]
+struct Tip<'a> {
+    node: usize,
+    position: Vector3<f64>,
+    phi: &'a [f64],
+    load: bool,
+}
+
 /// One timed run; returns (wall seconds of the stepping, mean Newton iterations per step, tip
 /// deflection series every 10 steps).
 fn run(
     ffr: FfrBody,
-    phi_tip: &[f64],
+    tip: Tip<'_>,
     fd: bool,
     modified: bool,
     steps: usize,
@@ -103,6 +118,15 @@ fn run(
     let b = spec.add_body("tube", element);
     let g = spec.add_ground_frame("hinge", Vector3::zeros(), Matrix3::identity());
     let f = spec.add_frame("hinge", b, Vector3::zeros(), Matrix3::identity());
+    if tip.load {
+        let tf = spec.add_node_frame("tip", b, tip.node, tip.position);
+        spec.add_load(Load::Force {
+            frame: tf,
+            vector: Vector3::new(0.0, 1.0, 0.0),
+            time: TimeFunction::Constant(1.0),
+            coordinates: LoadCoordinates::Frame,
+        });
+    }
     spec.add_joint(Joint::revolute("drive", g, f).with_prescribed(
         PrescribedMotion::RevoluteRate {
             initial_angle: 0.0,
@@ -139,7 +163,7 @@ fn run(
         iterations += stats.iterations;
         if k.is_multiple_of(10) {
             let qf = &st.q[qo + 6..qo + 6 + nf];
-            series.push((st.t, phi_tip.iter().zip(qf).map(|(p, q)| p * q).sum()));
+            series.push((st.t, tip.phi.iter().zip(qf).map(|(p, q)| p * q).sum()));
         }
     })
     .expect("run");
@@ -210,8 +234,8 @@ impl Source {
         }
     }
 
-    /// FFR body with `n` modes and the tip y row of its modes.
-    fn body(&self, n: usize) -> (FfrBody, Vec<f64>) {
+    /// FFR body with `n` modes, the tip node, its position and the tip y row of its modes.
+    fn body(&self, n: usize) -> (FfrBody, usize, Vector3<f64>, Vec<f64>) {
         match self {
             Source::Fe(fe) => {
                 let body = reduce_modal(
@@ -226,7 +250,7 @@ impl Source {
                 let tip = tip_node(&body.nodes);
                 let phi = (0..n).map(|a| body.modes_t[(3 * tip + 1, a)]).collect();
                 let ffr = FfrBody::from_reduced(&body, RotationParam::Cardan).expect("ffr");
-                (ffr, phi)
+                (ffr, tip, Vector3::from(body.nodes[tip]), phi)
             }
             Source::Imported {
                 nodes,
@@ -249,7 +273,7 @@ impl Source {
                     k.as_ref(),
                 )
                 .expect("ffr");
-                (ffr, phi)
+                (ffr, tip, Vector3::from(nodes[tip]), phi)
             }
         }
     }
@@ -310,6 +334,7 @@ fn main() {
         None => fe_source(),
     };
     let with_fd = std::env::var("FFR_BENCH_FD").is_ok_and(|v| v == "1");
+    let with_load = std::env::var("FFR_BENCH_LOAD").is_ok_and(|v| v == "1");
     let counts: Vec<usize> = std::env::var("FFR_BENCH_MODES")
         .map(|v| v.split(',').filter_map(|x| x.trim().parse().ok()).collect())
         .unwrap_or_else(|_| vec![6, 12, 24, 50, 100]);
@@ -336,9 +361,19 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for n in counts {
         let t_set = Instant::now();
-        let (ffr, phi_tip) = source.body(n);
+        let (ffr, tip_index, tip_position, phi_tip) = source.body(n);
+        let tip = Tip {
+            node: tip_index,
+            position: tip_position,
+            phi: &phi_tip,
+            load: with_load,
+        };
         let setup = t_set.elapsed().as_secs_f64();
-        let mut variants = vec![(false, false, STEPS), (false, true, STEPS)];
+        let steps = std::env::var("FFR_BENCH_STEPS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(STEPS);
+        let mut variants = vec![(false, false, steps), (false, true, steps)];
         match std::env::var("FFR_BENCH_NEWTON").as_deref() {
             Ok("modified") => variants.retain(|v| v.1),
             Ok("full") => variants.retain(|v| !v.1),
@@ -354,7 +389,7 @@ fn main() {
             variants.push((true, false, fd_steps));
         }
         for (fd, modified, steps) in variants {
-            let (wall, iters, series) = run(ffr.clone(), &phi_tip, fd, modified, steps);
+            let (wall, iters, series) = run(ffr.clone(), tip, fd, modified, steps);
             let whole = t_mesh + t_modal + setup + wall * STEPS as f64 / steps as f64;
             let last = series.last().map_or(f64::NAN, |x| x.1);
             println!(

@@ -21,6 +21,9 @@ pub struct FfrElement {
     tangent: Mutex<FfrTangentScratch>,
     analytic_tangent: bool,
     moments: Mutex<MomentCache>,
+    /// Kinematic state only (rotation state, `q_f`, `q_f_dot`; no moments) for
+    /// [`Element::frame_kinematics_only`].
+    kinematics: Mutex<FfrScratch>,
 }
 
 impl FfrElement {
@@ -35,6 +38,7 @@ impl FfrElement {
             tangent: Mutex::new(FfrTangentScratch::new(nf)),
             analytic_tangent: true,
             moments: Mutex::new(MomentCache::new(nf)),
+            kinematics: Mutex::new(FfrScratch::new(nf)),
         }
     }
 
@@ -238,25 +242,28 @@ impl Element for FfrElement {
         frame: &LocalFrame,
         out: &mut FrameKinematics,
     ) {
-        let done = self.with_state(q, u, |b, s| -> Option<()> {
-            match frame.node {
-                Some(node) => {
-                    let k = b.node_kinematics(node, q, u, s).ok()?;
-                    b.node_jacobian_translation(node, s, out.jac_t.as_mut())
-                        .ok()?;
-                    b.node_jacobian_rotation(node, s, out.jac_r.as_mut()).ok()?;
-                    out.position = k.r;
-                    out.rotation = k.frame * frame.rotation;
-                    out.velocity = k.v;
-                    out.angular_velocity = k.omega;
-                    out.bias_acc = k.a_bias;
-                    out.bias_ang_acc = k.alpha_bias;
-                }
-                None => point_fixed_in_reference_frame(b, q, u, s, frame, out),
-            }
-            Some(())
-        });
+        let done = self.with_state(q, u, |b, s| frame_from_state(b, q, u, s, frame, out));
         if done.flatten().is_none() {
+            out.position.fill(f64::NAN);
+            out.velocity.fill(f64::NAN);
+        }
+    }
+
+    fn frame_kinematics_only(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        frame: &LocalFrame,
+        out: &mut FrameKinematics,
+    ) {
+        let mut s = match self.kinematics.lock() {
+            Ok(s) => s,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        let done = update_kinematic_state(&self.body, q, u, &mut s)
+            .ok()
+            .and_then(|_| frame_from_state(&self.body, q, u, &s, frame, out));
+        if done.is_none() {
             out.position.fill(f64::NAN);
             out.velocity.fill(f64::NAN);
         }
@@ -287,6 +294,64 @@ impl Element for FfrElement {
         }
         e
     }
+}
+
+/// The part of [`FfrBody::update`] that frame kinematics read: `A`, `H`, `omega_bar`, `H_dot w`,
+/// `q_f`, `q_f_dot` (bitwise the values of a full update), without the O(n_f^2) deformed moments.
+fn update_kinematic_state(
+    b: &FfrBody,
+    q: &[f64],
+    u: &[f64],
+    s: &mut FfrScratch,
+) -> Result<(), super::FfrError> {
+    let nr = b.rotation.num_coordinates();
+    for (what, expected, found) in [("q", b.nq(), q.len()), ("u", b.nu(), u.len())] {
+        if expected != found {
+            return Err(super::FfrError::DimensionMismatch {
+                what,
+                expected,
+                found,
+            });
+        }
+    }
+    if b.rotation == RotationParam::Quaternion {
+        let norm = nalgebra::Vector4::new(q[3], q[4], q[5], q[6]).norm();
+        if !(norm.is_finite() && norm > 1e-12) {
+            return Err(crate::rotation::RotationError::DegenerateQuaternion { norm }.into());
+        }
+    }
+    b.set_rotation_state(&q[3..3 + nr], &Vector3::new(u[3], u[4], u[5]), s)?;
+    s.qf.copy_from_slice(&q[3 + nr..]);
+    s.qfd.copy_from_slice(&u[6..]);
+    Ok(())
+}
+
+/// Kinematics of `frame` from an evaluated state `s` (a mesh-node frame or a point fixed in the
+/// floating frame); `None` for an invalid mesh node.
+fn frame_from_state(
+    b: &FfrBody,
+    q: &[f64],
+    u: &[f64],
+    s: &FfrScratch,
+    frame: &LocalFrame,
+    out: &mut FrameKinematics,
+) -> Option<()> {
+    match frame.node {
+        Some(node) => {
+            let k = b.node_kinematics(node, q, u, s).ok()?;
+            b.node_jacobian_translation(node, s, out.jac_t.as_mut())
+                .ok()?;
+            b.node_jacobian_rotation(node, s, out.jac_r.as_mut()).ok()?;
+            out.position = k.r;
+            out.rotation = k.frame * frame.rotation;
+            out.velocity = k.v;
+            out.angular_velocity = k.omega;
+            out.bias_acc = k.a_bias;
+            out.bias_ang_acc = k.alpha_bias;
+        }
+        None => point_fixed_in_reference_frame(b, q, u, s, frame, out),
+    }
+    Some(())
 }
 
 /// Kinematics of a point `p` (and orientation) fixed in the floating frame: `r = R + A p`,
