@@ -1,5 +1,9 @@
 //! File formats of flexmbs: the seed 4-file body format, CalculiX decks and exports,
-//! reduced-body files and VTK output.
+//! reduced-body files, results files and VTK output; the FE body model file (schema in
+//! [`model`], checks in [`model_check`]); what both kinds of model file share, the key-path
+//! locator ([`toml_locate`]) and the file-kind classifier ([`file_kind`]); line plots ([`plot`]).
+//! The FE reduction pipeline that turns an FE body model file into a reduced body is the crate
+//! `flexmbs-reduce`.
 #![warn(missing_docs)]
 
 pub mod body_file;
