@@ -3,8 +3,8 @@
 use crate::progress::Progress;
 use anyhow::{Context, Result};
 use flexmbs_io::model::parse_fe_model;
-use flexmbs_io::pipeline::{prepare, run_modal, run_reduction};
 use flexmbs_io::plot::{LinePlot, Series, Style};
+use flexmbs_reduce::pipeline::{prepare, run_modal, run_reduction};
 use std::path::Path;
 
 /// The embedded default model.
@@ -39,23 +39,23 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
     let modal = run_modal(&spec, &body, spec.reduction.modes, &mut |s| p.stage(s))?;
     let reduced = run_reduction(&spec, &body, &mut |s| p.stage(s))?;
     // the clamped cantilever also gets its centrifugal geometric stiffness, as `flexmbs reduce`
-    p.stage(flexmbs_io::pipeline::Stage::Started(
+    p.stage(flexmbs_reduce::pipeline::Stage::Started(
         "geometric stiffness (unit-load method)".into(),
     ));
-    let mass = flexmbs_io::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
-    let kg = flexmbs_io::geometric::centrifugal_geometric_stiffness(&body, mass, &reduced);
+    let mass = flexmbs_reduce::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
+    let kg = flexmbs_reduce::geometric::centrifugal_geometric_stiffness(&body, mass, &reduced);
     p.finish();
     let kg = kg.context("geometric stiffness")?;
 
-    let rows = flexmbs_io::report::modal_rows(&modal);
-    print!("{}", flexmbs_io::report::modal_table(&rows));
+    let rows = flexmbs_reduce::report::modal_rows(&modal);
+    print!("{}", flexmbs_reduce::report::modal_table(&rows));
     std::fs::write(
         out.join("frequencies.csv"),
-        flexmbs_io::report::modal_csv(&rows),
+        flexmbs_reduce::report::modal_csv(&rows),
     )?;
     let body_path = out.join("cantilever.h5");
     let rotary_inertia =
-        flexmbs_io::full_mass::beam_node_rotary_inertias(&body.mesh, reduced.num_nodes())
+        flexmbs_reduce::full_mass::beam_node_rotary_inertias(&body.mesh, reduced.num_nodes())
             .map_err(anyhow::Error::msg)?;
     flexmbs_io::body_file::BodyFile {
         body: reduced.clone(),

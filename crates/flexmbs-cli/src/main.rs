@@ -11,7 +11,7 @@ use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_io::body_file::BodyFile;
 use flexmbs_io::model::read_fe_model;
 use flexmbs_io::model_check::FeModelSource;
-use flexmbs_io::pipeline::{prepare, run_modal, run_reduction, PreparedBody};
+use flexmbs_reduce::pipeline::{prepare, run_modal, run_reduction, PreparedBody};
 use std::path::{Path, PathBuf};
 
 /// flexmbs: flexible multibody dynamics with FE-based flexible bodies.
@@ -241,7 +241,7 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
         Command::ExportInp { model, output } => {
             let src = FeModelSource::read(&model)?;
             let base = model.parent().unwrap_or(Path::new("."));
-            let mesh = flexmbs_io::pipeline::build_mesh(&src.model.body, base)
+            let mesh = flexmbs_reduce::pipeline::build_mesh(&src.model.body, base)
                 .map_err(|e| src.locate(e))?;
             let text = flexmbs_io::inp_writer::mesh_to_inp(&mesh).map_err(anyhow::Error::msg)?;
             std::fs::write(&output, text)
@@ -334,15 +334,15 @@ fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
 }
 
 /// The reduced body of an FE model file and, if `geometric` and the body has fixed nodes, its
-/// centrifugal geometric stiffness (`flexmbs_io::geometric`, as a multibody model computes it
+/// centrifugal geometric stiffness (`flexmbs_reduce::geometric`, as a multibody model computes it
 /// from the FE model), and for a beam mesh its lumped node rotary inertias
-/// (`flexmbs_io::full_mass::beam_node_rotary_inertias`, as a multibody model computes them).
+/// (`flexmbs_reduce::full_mass::beam_node_rotary_inertias`, as a multibody model computes them).
 /// Seed folders have no FE model and get neither.
 fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyFile> {
     let spec = read_fe_model(model)?.body;
     let base = model.parent().unwrap_or(Path::new("."));
     if let flexmbs_io::model::MeshSpec::Seed { dir } = &spec.mesh {
-        let dir = flexmbs_io::pipeline::resolve(base, dir);
+        let dir = flexmbs_reduce::pipeline::resolve(base, dir);
         let body = flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)?;
         return Ok(BodyFile::plain(body));
     }
@@ -358,11 +358,11 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
         }
     };
     let g = if geometric && !prepared.bc.fixed.is_empty() {
-        p.stage(flexmbs_io::pipeline::Stage::Started(
+        p.stage(flexmbs_reduce::pipeline::Stage::Started(
             "geometric stiffness (unit-load method)".into(),
         ));
-        let mass = flexmbs_io::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
-        flexmbs_io::geometric::centrifugal_geometric_stiffness(&prepared, mass, &body)
+        let mass = flexmbs_reduce::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
+        flexmbs_reduce::geometric::centrifugal_geometric_stiffness(&prepared, mass, &body)
     } else {
         Ok(None)
     };
@@ -370,7 +370,7 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
     let geometric = g.context("geometric stiffness")?;
     // beam meshes: the lumped node rotary inertias a multibody model applies to an FE source
     let rotary_inertia =
-        flexmbs_io::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
+        flexmbs_reduce::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
             .map_err(anyhow::Error::msg)
             .context("node rotary inertias")?;
     Ok(BodyFile {
@@ -388,11 +388,11 @@ fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Res
     let modal = run_modal(spec, &body, n, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
     p.finish();
     let modal = modal?;
-    let rows = flexmbs_io::report::modal_rows(&modal);
+    let rows = flexmbs_reduce::report::modal_rows(&modal);
     if json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&flexmbs_io::report::modal_json(
+            serde_json::to_string_pretty(&flexmbs_reduce::report::modal_json(
                 &spec.name, &body, &modal
             ))?
         );
@@ -405,7 +405,7 @@ fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Res
             body.system.len(),
             modal.n_rigid
         );
-        print!("{}", flexmbs_io::report::modal_table(&rows));
+        print!("{}", flexmbs_reduce::report::modal_table(&rows));
     }
     Ok(())
 }

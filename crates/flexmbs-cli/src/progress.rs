@@ -1,7 +1,7 @@
 //! Progress bars for the pipeline stages (indicatif).
 
 use flexmbs_fe::eigen::EigenEvent;
-use flexmbs_io::pipeline::Stage;
+use flexmbs_reduce::pipeline::Stage;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::time::Duration;
 

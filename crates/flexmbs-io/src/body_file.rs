@@ -139,7 +139,7 @@ pub struct BodyFile {
     /// Lumped node rotary inertias `I_j` (one 3 x 3 matrix per node of `body`, body frame, units
     /// of `body`: mass · length²; optional dataset `nodes/rotary_inertia`, written by
     /// `flexmbs reduce` for beam meshes, see
-    /// [`crate::full_mass::beam_node_rotary_inertias`]). `None` for solid bodies and files
+    /// `flexmbs_reduce::full_mass::beam_node_rotary_inertias`). `None` for solid bodies and files
     /// written before the dataset existed.
     pub rotary_inertia: Option<Vec<nalgebra::Matrix3<f64>>>,
 }

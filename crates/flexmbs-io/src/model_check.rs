@@ -5,10 +5,9 @@
 
 use crate::file_kind::{classify_model_file, classify_toml_table, ModelFileKind};
 use crate::model::{
-    read_fe_model_text, BoxSpec, FeModelFile, MaterialSpec, MeshSpec, ModelError, NodeSelector,
-    PlaneSpec, ReductionMethod,
+    read_fe_model_text, BoxSpec, FeBodySpec, FeModelFile, MaterialSpec, MeshSpec, ModelError,
+    NodeSelector, PlaneSpec, ReductionMethod,
 };
-use crate::pipeline::PipelineError;
 use crate::toml_locate::{line_of, SpannedDoc};
 use flexmbs_fe::Material;
 use serde::de::{self, Deserialize, Deserializer, MapAccess, Visitor};
@@ -139,6 +138,14 @@ pub struct FeModelSource {
     pub model: FeModelFile,
 }
 
+/// An error found while processing an FE body file's body (meshing, supports, reduction) that
+/// concerns one of its keys: [`FeModelSource::locate`] puts it at that key's line.
+pub trait ErrorAtKey {
+    /// The key path it concerns (`body` gives the key for errors that know only their stage, such
+    /// as reading the mesh files) and the message.
+    fn key_and_message(self, body: &FeBodySpec) -> (String, String);
+}
+
 impl FeModelSource {
     /// Reads and parses a model file (as [`crate::model::read_fe_model`]).
     pub fn read(path: &Path) -> Result<Self, ModelError> {
@@ -150,21 +157,11 @@ impl FeModelSource {
         })
     }
 
-    /// Turns an error of the pipeline (meshing, boundary conditions, reduction) into a
-    /// [`ModelError::Invalid`] at the line of the key it concerns.
-    pub fn locate(&self, e: PipelineError) -> ModelError {
-        let (path, message) = match e {
-            PipelineError::Fe { context, source } => (context, source.to_string()),
-            PipelineError::Model { path, message } => (path, message),
-            PipelineError::Io(io) => {
-                let key = match self.model.body.mesh {
-                    MeshSpec::Calculix { .. } => "body.mesh.deck",
-                    MeshSpec::Seed { .. } => "body.mesh.dir",
-                    _ => "body.mesh",
-                };
-                (key.to_string(), io.to_string())
-            }
-        };
+    /// Turns an error found while processing the body (meshing, supports, reduction: the
+    /// pipeline of `flexmbs-reduce`) into a [`ModelError::Invalid`] at the line of the key it
+    /// concerns.
+    pub fn locate(&self, e: impl ErrorAtKey) -> ModelError {
+        let (path, message) = e.key_and_message(&self.model.body);
         let e = ModelError::Value {
             file: self.file.clone(),
             path,

@@ -10,8 +10,8 @@ mod common;
 use common::{data, model_error_as_io, parse_kind, KINDS};
 use flexmbs_io::model::ModelError;
 use flexmbs_io::model_check::FeModelSource;
-use flexmbs_io::pipeline::prepare;
 use flexmbs_io::IoError;
+use flexmbs_reduce::pipeline::prepare;
 use std::path::Path;
 
 /// Corpus files whose error is about the whole file, not one line.

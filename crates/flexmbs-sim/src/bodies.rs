@@ -20,8 +20,8 @@ use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::{Cell, ReducedBody};
 use flexmbs_fe::ElementKind;
 use flexmbs_fe::SparseMatrix;
-use flexmbs_io::full_mass::rotary_inertias_to_si;
-use flexmbs_io::pipeline::{prepare, resolve, run_reduction};
+use flexmbs_reduce::full_mass::rotary_inertias_to_si;
+use flexmbs_reduce::pipeline::{prepare, resolve, run_reduction};
 use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
 
@@ -551,7 +551,7 @@ pub struct LoadedBody {
     /// Prepared mesh and system of an FE model file.
     pub fe: Option<FeModel>,
     /// Full translational mass matrix over the body's nodes
-    /// ([`flexmbs_io::full_mass::prepare_with_mass`]).
+    /// ([`flexmbs_reduce::full_mass::prepare_with_mass`]).
     pub full_mass: Option<SparseMatrix>,
     /// Geometric stiffness `K_G` stored in a reduced-body file (group `geometric`: all modes,
     /// body units); `None` for other sources and files without it.
@@ -625,9 +625,9 @@ fn load_fe_model_file(path: &Path, full_mass: bool) -> Result<LoadedBody, String
             .map(LoadedBody::reduced_only)
             .map_err(|e| e.to_string());
     }
-    let located = |e: flexmbs_io::pipeline::PipelineError| source.locate(e).to_string();
+    let located = |e: flexmbs_reduce::pipeline::PipelineError| source.locate(e).to_string();
     let (prepared, m_full) = if full_mass {
-        let (p, m) = flexmbs_io::full_mass::prepare_with_mass(&spec, fe_base, &mut |_| {})
+        let (p, m) = flexmbs_reduce::full_mass::prepare_with_mass(&spec, fe_base, &mut |_| {})
             .map_err(located)?;
         (p, Some(m))
     } else {

@@ -16,7 +16,7 @@ use crate::stiffening::FeModel;
 use flexmbs_fe::element::MassKind;
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_fe::SparseMatrix;
-use flexmbs_io::full_mass::{beam_node_rotary_inertias, rotary_inertias_to_si};
+use flexmbs_reduce::full_mass::{beam_node_rotary_inertias, rotary_inertias_to_si};
 use nalgebra::Matrix3;
 
 /// Message of `inertia = "consistent"` on a source without an FE model.

@@ -9,7 +9,7 @@ use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_fe::UnitSystem;
 use flexmbs_io::model::{MassName, MeshSpec};
-use flexmbs_io::pipeline::PreparedBody;
+use flexmbs_reduce::pipeline::PreparedBody;
 
 /// The FE model behind a reduced body read from an FE model file: the pipeline's prepared mesh,
 /// boundary conditions and constrained system, and the element mass kind the system uses.
@@ -24,9 +24,9 @@ pub struct FeModel {
 impl FeModel {
     /// Mass kind of the system `prepare` assembles for `mesh`/`mass` of an FE model file: the
     /// requested kind, except that matrices exported by CalculiX are consistent
-    /// ([`flexmbs_io::geometric::system_mass_kind`]).
+    /// ([`flexmbs_reduce::geometric::system_mass_kind`]).
     pub fn mass_kind(mesh: &MeshSpec, mass: MassName) -> MassKind {
-        flexmbs_io::geometric::system_mass_kind(mesh, mass)
+        flexmbs_reduce::geometric::system_mass_kind(mesh, mass)
     }
 }
 
@@ -42,14 +42,14 @@ pub const NEEDS_SUPPORTS: &str =
 
 /// The six centrifugal geometric stiffness matrices `K_G,ab` of `body` (reduced from `fe`, all
 /// its modes, body units), supported on the fixed nodes of the FE model
-/// ([`flexmbs_io::geometric::centrifugal_geometric_stiffness`], the same computation
+/// ([`flexmbs_reduce::geometric::centrifugal_geometric_stiffness`], the same computation
 /// `flexmbs reduce` stores in a reduced-body file). Errors as text: a body without fixed nodes
 /// ([`NEEDS_SUPPORTS`]) or a failure of the FE computation.
 pub fn centrifugal_stiffness(
     fe: &FeModel,
     body: &ReducedBody,
 ) -> Result<GeometricStiffness, String> {
-    flexmbs_io::geometric::centrifugal_geometric_stiffness(&fe.prepared, fe.mass, body)
+    flexmbs_reduce::geometric::centrifugal_geometric_stiffness(&fe.prepared, fe.mass, body)
         .map_err(|e| format!("geometric stiffness: {e}"))?
         .ok_or_else(|| NEEDS_SUPPORTS.to_string())
 }

@@ -6,10 +6,10 @@
 mod common;
 
 use flexmbs_io::body_file::{write_body, BodyFile};
-use flexmbs_io::full_mass::beam_node_rotary_inertias;
 use flexmbs_io::model_check::FeModelSource;
-use flexmbs_io::pipeline::{prepare, run_reduction};
 use flexmbs_io::results::{read_results, RunStatus};
+use flexmbs_reduce::full_mass::beam_node_rotary_inertias;
+use flexmbs_reduce::pipeline::{prepare, run_reduction};
 use flexmbs_sim::run::{run_model, RunOptions};
 use flexmbs_sim::{compile_model, SimError};
 use std::path::Path;

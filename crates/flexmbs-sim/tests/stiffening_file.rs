@@ -4,11 +4,11 @@
 
 use flexmbs_fe::geometric::InertialLoad;
 use flexmbs_io::body_file::{read_body_file, write_body, write_body_file, BodyFile};
-use flexmbs_io::full_mass::beam_node_rotary_inertias;
-use flexmbs_io::geometric::{centrifugal_geometric_stiffness, system_mass_kind};
 use flexmbs_io::model_check::FeModelSource;
-use flexmbs_io::pipeline::{prepare, run_reduction};
 use flexmbs_io::results::{read_results, RunStatus};
+use flexmbs_reduce::full_mass::beam_node_rotary_inertias;
+use flexmbs_reduce::geometric::{centrifugal_geometric_stiffness, system_mass_kind};
+use flexmbs_reduce::pipeline::{prepare, run_reduction};
 use flexmbs_sim::bodies::load_reduced_with_fe;
 use flexmbs_sim::run::{run_model, RunOptions};
 use flexmbs_sim::stiffening::centrifugal_stiffness;

@@ -12,9 +12,9 @@ use flexmbs_core::ffr::{
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_fe::SparseMatrix;
 use flexmbs_io::calculix::{read_dat_frequencies, run_ccx};
-use flexmbs_io::full_mass::reduce_with_mass;
 use flexmbs_io::model::parse_fe_model;
-use flexmbs_io::pipeline::build_mesh;
+use flexmbs_reduce::full_mass::reduce_with_mass;
+use flexmbs_reduce::pipeline::build_mesh;
 use std::path::{Path, PathBuf};
 
 /// Deck of the mesh written by flexmbs (nodes, elements, node sets, material).

@@ -10,8 +10,8 @@ use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::{Joint, ModelSpec, Workspace};
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_io::model::parse_fe_model;
-use flexmbs_io::pipeline::{prepare, run_reduction};
 use flexmbs_io::plot::{LinePlot, Series, Style};
+use flexmbs_reduce::pipeline::{prepare, run_reduction};
 use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
 

@@ -13,7 +13,7 @@ use flexmbs_fe::mesh::{BeamSection, BeamTheory};
 use flexmbs_fe::reduction::{modal_analysis, reduce_modal, Provenance};
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::{Material, UnitSystem};
-use flexmbs_io::full_mass::{node_rotary_inertias, rotary_inertias_to_si};
+use flexmbs_reduce::full_mass::{node_rotary_inertias, rotary_inertias_to_si};
 
 /// Cantilever steel beam 1000 x 20 x 10 mm (SI(mm)), 10 Euler-Bernoulli elements, lumped mass,
 /// 12 modes (one of them torsion, 594 Hz by thin-beam theory). Lumped beam mass has no translation-rotation coupling, so

@@ -13,7 +13,7 @@ use flexmbs_io::calculix::{
     ccx_available, import_matrices, read_dat_frequencies, read_inp, run_ccx,
 };
 use flexmbs_io::model::read_fe_model;
-use flexmbs_io::pipeline::{prepare, run_modal};
+use flexmbs_reduce::pipeline::{prepare, run_modal};
 use std::path::{Path, PathBuf};
 
 fn examples() -> PathBuf {

@@ -4,8 +4,8 @@
 
 use flexmbs_core::ffr::{consistent_mass_to_si, reduced_body_to_si, FfrBody, RotationParam};
 use flexmbs_io::calculix::ccx_available;
-use flexmbs_io::full_mass::reduce_with_mass;
 use flexmbs_io::model::read_fe_model;
+use flexmbs_reduce::full_mass::reduce_with_mass;
 use flexmbs_validate::complex_beam_ccx::isotropy_deviation;
 use std::path::Path;
 

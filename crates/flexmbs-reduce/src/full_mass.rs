@@ -3,15 +3,15 @@
 //! matrices (`reference/calculix.md`), so a body imported with `matrices = "ccx"` carries no
 //! lumped node masses and needs the full mass instead.
 
-use crate::calculix::{matrix_export_deck_text, read_ccx_matrices, renumber, run_ccx};
-use crate::model::FeBodySpec;
 use crate::pipeline::{prepare_keeping_mass, run_reduction, PipelineError, PreparedBody, Stage};
-use crate::IoError;
 use faer::sparse::Triplet;
 use flexmbs_fe::assembly::Assembled;
 use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_fe::Mesh;
 use flexmbs_fe::SparseMatrix;
+use flexmbs_io::calculix::{matrix_export_deck_text, read_ccx_matrices, renumber, run_ccx};
+use flexmbs_io::model::FeBodySpec;
+use flexmbs_io::IoError;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -82,7 +82,7 @@ pub fn strip_boundary_cards(deck: &str) -> String {
     out
 }
 
-/// Like [`crate::calculix::import_matrices`], but the exported model is free (the deck's
+/// Like [`flexmbs_io::calculix::import_matrices`], but the exported model is free (the deck's
 /// `*BOUNDARY` cards removed): K and M over all DOFs of `mesh`, including those of nodes the deck
 /// fixes (`reference/calculix.md`: deleting the fixed DOFs from the free export gives the
 /// constrained export bit-identically).

@@ -2,10 +2,6 @@
 //! generators, CalculiX deck, seed folder), applies boundary conditions, assembles or imports K and M,
 //! and calls the FE front end. No physics here: this module only wires the pieces together.
 
-use crate::model::{
-    BoundarySpec, CcxMatrices, FeBodySpec, MassName, MeshSpec, NodeSelector, ProfileSpec,
-    ReductionMethod, SolverName,
-};
 use flexmbs_fe::constraint::{BoundaryConditions, RigidInterface};
 use flexmbs_fe::eigen::{EigenEvent, EigenMethod, EigenOptions};
 use flexmbs_fe::element::MassKind;
@@ -17,6 +13,10 @@ use flexmbs_fe::reduction::{
 };
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::{ElementKind, FeError, Material, Mesh, NodeIdx};
+use flexmbs_io::model::{
+    BoundarySpec, CcxMatrices, FeBodySpec, MassName, MeshSpec, NodeSelector, ProfileSpec,
+    ReductionMethod, SolverName,
+};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -33,7 +33,7 @@ pub enum PipelineError {
     },
     /// File reading error.
     #[error(transparent)]
-    Io(#[from] crate::error::IoError),
+    Io(#[from] flexmbs_io::IoError),
     /// A selection or name in the model does not match the mesh.
     #[error("at `{path}`: {message}")]
     Model {
@@ -42,6 +42,23 @@ pub enum PipelineError {
         /// What is wrong.
         message: String,
     },
+}
+
+impl flexmbs_io::model_check::ErrorAtKey for PipelineError {
+    fn key_and_message(self, body: &FeBodySpec) -> (String, String) {
+        match self {
+            PipelineError::Fe { context, source } => (context, source.to_string()),
+            PipelineError::Model { path, message } => (path, message),
+            PipelineError::Io(io) => {
+                let key = match body.mesh {
+                    MeshSpec::Calculix { .. } => "body.mesh.deck",
+                    MeshSpec::Seed { .. } => "body.mesh.dir",
+                    _ => "body.mesh",
+                };
+                (key.to_string(), io.to_string())
+            }
+        }
+    }
 }
 
 fn fe(context: &str) -> impl FnOnce(FeError) -> PipelineError + '_ {
@@ -187,7 +204,7 @@ pub fn build_mesh(spec: &FeBodySpec, base: &Path) -> Result<Mesh, PipelineError>
 /// translations, value 0) collected in the node set `DECK_BOUNDARY`. Partial or non-zero
 /// boundary conditions are refused: flexmbs fixes whole nodes.
 fn deck_mesh(path: &Path, units: flexmbs_fe::UnitSystem) -> Result<Mesh, PipelineError> {
-    let deck = crate::calculix::inp::read_inp(path, units)?;
+    let deck = flexmbs_io::calculix::inp::read_inp(path, units)?;
     let mut mesh = deck.mesh;
     let mut dirs = std::collections::BTreeMap::<NodeIdx, u8>::new();
     for b in &deck.boundaries {
@@ -375,7 +392,7 @@ pub(crate) fn prepare_keeping_mass(
             let assembled = if free_export {
                 crate::full_mass::import_free_matrices(&path, &mesh)?
             } else {
-                crate::calculix::import_matrices(&path, &mesh)?
+                flexmbs_io::calculix::import_matrices(&path, &mesh)?
             };
             if mass == MassKind::Lumped {
                 progress(Stage::Started(

@@ -5,13 +5,13 @@
 //! writer of reduced-body files (`flexmbs reduce`), which stores them in the optional `geometric`
 //! group of the `.fmb.h5` file (`docs/formats/reduced-body.md`).
 
-use crate::model::{CcxMatrices, MassName, MeshSpec};
 use crate::pipeline::PreparedBody;
 use flexmbs_fe::element::MassKind;
 use flexmbs_fe::geometric::{
     geometric_stiffness, GeometricError, GeometricStiffness, InertialLoad,
 };
 use flexmbs_fe::reduction::ReducedBody;
+use flexmbs_io::model::{CcxMatrices, MassName, MeshSpec};
 
 /// Element mass kind of the system [`crate::pipeline::prepare`] assembles for `mesh`/`mass` of an
 /// FE model file: the requested kind, except that matrices exported by CalculiX are consistent.
