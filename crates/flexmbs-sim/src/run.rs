@@ -7,6 +7,7 @@ use crate::compile::{CompiledModel, OutputEvery, SolverConfig};
 use crate::error::SimError;
 use crate::signals::{coordinate_names, evaluate_signals, signal_width};
 use flexmbs_core::integrator::{self, Dopri5, GenAlpha, Statics, StepStats};
+use flexmbs_core::power::{external_power, has_external_work, WorkMeter};
 use flexmbs_core::{system, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace};
 use flexmbs_io::results::{
     plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
@@ -73,8 +74,15 @@ pub struct RunSummary {
     pub wall_time: Duration,
     /// Total energy at the start.
     pub energy_initial: f64,
-    /// Largest `|E(t) - E(0)|` over the output rows.
+    /// Largest `|E(t) - W(t) - E(0)|` over the output rows: the error of the energy balance, with
+    /// `W` the work of point loads, dampers and drives ([`RunSummary::external_work`]). Zero for
+    /// an exact solution unless the model has geometric stiffening (its force has no potential
+    /// and its work is not tracked). Statics: `|E(mu) - E(0)|` over the load steps.
     pub energy_drift: f64,
+    /// Work `W` done on the model by point loads, dampers and prescribed motions (drives) up to
+    /// the end, accumulated over the accepted steps (trapezoidal rule on the power of
+    /// `flexmbs_core::power`); 0 for statics.
+    pub external_work: f64,
     /// Largest position constraint violation `max |g|`.
     pub position_drift: f64,
     /// Largest velocity constraint violation `max |G u + g_t|`.
@@ -148,6 +156,8 @@ struct Recorder<'a> {
     next_time: f64,
     energy0: Option<f64>,
     energy_drift: f64,
+    /// Work of loads, dampers and drives (time-stepping solvers with any of them).
+    work: Option<WorkMeter>,
     g_max: f64,
     g_dot_max: f64,
     last_t: f64,
@@ -176,8 +186,12 @@ impl<'a> Recorder<'a> {
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
         let e = system::energy(m, &s.q, &s.u, &self.frames);
         let total = e.total();
+        if self.energy0.is_none() {
+            self.meter_work(s);
+        }
         let e0 = *self.energy0.get_or_insert(total);
-        self.energy_drift = self.energy_drift.max((total - e0).abs());
+        let work = self.work.as_ref().map_or(0.0, WorkMeter::work);
+        self.energy_drift = self.energy_drift.max((total - work - e0).abs());
         let row = ResultsRow {
             t,
             q: &s.q,
@@ -204,6 +218,16 @@ impl<'a> Recorder<'a> {
         Ok(())
     }
 
+    /// Adds the step to `s.t` to the external work (with frames updated to `s`), if tracked.
+    fn meter_work(&mut self, s: &State) {
+        let Some(meter) = self.work.as_mut() else {
+            return;
+        };
+        let m = &self.cm.model;
+        system::update_frames(m, &s.q, &s.u, &mut self.frames);
+        meter.advance(s.t, external_power(m, s.t, &self.frames, &s.lambda).total());
+    }
+
     /// Called after every accepted step: statistics, output selection, stop flag.
     fn on_step(
         &mut self,
@@ -212,6 +236,7 @@ impl<'a> Recorder<'a> {
         stop: &AtomicBool,
         progress: &mut dyn FnMut(&Progress),
     ) -> ControlFlow<()> {
+        self.meter_work(s);
         self.steps += 1;
         self.newton += st.iterations;
         self.last_h = st.h;
@@ -375,6 +400,8 @@ pub fn run_model(
         next_time: 0.0,
         energy0: None,
         energy_drift: 0.0,
+        work: (has_external_work(m) && !matches!(cm.solver, SolverConfig::Statics { .. }))
+            .then(WorkMeter::default),
         g_max: 0.0,
         g_dot_max: 0.0,
         last_t: f64::NAN,
@@ -445,6 +472,7 @@ pub fn run_model(
         wall_time: start.elapsed(),
         energy_initial: rec.energy0.unwrap_or(0.0),
         energy_drift: rec.energy_drift,
+        external_work: rec.work.as_ref().map_or(0.0, WorkMeter::work),
         position_drift: rec.g_max,
         velocity_drift: rec.g_dot_max,
         rows,
