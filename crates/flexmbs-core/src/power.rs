@@ -10,11 +10,13 @@
 //!   explicit time dependence (`g_t = 0`, ideal joints) do no work; a prescribed-motion row
 //!   delivers `lambda g_t`, the drive power.
 //!
-//! Not included: the geometric stiffening force of FFR bodies `-K_geo(omega_bar) q_f`, which
-//! has no potential in the elastic energy and is not conservative when `omega_bar` varies; with
-//! stiffening on, `E - W` is not conserved (documented in `docs/model-file.md`).
+//! - Geometric stiffening of an FFR body: the force `-K_geo(omega_bar) q_f` has no potential in
+//!   the elastic energy and is not conservative when `omega_bar` varies; its power
+//!   `-q_f_dot^T K_geo(omega_bar) q_f` is [`stiffening_power`] (per body: the element contract
+//!   does not expose it, so the caller keeps the stiffened bodies).
 
 use crate::element::FrameKinematics;
+use crate::ffr::{FfrBody, FfrScratch};
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::Load;
 use crate::model::Model;
@@ -120,5 +122,81 @@ impl WorkMeter {
     /// Work done since the first call (J).
     pub fn work(&self) -> f64 {
         self.work
+    }
+}
+
+/// Power `q_f_dot^T (-K_geo(omega_bar) q_f)` of the geometric stiffening force of an FFR body at
+/// its coordinates `q`, `u` (zero without stiffening; NaN for an invalid state). `s` is the
+/// body's scratch and `buf` has length `body.nu()`. No allocation.
+pub fn stiffening_power(
+    body: &FfrBody,
+    q: &[f64],
+    u: &[f64],
+    s: &mut FfrScratch,
+    buf: &mut [f64],
+) -> f64 {
+    if body.geometric_stiffening().is_none() {
+        return 0.0;
+    }
+    if body.update(q, u, s).is_err() {
+        return f64::NAN;
+    }
+    buf.fill(0.0);
+    body.add_geometric_stiffening_force(s, buf);
+    buf.iter().zip(u).skip(6).map(|(f, v)| f * v).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ffr::{FfrInvariants, RotationParam};
+    use faer::Mat;
+    use flexmbs_fe::geometric::{GeometricStiffness, InertialLoad};
+    use nalgebra::{DVector, Vector3};
+
+    /// `stiffening_power` equals `-q_f_dot^T K_geo(omega_bar) q_f` with `K_geo` assembled by
+    /// `geometric_stiffness_matrix` from `omega_bar = u[3..6]` (quaternion body) to 1e-13
+    /// relative, and is zero without stiffening.
+    #[test]
+    fn stiffening_power_is_the_modal_power_of_the_stiffening_force() {
+        let (n, nf) = (4, 3);
+        let x = |i: usize, j: usize| ((7 * i + 3 * j + 1) % 11) as f64 / 11.0 - 0.5;
+        let u0: Vec<[f64; 3]> = (0..n).map(|i| [i as f64 * 0.3, x(i, 1), x(i, 2)]).collect();
+        let masses = vec![1.0; n];
+        let modes = Mat::from_fn(3 * n, nf, x);
+        let k = Mat::from_fn(nf, nf, |i, j| if i == j { 10.0 } else { 0.0 });
+        let inv = FfrInvariants::from_lumped(&u0, &masses, modes.as_ref()).unwrap();
+        let plain = FfrBody::new(
+            inv,
+            RotationParam::Quaternion,
+            &u0,
+            modes.as_ref(),
+            None,
+            k.as_ref(),
+        )
+        .unwrap();
+        let pats = InertialLoad::centrifugal();
+        let matrices = (0..pats.len())
+            .map(|p| Mat::from_fn(nf, nf, |i, j| x(i + p, j) + x(j + p, i)))
+            .collect();
+        let g = GeometricStiffness {
+            load_patterns: pats,
+            matrices,
+        };
+        let body = plain.clone().with_geometric_stiffening(&g).unwrap();
+        let q = [0.1, 0.2, 0.3, 0.9, 0.1, -0.3, 0.2, 0.02, -0.01, 0.03];
+        let mut qn = q;
+        body.normalize(&mut qn).unwrap();
+        let u = [0.5, -0.2, 0.1, 3.0, -1.0, 2.0, 0.4, -0.7, 0.2];
+        let mut s = FfrScratch::new(nf);
+        let mut buf = vec![0.0; body.nu()];
+        let p = stiffening_power(&body, &qn, &u, &mut s, &mut buf);
+        let kg = body.geometric_stiffness_matrix(&Vector3::new(u[3], u[4], u[5]));
+        let qf = DVector::from_column_slice(&qn[7..]);
+        let qfd = DVector::from_column_slice(&u[6..]);
+        let want = -(qfd.transpose() * (&kg * &qf))[(0, 0)];
+        assert!(want.abs() > 1e-3, "{want}");
+        assert!((p - want).abs() < 1e-13 * want.abs(), "{p} vs {want}");
+        assert_eq!(stiffening_power(&plain, &qn, &u, &mut s, &mut buf), 0.0);
     }
 }

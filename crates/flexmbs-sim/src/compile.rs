@@ -9,6 +9,7 @@ use crate::locate::{line_of, line_of_path};
 use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
 use crate::units::{Dimension, Quantity};
+use flexmbs_core::ffr::FfrBody;
 use flexmbs_core::{
     BodyId, FrameId, Joint, Load, LoadCoordinates, Model, ModelError, ModelSpec, PrescribedMotion,
     State, TimeFunction,
@@ -106,6 +107,9 @@ pub struct CompiledModel {
     pub bodies: Vec<BodyInfo>,
     /// Requested signals.
     pub signals: Vec<Signal>,
+    /// Copies of the ffr bodies with geometric stiffening, for the power of the stiffening
+    /// force in the energy balance (`flexmbs_core::power::stiffening_power`).
+    pub stiffened: Vec<(BodyId, FfrBody)>,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -169,6 +173,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     // frames fixed in the floating frame of an ffr body whose modes do not clamp it
     let mut abstract_frames: HashMap<FrameId, String> = HashMap::new();
     let mut abstract_bodies = Vec::new();
+    let mut stiffened = Vec::new();
     for (i, b) in mf.body.iter().enumerate() {
         let (element, geometry) = build_body(&ctx, i, b, base)?;
         abstract_bodies.push(match &element {
@@ -177,7 +182,12 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         });
         let id = match element {
             BuiltElement::Rigid(r) => spec.add_body(&b.name, r),
-            BuiltElement::Ffr(f) => spec.add_body(&b.name, *f),
+            BuiltElement::Ffr(f) => {
+                let stiffened_body = f.body().geometric_stiffening().map(|_| f.body().clone());
+                let id = spec.add_body(&b.name, *f);
+                stiffened.extend(stiffened_body.map(|body| (id, body)));
+                id
+            }
         };
         let frame = spec.add_frame(&b.name, id, Vector3::zeros(), i3);
         frames.insert(b.name.clone(), frame);
@@ -610,6 +620,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         output,
         bodies,
         signals,
+        stiffened,
     })
 }
 

@@ -6,8 +6,9 @@
 use crate::compile::{CompiledModel, OutputEvery, SolverConfig};
 use crate::error::SimError;
 use crate::signals::{coordinate_names, evaluate_signals, signal_width};
+use flexmbs_core::ffr::FfrScratch;
 use flexmbs_core::integrator::{self, Dopri5, GenAlpha, Statics, StepStats};
-use flexmbs_core::power::{external_power, has_external_work, WorkMeter};
+use flexmbs_core::power::{external_power, has_external_work, stiffening_power, WorkMeter};
 use flexmbs_core::{system, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace};
 use flexmbs_io::results::{
     plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
@@ -75,13 +76,13 @@ pub struct RunSummary {
     /// Total energy at the start.
     pub energy_initial: f64,
     /// Largest `|E(t) - W(t) - E(0)|` over the output rows: the error of the energy balance, with
-    /// `W` the work of point loads, dampers and drives ([`RunSummary::external_work`]). Zero for
-    /// an exact solution unless the model has geometric stiffening (its force has no potential
-    /// and its work is not tracked). Statics: `|E(mu) - E(0)|` over the load steps.
+    /// `W` the work of point loads, dampers, drives and geometric stiffening
+    /// ([`RunSummary::external_work`]); zero for an exact solution. Statics: `|E(mu) - E(0)|`
+    /// over the load steps.
     pub energy_drift: f64,
-    /// Work `W` done on the model by point loads, dampers and prescribed motions (drives) up to
-    /// the end, accumulated over the accepted steps (trapezoidal rule on the power of
-    /// `flexmbs_core::power`); 0 for statics.
+    /// Work `W` done on the model by point loads, dampers, prescribed motions (drives) and the
+    /// geometric stiffening forces up to the end, accumulated over the accepted steps
+    /// (trapezoidal rule on the power of `flexmbs_core::power`); 0 for statics.
     pub external_work: f64,
     /// Largest position constraint violation `max |g|`.
     pub position_drift: f64,
@@ -156,8 +157,11 @@ struct Recorder<'a> {
     next_time: f64,
     energy0: Option<f64>,
     energy_drift: f64,
-    /// Work of loads, dampers and drives (time-stepping solvers with any of them).
+    /// Work of loads, dampers, drives and geometric stiffening (time-stepping solvers with any
+    /// of them).
     work: Option<WorkMeter>,
+    /// Scratch and force buffer of each stiffened body (`CompiledModel::stiffened`).
+    stiffening: Vec<(FfrScratch, Vec<f64>)>,
     g_max: f64,
     g_dot_max: f64,
     last_t: f64,
@@ -225,7 +229,14 @@ impl<'a> Recorder<'a> {
         };
         let m = &self.cm.model;
         system::update_frames(m, &s.q, &s.u, &mut self.frames);
-        meter.advance(s.t, external_power(m, s.t, &self.frames, &s.lambda).total());
+        let mut power = external_power(m, s.t, &self.frames, &s.lambda).total();
+        for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
+            let b = &m.bodies[id.0];
+            let q = &s.q[b.q_offset..b.q_offset + body.nq()];
+            let u = &s.u[b.u_offset..b.u_offset + body.nu()];
+            power += stiffening_power(body, q, u, scratch, buf);
+        }
+        meter.advance(s.t, power);
     }
 
     /// Called after every accepted step: statistics, output selection, stop flag.
@@ -400,8 +411,14 @@ pub fn run_model(
         next_time: 0.0,
         energy0: None,
         energy_drift: 0.0,
-        work: (has_external_work(m) && !matches!(cm.solver, SolverConfig::Statics { .. }))
-            .then(WorkMeter::default),
+        work: ((has_external_work(m) || !cm.stiffened.is_empty())
+            && !matches!(cm.solver, SolverConfig::Statics { .. }))
+        .then(WorkMeter::default),
+        stiffening: cm
+            .stiffened
+            .iter()
+            .map(|(_, b)| (FfrScratch::new(b.nf()), vec![0.0; b.nu()]))
+            .collect(),
         g_max: 0.0,
         g_dot_max: 0.0,
         last_t: f64::NAN,
