@@ -164,8 +164,8 @@ fn print_summary(s: &RunSummary, statics: bool, explicit: bool) {
         s.steps as f64 / s.wall_time.as_secs_f64().max(1e-9)
     );
     println!(
-        "  energy: initial {:.6e} J, largest change {:.3e} J (conserved only without drives, damping and loads); constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
-        s.energy_initial, s.energy_drift, s.position_drift, s.velocity_drift
+        "  energy: initial {:.6e} J, work W of loads, dampers, drives and geometric stiffening {:.6e} J, largest balance error |E - W - E0| {:.3e} J; constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
+        s.energy_initial, s.external_work, s.energy_drift, s.position_drift, s.velocity_drift
     );
     println!("  {} output rows; files:", s.rows);
     for f in &s.files {

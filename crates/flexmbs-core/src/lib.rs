@@ -60,6 +60,7 @@ pub mod joint;
 pub mod linsolve;
 pub mod load;
 pub mod model;
+pub mod power;
 pub mod rigid;
 pub mod rotation;
 pub mod state;

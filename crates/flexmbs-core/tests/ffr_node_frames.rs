@@ -166,3 +166,53 @@ fn node_frame_bias_equals_finite_differences() {
         }
     }
 }
+
+/// `floating_frame_is_material`: true without modes, with a fixed node carrying rotations (zero
+/// translational and rotational rows) or three non-collinear fixed solid nodes; false for
+/// free-free modes, a fixed node whose rotations move, or collinear fixed solid nodes.
+#[test]
+fn floating_frame_is_material_only_when_clamped() {
+    let mut seed = 4;
+    let u0: Vec<[f64; 3]> = (0..NODES)
+        .map(|i| [0.25 * i as f64, 0.1 * (i % 2) as f64, 0.0])
+        .collect();
+    let masses = vec![1.0; NODES];
+    let body = |zero_t: &[usize], zero_r: &[usize], with_r: bool, nf: usize, seed: &mut u64| {
+        let modes_t = Mat::from_fn(3 * NODES, nf, |i, _| {
+            if zero_t.contains(&(i / 3)) {
+                0.0
+            } else {
+                rnd(seed)
+            }
+        });
+        let modes_r = Mat::from_fn(3 * NODES, nf, |i, _| {
+            if zero_r.contains(&(i / 3)) {
+                0.0
+            } else {
+                rnd(seed)
+            }
+        });
+        let k = Mat::from_fn(nf, nf, |i, j| if i == j { 1.0 } else { 0.0 });
+        let inv = FfrInvariants::from_lumped(&u0, &masses, modes_t.as_ref()).unwrap();
+        let mr = with_r.then_some(modes_r.as_ref());
+        FfrBody::new(
+            inv,
+            RotationParam::Quaternion,
+            &u0,
+            modes_t.as_ref(),
+            mr,
+            k.as_ref(),
+        )
+        .unwrap()
+    };
+    let s = &mut seed;
+    assert!(body(&[], &[], true, 0, s).floating_frame_is_material());
+    assert!(!body(&[], &[], true, NF, s).floating_frame_is_material());
+    assert!(body(&[0], &[0], true, NF, s).floating_frame_is_material());
+    assert!(body(&[0], &[0], true, NF, s).node_is_fixed(0));
+    assert!(!body(&[0], &[], true, NF, s).floating_frame_is_material());
+    assert!(!body(&[0], &[], false, NF, s).floating_frame_is_material());
+    // nodes 0, 2, 4 lie on the x axis (collinear); 0, 1, 2 span a plane
+    assert!(!body(&[0, 2, 4], &[], false, NF, s).floating_frame_is_material());
+    assert!(body(&[0, 1, 2], &[], false, NF, s).floating_frame_is_material());
+}

@@ -9,6 +9,7 @@ use crate::locate::{line_of, line_of_path};
 use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
 use crate::units::{Dimension, Quantity};
+use flexmbs_core::ffr::FfrBody;
 use flexmbs_core::{
     BodyId, FrameId, Joint, Load, LoadCoordinates, Model, ModelError, ModelSpec, PrescribedMotion,
     State, TimeFunction,
@@ -106,6 +107,9 @@ pub struct CompiledModel {
     pub bodies: Vec<BodyInfo>,
     /// Requested signals.
     pub signals: Vec<Signal>,
+    /// Copies of the ffr bodies with geometric stiffening, for the power of the stiffening
+    /// force in the energy balance (`flexmbs_core::power::stiffening_power`).
+    pub stiffened: Vec<(BodyId, FfrBody)>,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -161,14 +165,30 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     let i3 = Matrix3::identity();
     let mut frames: HashMap<String, FrameId> = HashMap::new();
     let mut bodies = Vec::new();
+    // frames fixed in the floating frame of an ffr body whose modes do not clamp it
+    let mut abstract_frames: HashMap<FrameId, String> = HashMap::new();
+    let mut abstract_bodies = Vec::new();
+    let mut stiffened = Vec::new();
     for (i, b) in mf.body.iter().enumerate() {
         let (element, geometry) = build_body(&ctx, i, b, base)?;
+        abstract_bodies.push(match &element {
+            BuiltElement::Ffr(f) => !f.body().floating_frame_is_material(),
+            BuiltElement::Rigid(_) => false,
+        });
         let id = match element {
             BuiltElement::Rigid(r) => spec.add_body(&b.name, r),
-            BuiltElement::Ffr(f) => spec.add_body(&b.name, *f),
+            BuiltElement::Ffr(f) => {
+                let stiffened_body = f.body().geometric_stiffening().map(|_| f.body().clone());
+                let id = spec.add_body(&b.name, *f);
+                stiffened.extend(stiffened_body.map(|body| (id, body)));
+                id
+            }
         };
         let frame = spec.add_frame(&b.name, id, Vector3::zeros(), i3);
         frames.insert(b.name.clone(), frame);
+        if abstract_bodies[i] {
+            abstract_frames.insert(frame, b.name.clone());
+        }
         bodies.push(BodyInfo {
             name: b.name.clone(),
             id,
@@ -214,7 +234,11 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                         Dimension::Length,
                         &format!("{p}.position"),
                     )?;
-                    spec.add_frame(&f.name, body.id, pos, rotation)
+                    let id = spec.add_frame(&f.name, body.id, pos, rotation);
+                    if abstract_bodies[bi] {
+                        abstract_frames.insert(id, f.body.clone());
+                    }
+                    id
                 }
                 (node, nearest) => {
                     let g = &body.geometry;
@@ -293,6 +317,14 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             frame(&j.a, format!("{p}.a"))?,
             frame(&j.b, format!("{p}.b"))?,
         );
+        for (side, name, id) in [("a", &j.a, a), ("b", &j.b, b)] {
+            if let Some(body) = abstract_frames.get(&id) {
+                return Err(ctx.err(
+                    &format!("{p}.{side}"),
+                    floating_frame_joint_message(name, body),
+                ));
+            }
+        }
         let mut joint = match j.kind {
             JointType::Fixed => Joint::fixed(&j.name, a, b),
             JointType::Revolute => Joint::revolute(&j.name, a, b),
@@ -583,6 +615,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         output,
         bodies,
         signals,
+        stiffened,
     })
 }
 
@@ -661,4 +694,17 @@ fn nearest_point(points: &[[f64; 3]], x: &Vector3<f64>) -> usize {
     (0..points.len())
         .min_by(|&a, &b| d(&points[a]).total_cmp(&d(&points[b])))
         .unwrap_or(0)
+}
+
+/// Why a joint may not attach to a frame fixed in the floating frame of an ffr body whose modes
+/// do not clamp that frame (see `FfrBody::floating_frame_is_material`).
+fn floating_frame_joint_message(frame: &str, body: &str) -> String {
+    format!(
+        "frame `{frame}` is fixed in the floating frame of ffr body `{body}`, whose modes do not \
+         clamp it (free-free or interface modes: the floating frame is then, to first order, a \
+         mean-axis frame, not a material point), so a joint there would constrain an abstract \
+         frame and miss the body's compliance at the joint: attach the joint to an FE node of \
+         `{body}` (frame `node` or `nearest`), or reduce `{body}` with modes clamped at the joint \
+         (`[body.boundary] fixed`)"
+    )
 }

@@ -6,7 +6,9 @@
 use crate::compile::{CompiledModel, OutputEvery, SolverConfig};
 use crate::error::SimError;
 use crate::signals::{coordinate_names, evaluate_signals, signal_width};
+use flexmbs_core::ffr::FfrScratch;
 use flexmbs_core::integrator::{self, Dopri5, GenAlpha, Statics, StepStats};
+use flexmbs_core::power::{external_power, has_external_work, stiffening_power, WorkMeter};
 use flexmbs_core::{system, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace};
 use flexmbs_io::results::{
     plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
@@ -73,8 +75,15 @@ pub struct RunSummary {
     pub wall_time: Duration,
     /// Total energy at the start.
     pub energy_initial: f64,
-    /// Largest `|E(t) - E(0)|` over the output rows.
+    /// Largest `|E(t) - W(t) - E(0)|` over the output rows: the error of the energy balance, with
+    /// `W` the work of point loads, dampers, drives and geometric stiffening
+    /// ([`RunSummary::external_work`]); zero for an exact solution. Statics: `|E(mu) - E(0)|`
+    /// over the load steps.
     pub energy_drift: f64,
+    /// Work `W` done on the model by point loads, dampers, prescribed motions (drives) and the
+    /// geometric stiffening forces up to the end, accumulated over the accepted steps
+    /// (trapezoidal rule on the power of `flexmbs_core::power`); 0 for statics.
+    pub external_work: f64,
     /// Largest position constraint violation `max |g|`.
     pub position_drift: f64,
     /// Largest velocity constraint violation `max |G u + g_t|`.
@@ -148,6 +157,11 @@ struct Recorder<'a> {
     next_time: f64,
     energy0: Option<f64>,
     energy_drift: f64,
+    /// Work of loads, dampers, drives and geometric stiffening (time-stepping solvers with any
+    /// of them).
+    work: Option<WorkMeter>,
+    /// Scratch and force buffer of each stiffened body (`CompiledModel::stiffened`).
+    stiffening: Vec<(FfrScratch, Vec<f64>)>,
     g_max: f64,
     g_dot_max: f64,
     last_t: f64,
@@ -176,8 +190,12 @@ impl<'a> Recorder<'a> {
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
         let e = system::energy(m, &s.q, &s.u, &self.frames);
         let total = e.total();
+        if self.energy0.is_none() {
+            self.meter_work(s);
+        }
         let e0 = *self.energy0.get_or_insert(total);
-        self.energy_drift = self.energy_drift.max((total - e0).abs());
+        let work = self.work.as_ref().map_or(0.0, WorkMeter::work);
+        self.energy_drift = self.energy_drift.max((total - work - e0).abs());
         let row = ResultsRow {
             t,
             q: &s.q,
@@ -204,6 +222,23 @@ impl<'a> Recorder<'a> {
         Ok(())
     }
 
+    /// Adds the step to `s.t` to the external work (with frames updated to `s`), if tracked.
+    fn meter_work(&mut self, s: &State) {
+        let Some(meter) = self.work.as_mut() else {
+            return;
+        };
+        let m = &self.cm.model;
+        system::update_frames(m, &s.q, &s.u, &mut self.frames);
+        let mut power = external_power(m, s.t, &self.frames, &s.lambda).total();
+        for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
+            let b = &m.bodies[id.0];
+            let q = &s.q[b.q_offset..b.q_offset + body.nq()];
+            let u = &s.u[b.u_offset..b.u_offset + body.nu()];
+            power += stiffening_power(body, q, u, scratch, buf);
+        }
+        meter.advance(s.t, power);
+    }
+
     /// Called after every accepted step: statistics, output selection, stop flag.
     fn on_step(
         &mut self,
@@ -212,6 +247,7 @@ impl<'a> Recorder<'a> {
         stop: &AtomicBool,
         progress: &mut dyn FnMut(&Progress),
     ) -> ControlFlow<()> {
+        self.meter_work(s);
         self.steps += 1;
         self.newton += st.iterations;
         self.last_h = st.h;
@@ -375,6 +411,14 @@ pub fn run_model(
         next_time: 0.0,
         energy0: None,
         energy_drift: 0.0,
+        work: ((has_external_work(m) || !cm.stiffened.is_empty())
+            && !matches!(cm.solver, SolverConfig::Statics { .. }))
+        .then(WorkMeter::default),
+        stiffening: cm
+            .stiffened
+            .iter()
+            .map(|(_, b)| (FfrScratch::new(b.nf()), vec![0.0; b.nu()]))
+            .collect(),
         g_max: 0.0,
         g_dot_max: 0.0,
         last_t: f64::NAN,
@@ -445,6 +489,7 @@ pub fn run_model(
         wall_time: start.elapsed(),
         energy_initial: rec.energy0.unwrap_or(0.0),
         energy_drift: rec.energy_drift,
+        external_work: rec.work.as_ref().map_or(0.0, WorkMeter::work),
         position_drift: rec.g_max,
         velocity_drift: rec.g_dot_max,
         rows,

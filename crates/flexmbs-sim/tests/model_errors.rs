@@ -92,6 +92,22 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
         "nearest = [\"100 m\", 0, 0]",
         "more than 0.05 of the body size",
     ),
+    // a joint at a frame fixed in the floating frame of the free-free rod (its body frame, or a
+    // `position` frame) constrains a mean-axis frame, not material: refused
+    (
+        "b = \"top\"",
+        "b = \"rod\"",
+        "joint[0].b",
+        "b = \"rod\"",
+        "frame `rod` is fixed in the floating frame of ffr body `rod`, whose modes do not clamp it",
+    ),
+    (
+        "[[joint]]",
+        "[[frame]]\nname = \"rod_end\"\nbody = \"rod\"\nposition = [\"0.3 m\", 0, 0]\n\n[[joint]]\nname = \"pin2\"\ntype = \"spherical\"\na = \"rod_end\"\nb = \"top\"\n\n[[joint]]",
+        "joint[0].a",
+        "a = \"rod_end\"",
+        "a mean-axis frame, not a material point",
+    ),
     (
         "b = \"top\"",
         "b = \"hinge\"",
@@ -371,6 +387,18 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
         "is rigid",
     ),
 ];
+
+/// A joint at the floating frame of a body whose modes are clamped there (the cantilever part,
+/// clamped at its origin node) is valid: the frame is a rigid extension of the clamped node.
+#[test]
+fn joint_at_clamped_floating_frame_compiles() {
+    let text = BASE
+        .replacen("parts/rod.toml", "parts/cantilever_beam.toml", 1)
+        .replacen("position = [0, 0, -1.0]", "position = [0, 0, 0]", 1)
+        .replacen("b = \"top\"", "b = \"rod\"", 1);
+    let cm = compile_model(&text, &model_path()).unwrap();
+    assert_eq!(cm.model.nc, 5);
+}
 
 #[test]
 fn every_error_names_key_path_and_line() {

@@ -61,6 +61,38 @@ impl FfrBody {
         }
     }
 
+    /// True if node `node` does not move relative to the floating frame: its translational
+    /// (and, if the body has them, rotational) mode rows are all exactly zero, as for the fixed
+    /// nodes of a clamped reduction.
+    pub fn node_is_fixed(&self, node: usize) -> bool {
+        let zero = |m: &nalgebra::DMatrix<f64>| {
+            (3 * node..3 * node + 3).all(|r| m.row(r).iter().all(|x| *x == 0.0))
+        };
+        node < self.num_nodes() && zero(&self.modes_t) && self.modes_r.as_ref().is_none_or(zero)
+    }
+
+    /// True if the floating frame moves with material of the body, so that a frame fixed in it
+    /// (`r = R + A p`, no mode rows) is a rigid extension of that material: the body has no
+    /// modes, or its modes are clamped, i.e. they fix a node with rotations (beam node: zero
+    /// translational and rotational rows) or three non-collinear nodes (solid nodes).
+    ///
+    /// Otherwise (free-free modes, Craig-Bampton bodies) the floating frame is, to first order, a
+    /// mean-axis frame of the body, not a material point: a joint at a frame fixed in it
+    /// constrains an abstract frame and misses the local compliance of the body there.
+    pub fn floating_frame_is_material(&self) -> bool {
+        if self.nf() == 0 {
+            return true;
+        }
+        let fixed: Vec<Vector3<f64>> = (0..self.num_nodes())
+            .filter(|&j| self.node_is_fixed(j))
+            .map(|j| self.u0[j])
+            .collect();
+        if self.modes_r.is_some() && !fixed.is_empty() {
+            return true;
+        }
+        spans_a_plane(&fixed)
+    }
+
     /// Elastic displacement `u_f = Φ^p q_f` of node `node` in body-frame axes (seed 000 (2.8)),
     /// for post-processing; `q_f` has length n_f (e.g. the last n_f entries of the body's `q`).
     pub fn node_deformation(&self, node: usize, q_f: &[f64]) -> Result<Vector3<f64>, FfrError> {
@@ -258,4 +290,27 @@ impl FfrBody {
         }
         Ok(())
     }
+}
+
+/// True if the points are not all collinear (three of them span a plane), to a relative
+/// tolerance of 1e-9 of their extent.
+fn spans_a_plane(points: &[Vector3<f64>]) -> bool {
+    let Some(p0) = points.first() else {
+        return false;
+    };
+    let Some(p1) = points
+        .iter()
+        .max_by(|a, b| (*a - p0).norm().total_cmp(&(*b - p0).norm()))
+    else {
+        return false;
+    };
+    let axis = p1 - p0;
+    let extent = axis.norm();
+    if extent == 0.0 {
+        return false;
+    }
+    let n = axis / extent;
+    points
+        .iter()
+        .any(|p| (p - p0).cross(&n).norm() > 1e-9 * extent)
 }
