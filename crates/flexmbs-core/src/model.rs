@@ -5,6 +5,7 @@ use crate::error::ModelError;
 use crate::ids::{BodyId, FrameId, JointId, LoadId};
 use crate::joint::{Joint, PrescribedMotion};
 use crate::load::Load;
+use crate::node::DofMap;
 use crate::state::State;
 use nalgebra::{Matrix3, Vector3};
 
@@ -35,10 +36,22 @@ pub struct Body {
     pub name: String,
     /// The element.
     pub element: Box<dyn Element>,
-    /// Offset of its coordinates in the global `q`.
-    pub q_offset: usize,
-    /// Offset of its velocity coordinates in the global `u`.
-    pub u_offset: usize,
+    /// Offset of its coordinates in the global `q` (contiguous layout).
+    pub(crate) q_offset: usize,
+    /// Offset of its velocity coordinates in the global `u` (contiguous layout).
+    pub(crate) u_offset: usize,
+    /// Where its coordinates lie in the global vectors.
+    dofs: BodyDofs,
+}
+
+/// Global indices of a body's (element-local) coordinates: [`Model::body_dofs`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BodyDofs {
+    /// Position coordinates `q` (nq of the element).
+    pub q: DofMap,
+    /// Velocity coordinates `u` (nu of the element): also the body's columns of `M`, the
+    /// tangents and `G`.
+    pub u: DofMap,
 }
 
 /// Editable model description. Add bodies, frames, joints and loads, then [`ModelSpec::compile`].
@@ -96,7 +109,7 @@ impl ModelSpec {
             LocalFrame {
                 position,
                 rotation,
-                node: None,
+                mesh_node: None,
             },
         )
     }
@@ -130,7 +143,7 @@ impl ModelSpec {
         let local = LocalFrame {
             position,
             rotation,
-            node: Some(node),
+            mesh_node: Some(node),
         };
         self.push_frame(name, FrameOwner::Body(body), local)
     }
@@ -148,7 +161,7 @@ impl ModelSpec {
             LocalFrame {
                 position,
                 rotation,
-                node: None,
+                mesh_node: None,
             },
         )
     }
@@ -188,11 +201,16 @@ impl ModelSpec {
             let (q_offset, u_offset) = (nq, nu);
             nq += element.nq();
             nu += element.nu();
+            let dofs = BodyDofs {
+                q: DofMap::Contiguous(q_offset..nq),
+                u: DofMap::Contiguous(u_offset..nu),
+            };
             bodies.push(Body {
                 name,
                 element,
                 q_offset,
                 u_offset,
+                dofs,
             });
         }
         for f in &self.frames {
@@ -201,8 +219,8 @@ impl ModelSpec {
                     frame: f.name.clone(),
                     body: b,
                 })?;
-                if let Some(node) = f.local.node {
-                    let num_nodes = body.element.num_nodes();
+                if let Some(node) = f.local.mesh_node {
+                    let num_nodes = body.element.num_mesh_nodes();
                     if node >= num_nodes {
                         return Err(ModelError::InvalidNode {
                             frame: f.name.clone(),
@@ -298,9 +316,18 @@ impl ModelSpec {
                 reason: "must be finite",
             });
         }
+        let frame_cols = self
+            .frames
+            .iter()
+            .map(|f| match f.owner {
+                FrameOwner::Ground => DofMap::Contiguous(0..0),
+                FrameOwner::Body(b) => bodies[b.0].dofs.u.clone(),
+            })
+            .collect();
         Ok(Model {
             gravity: self.gravity,
             bodies,
+            frame_cols,
             frames: self.frames,
             joints: self.joints,
             joint_rows,
@@ -321,6 +348,8 @@ pub struct Model {
     pub bodies: Vec<Body>,
     /// Frames.
     pub frames: Vec<Frame>,
+    /// Global columns of each frame's Jacobians (empty for ground frames).
+    frame_cols: Vec<DofMap>,
     /// Joints.
     pub joints: Vec<Joint>,
     /// First constraint row of each joint.
@@ -384,6 +413,24 @@ impl Model {
         );
     }
 
+    /// Where the coordinates of `body` lie in the global `q` and `u` (its columns of `M`, the
+    /// tangents and `G`): for assembly patterns (e.g. a sparse iteration matrix) and output.
+    ///
+    /// # Panics
+    /// If `body` belongs to another model ([`Self::body_id`] gives ids by name).
+    pub fn body_dofs(&self, body: BodyId) -> &BodyDofs {
+        &self.bodies[body.0].dofs
+    }
+
+    /// Global columns of the Jacobians of `frame` ([`FrameKinematics::jac_t`] column `j` is global
+    /// column `frame_cols(frame).global(j)`); empty for a ground frame.
+    ///
+    /// # Panics
+    /// If `frame` belongs to another model.
+    pub fn frame_cols(&self, frame: FrameId) -> &DofMap {
+        &self.frame_cols[frame.0]
+    }
+
     /// Coordinates of one body in a global vector.
     ///
     /// # Panics
@@ -401,6 +448,32 @@ impl Model {
     pub fn body_u<'a>(&self, body: BodyId, u: &'a [f64]) -> &'a [f64] {
         let b = &self.bodies[body.0];
         &u[b.u_offset..b.u_offset + b.element.nu()]
+    }
+
+    /// [`Self::body_q`], mutable (e.g. to set initial modal coordinates).
+    ///
+    /// # Panics
+    /// As [`Self::body_q`].
+    pub fn body_q_mut<'a>(&self, body: BodyId, q: &'a mut [f64]) -> &'a mut [f64] {
+        let b = &self.bodies[body.0];
+        &mut q[b.q_offset..b.q_offset + b.element.nq()]
+    }
+
+    /// [`Self::body_u`], mutable (e.g. to set initial modal velocities).
+    ///
+    /// # Panics
+    /// As [`Self::body_q`], for `u` and `nu`.
+    pub fn body_u_mut<'a>(&self, body: BodyId, u: &'a mut [f64]) -> &'a mut [f64] {
+        let b = &self.bodies[body.0];
+        &mut u[b.u_offset..b.u_offset + b.element.nu()]
+    }
+
+    /// One zeroed [`FrameKinematics`] per frame, sized for its owner (the buffers
+    /// [`crate::system::update_frames`] writes).
+    pub fn frame_buffers(&self) -> Vec<FrameKinematics> {
+        (0..self.frames.len())
+            .map(|f| FrameKinematics::for_frame(self, FrameId(f)))
+            .collect()
     }
 
     /// The body called `name`.
@@ -422,16 +495,15 @@ impl Model {
         if s.q.len() != self.nq || s.u.len() != self.nu {
             return None;
         }
+        let mut k = FrameKinematics::for_frame(self, frame);
         match f.owner {
             FrameOwner::Ground => {
-                let mut k = FrameKinematics::new(0);
                 k.position = f.local.position;
                 k.rotation = f.local.rotation;
                 Some(k)
             }
             FrameOwner::Body(b) => {
                 let b = self.bodies.get(b.0)?;
-                let mut k = FrameKinematics::new(b.element.nu());
                 b.element.frame_kinematics(
                     &s.q[b.q_offset..b.q_offset + b.element.nq()],
                     &s.u[b.u_offset..b.u_offset + b.element.nu()],
@@ -441,5 +513,24 @@ impl Model {
                 Some(k)
             }
         }
+    }
+}
+
+impl FrameKinematics {
+    /// Zeroed kinematics sized for `frame` of `model` (Jacobians with the columns of its owner,
+    /// none for ground).
+    ///
+    /// # Panics
+    /// If `frame` belongs to another model.
+    pub fn for_frame(model: &Model, frame: FrameId) -> Self {
+        Self::new(model.frame_cols(frame).len())
+    }
+
+    /// Zeroed kinematics for a frame on `body` of `model` (e.g. for output points of the body).
+    ///
+    /// # Panics
+    /// If `body` belongs to another model.
+    pub fn for_body(model: &Model, body: BodyId) -> Self {
+        Self::new(model.body_dofs(body).u.len())
     }
 }

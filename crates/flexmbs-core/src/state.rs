@@ -2,7 +2,7 @@
 
 use crate::element::{FrameKinematics, TangentScratch};
 use crate::linsolve::DenseLu;
-use crate::model::{FrameOwner, Model};
+use crate::model::Model;
 use faer::Mat;
 
 /// Everything that evolves in time. Separate from the immutable [`Model`].
@@ -117,14 +117,7 @@ impl Workspace {
     /// Allocates all buffers for `model`.
     pub fn new(model: &Model) -> Self {
         let (nq, nu, nc) = (model.nq, model.nu, model.nc);
-        let frames = model
-            .frames
-            .iter()
-            .map(|f| match f.owner {
-                FrameOwner::Ground => FrameKinematics::new(0),
-                FrameOwner::Body(b) => FrameKinematics::new(model.bodies[b.0].element.nu()),
-            })
-            .collect();
+        let frames = model.frame_buffers();
         let tangent_scratch = model
             .bodies
             .iter()

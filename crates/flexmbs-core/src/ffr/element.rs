@@ -111,7 +111,7 @@ impl Element for FfrElement {
         self.body.nu()
     }
 
-    fn num_nodes(&self) -> usize {
+    fn num_mesh_nodes(&self) -> usize {
         self.body.num_nodes()
     }
 
@@ -336,7 +336,7 @@ fn frame_from_state(
     frame: &LocalFrame,
     out: &mut FrameKinematics,
 ) -> Option<()> {
-    match frame.node {
+    match frame.mesh_node {
         Some(node) => {
             let k = b.node_kinematics(node, q, u, s).ok()?;
             b.node_jacobian_translation(node, s, out.jac_t.as_mut())
