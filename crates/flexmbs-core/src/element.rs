@@ -119,6 +119,11 @@ impl TangentScratch {
 /// views into the global matrices. Implementations must not allocate in any method called
 /// during a time step (all methods except the pose setters).
 pub trait Element: std::fmt::Debug + Send + Sync {
+    /// The kinds of the nodes the element's coordinates live on, in order: its local `q` (`u`)
+    /// is the concatenation of their position (velocity) coordinates, so the kinds' `nq` (`nu`)
+    /// sum to [`Element::nq`] ([`Element::nu`]). A rigid body is one pose node, an FFR body a pose
+    /// node and a `Vector(n_f)` node.
+    fn node_kinds(&self) -> &[crate::NodeKind];
     /// Number of position coordinates `nq`.
     fn nq(&self) -> usize;
     /// Number of velocity coordinates `nu`.

@@ -69,11 +69,11 @@ pub mod time_function;
 
 pub use element::{Element, FrameKinematics, LocalFrame, TangentScratch};
 pub use error::{ModelError, SolverError};
-pub use ids::{BodyId, FrameId, JointId, LoadId};
+pub use ids::{BodyId, FrameId, JointId, LoadId, NodeId};
 pub use joint::{Joint, PrescribedMotion};
 pub use load::{Load, LoadCoordinates};
 pub use model::{BodyDofs, Model, ModelSpec};
-pub use node::DofMap;
+pub use node::{DofMap, NodeKind};
 pub use rigid::{RigidBody, RotationParam};
 pub use state::{State, Workspace};
 pub use time_function::TimeFunction;

@@ -2,10 +2,10 @@
 
 use crate::element::{Element, FrameKinematics, LocalFrame};
 use crate::error::ModelError;
-use crate::ids::{BodyId, FrameId, JointId, LoadId};
+use crate::ids::{BodyId, FrameId, JointId, LoadId, NodeId};
 use crate::joint::{Joint, PrescribedMotion};
 use crate::load::Load;
-use crate::node::DofMap;
+use crate::node::{DofMap, Node, NodeKind};
 use crate::state::State;
 use nalgebra::{Matrix3, Vector3};
 
@@ -59,7 +59,8 @@ pub struct BodyDofs {
 pub struct ModelSpec {
     /// Gravitational acceleration (global). Default `(0, 0, 0)`.
     pub gravity: Vector3<f64>,
-    bodies: Vec<(String, Box<dyn Element>)>,
+    nodes: Vec<(String, NodeKind)>,
+    bodies: Vec<(String, Box<dyn Element>, Vec<NodeId>)>,
     frames: Vec<Frame>,
     joints: Vec<Joint>,
     loads: Vec<Load>,
@@ -76,6 +77,7 @@ impl ModelSpec {
     pub fn new() -> Self {
         Self {
             gravity: Vector3::zeros(),
+            nodes: Vec::new(),
             bodies: Vec::new(),
             frames: Vec::new(),
             joints: Vec::new(),
@@ -89,9 +91,45 @@ impl ModelSpec {
         self
     }
 
-    /// Adds a body.
+    /// Adds a body with its own nodes: one new node per entry of
+    /// [`Element::node_kinds`], in order, named `name` (one node) or `name.0`, `name.1`, ...
     pub fn add_body(&mut self, name: &str, element: impl Element + 'static) -> BodyId {
-        self.bodies.push((name.to_string(), Box::new(element)));
+        let kinds = element.node_kinds().to_vec();
+        let nodes = kinds
+            .iter()
+            .enumerate()
+            .map(|(i, k)| {
+                let node_name = if kinds.len() == 1 {
+                    name.to_string()
+                } else {
+                    format!("{name}.{i}")
+                };
+                self.add_node(&node_name, *k)
+            })
+            .collect();
+        self.bodies
+            .push((name.to_string(), Box::new(element), nodes));
+        BodyId(self.bodies.len() - 1)
+    }
+
+    /// Adds a node of `kind` (coordinates in the reference configuration until a body on it is
+    /// placed). Nodes get their global coordinates in the order they are added.
+    pub fn add_node(&mut self, name: &str, kind: NodeKind) -> NodeId {
+        self.nodes.push((name.to_string(), kind));
+        NodeId(self.nodes.len() - 1)
+    }
+
+    /// Adds a body whose element lives on existing `nodes` (in the order and of the kinds of its
+    /// [`Element::node_kinds`]): bodies that share a node share its coordinates, with no
+    /// constraint between them. Checked by [`Self::compile`].
+    pub fn add_body_on(
+        &mut self,
+        name: &str,
+        element: impl Element + 'static,
+        nodes: &[NodeId],
+    ) -> BodyId {
+        self.bodies
+            .push((name.to_string(), Box::new(element), nodes.to_vec()));
         BodyId(self.bodies.len() - 1)
     }
 
@@ -189,30 +227,41 @@ impl ModelSpec {
 
     /// Validates the description and builds the immutable model.
     pub fn compile(self) -> Result<Model, ModelError> {
+        let (nodes, nq, nu) = layout_nodes(&self.nodes);
+        let mut users = vec![0usize; nodes.len()];
         let mut bodies = Vec::with_capacity(self.bodies.len());
-        let (mut nq, mut nu) = (0, 0);
-        for (name, element) in self.bodies {
-            element
-                .validate()
-                .map_err(|reason| ModelError::InvalidBody {
-                    body: name.clone(),
-                    reason,
-                })?;
-            let (q_offset, u_offset) = (nq, nu);
-            nq += element.nq();
-            nu += element.nu();
-            let dofs = BodyDofs {
-                q: DofMap::Contiguous(q_offset..nq),
-                u: DofMap::Contiguous(u_offset..nu),
+        for (name, element, body_nodes) in self.bodies {
+            let invalid = |reason: String| ModelError::InvalidBody {
+                body: name.clone(),
+                reason,
+            };
+            element.validate().map_err(invalid)?;
+            let dofs = body_dofs(&nodes, element.as_ref(), &body_nodes).map_err(invalid)?;
+            for n in &body_nodes {
+                users[n.0] += 1;
+            }
+            let (Some(q), Some(u)) = (dofs.q.as_range(), dofs.u.as_range()) else {
+                return Err(invalid(
+                    "its nodes must be consecutive in the order they were added (scattered \
+                     coordinate maps are not supported yet)"
+                        .into(),
+                ));
             };
             bodies.push(Body {
                 name,
                 element,
-                q_offset,
-                u_offset,
+                q_offset: q.start,
+                u_offset: u.start,
                 dofs,
             });
         }
+        if let Some(n) = users.iter().position(|&c| c == 0) {
+            return Err(ModelError::InvalidBody {
+                body: nodes[n].name.clone(),
+                reason: "node used by no body (its coordinates would have no mass)".into(),
+            });
+        }
+        let shared_nodes = users.iter().any(|&c| c > 1);
         for f in &self.frames {
             if let FrameOwner::Body(b) = f.owner {
                 let body = bodies.get(b.0).ok_or(ModelError::UnknownBody {
@@ -326,6 +375,8 @@ impl ModelSpec {
             .collect();
         Ok(Model {
             gravity: self.gravity,
+            nodes,
+            shared_nodes,
             bodies,
             frame_cols,
             frames: self.frames,
@@ -339,12 +390,86 @@ impl ModelSpec {
     }
 }
 
+/// Global coordinate ranges of the nodes, in the order they were added; totals `nq`, `nu`.
+fn layout_nodes(spec: &[(String, NodeKind)]) -> (Vec<Node>, usize, usize) {
+    let (mut nq, mut nu) = (0, 0);
+    let nodes = spec
+        .iter()
+        .map(|(name, kind)| {
+            let node = Node {
+                name: name.clone(),
+                kind: *kind,
+                q: nq..nq + kind.nq(),
+                u: nu..nu + kind.nu(),
+            };
+            (nq, nu) = (node.q.end, node.u.end);
+            node
+        })
+        .collect();
+    (nodes, nq, nu)
+}
+
+/// The coordinate maps of a body on `body_nodes` (the concatenation of their ranges), after
+/// checking them against the element's node kinds and sizes.
+fn body_dofs(
+    nodes: &[Node],
+    element: &dyn Element,
+    body_nodes: &[NodeId],
+) -> Result<BodyDofs, String> {
+    let kinds = element.node_kinds();
+    if kinds.len() != body_nodes.len() {
+        return Err(format!(
+            "the element lives on {} nodes, {} given",
+            kinds.len(),
+            body_nodes.len()
+        ));
+    }
+    let (mut q, mut u) = (Vec::new(), Vec::new());
+    for (i, (id, kind)) in body_nodes.iter().zip(kinds).enumerate() {
+        let node = nodes
+            .get(id.0)
+            .ok_or_else(|| format!("node {i}: {id} does not exist"))?;
+        if node.kind != *kind {
+            return Err(format!(
+                "node {i} (`{}`) is {:?}, the element needs {kind:?}",
+                node.name, node.kind
+            ));
+        }
+        q.extend(node.q.clone());
+        u.extend(node.u.clone());
+    }
+    if (q.len(), u.len()) != (element.nq(), element.nu()) {
+        return Err(format!(
+            "node kinds give {} + {} coordinates, the element has nq = {}, nu = {}",
+            q.len(),
+            u.len(),
+            element.nq(),
+            element.nu()
+        ));
+    }
+    let map = |v: Vec<usize>| match (v.first(), v.last()) {
+        (Some(&a), Some(&b)) if b + 1 - a == v.len() && v.windows(2).all(|w| w[1] == w[0] + 1) => {
+            DofMap::Contiguous(a..b + 1)
+        }
+        (None, _) => DofMap::Contiguous(0..0),
+        _ => DofMap::Scattered(v),
+    };
+    Ok(BodyDofs {
+        q: map(q),
+        u: map(u),
+    })
+}
+
 /// The compiled, immutable model: bodies with coordinate offsets, frames, joints, loads.
 #[derive(Debug)]
 pub struct Model {
     /// Gravitational acceleration.
     pub gravity: Vector3<f64>,
-    /// Bodies (elements) with their offsets.
+    /// Nodes (owners of the coordinates), in the order of the global vectors.
+    pub nodes: Vec<Node>,
+    /// Some node is used by more than one body: element blocks overlap and are accumulated.
+    pub(crate) shared_nodes: bool,
+    /// Bodies (elements) with their coordinate maps.
     pub bodies: Vec<Body>,
     /// Frames.
     pub frames: Vec<Frame>,

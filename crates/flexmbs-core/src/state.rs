@@ -37,6 +37,32 @@ impl State {
     }
 }
 
+/// Element-local results of one body, accumulated into the global ones when bodies share nodes
+/// (their blocks overlap); empty otherwise.
+#[derive(Debug)]
+pub struct ElementBuffers {
+    /// Local forces / mass-vector product (nu of the element).
+    pub h: Vec<f64>,
+    /// Local mass matrix (nu x nu).
+    pub mass: Mat<f64>,
+    /// Local `dh/dq` (nu x nu).
+    pub dh_dq: Mat<f64>,
+    /// Local `dh/du` (nu x nu).
+    pub dh_du: Mat<f64>,
+}
+
+impl ElementBuffers {
+    /// Buffers for an element with `nu` velocity coordinates.
+    pub fn new(nu: usize) -> Self {
+        Self {
+            h: vec![0.0; nu],
+            mass: Mat::zeros(nu, nu),
+            dh_dq: Mat::zeros(nu, nu),
+            dh_du: Mat::zeros(nu, nu),
+        }
+    }
+}
+
 /// Buffers of the system-level evaluations ([`crate::system`]).
 #[derive(Debug)]
 pub struct SystemBuffers {
@@ -44,6 +70,8 @@ pub struct SystemBuffers {
     pub frames: Vec<FrameKinematics>,
     /// Tangent scratch per body.
     pub tangent_scratch: Vec<TangentScratch>,
+    /// Element-local results per body, only for models whose bodies share nodes.
+    pub local: Vec<ElementBuffers>,
     /// Global mass matrix (nu x nu).
     pub mass: Mat<f64>,
     /// Global forces `h` incl. loads (nu).
@@ -128,6 +156,15 @@ impl Workspace {
             sys: SystemBuffers {
                 frames,
                 tangent_scratch,
+                local: if model.shared_nodes {
+                    model
+                        .bodies
+                        .iter()
+                        .map(|b| ElementBuffers::new(b.element.nu()))
+                        .collect()
+                } else {
+                    Vec::new()
+                },
                 mass: Mat::zeros(nu, nu),
                 h: v(nu),
                 dh_dq: Mat::zeros(nu, nu),

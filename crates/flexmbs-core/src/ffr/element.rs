@@ -5,6 +5,7 @@ use super::{FfrBody, FfrScratch, FfrTangentScratch, MomentCache, RotationParam};
 use crate::element::{
     finite_difference_tangents, Element, FrameKinematics, LocalFrame, TangentScratch,
 };
+use crate::node::NodeKind;
 use crate::rotation::{cardan_from_matrix, cardan_g_bar, quaternion_from_matrix, skew};
 use faer::MatMut;
 use nalgebra::{Matrix3, Vector3};
@@ -24,6 +25,8 @@ pub struct FfrElement {
     /// Kinematic state only (rotation state, `q_f`, `q_f_dot`; no moments) for
     /// [`Element::frame_kinematics_only`].
     kinematics: Mutex<FfrScratch>,
+    /// Floating-frame pose node and modal `Vector(n_f)` node.
+    node_kinds: [NodeKind; 2],
 }
 
 impl FfrElement {
@@ -32,13 +35,20 @@ impl FfrElement {
         let nf = body.nf();
         let nu = body.nu();
         Self {
-            body,
             scratch: Mutex::new(FfrScratch::new(nf)),
             zero_u: vec![0.0; nu],
             tangent: Mutex::new(FfrTangentScratch::new(nf)),
             analytic_tangent: true,
             moments: Mutex::new(MomentCache::new(nf)),
             kinematics: Mutex::new(FfrScratch::new(nf)),
+            node_kinds: [
+                match body.rotation {
+                    RotationParam::Cardan => NodeKind::PoseCardan,
+                    RotationParam::Quaternion => NodeKind::Pose,
+                },
+                NodeKind::Vector(nf),
+            ],
+            body,
         }
     }
 
@@ -103,6 +113,10 @@ fn fill_nan(x: &mut [f64]) {
 }
 
 impl Element for FfrElement {
+    fn node_kinds(&self) -> &[NodeKind] {
+        &self.node_kinds
+    }
+
     fn nq(&self) -> usize {
         self.body.nq()
     }

@@ -223,7 +223,16 @@ impl GenAlpha {
             kinematic_update(model, p, h, s, b);
             let sys = &mut ws.sys;
             system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
-            system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, &sys.frames, &mut sys.h);
+            system::assemble_forces(
+                model,
+                t1,
+                &b.q_new,
+                &b.u_new,
+                1.0,
+                &sys.frames,
+                &mut sys.h,
+                &mut sys.local,
+            );
             system::assemble_constraints(
                 model,
                 t1,
@@ -238,7 +247,14 @@ impl GenAlpha {
             // -h_i, G_0i lambda_0, G_1i lambda_1, ... (contiguous columns of G)
             let (mut r_max, mut g_max) = (0.0_f64, 0.0_f64);
             let r_acc = &mut b.rhs[..nu];
-            system::mass_times_vector(model, &b.q_new, &b.u_dot_new, sys.mass.as_mut(), r_acc);
+            system::mass_times_vector(
+                model,
+                &b.q_new,
+                &b.u_dot_new,
+                sys.mass.as_mut(),
+                r_acc,
+                &mut sys.local,
+            );
             for (r, h) in r_acc.iter_mut().zip(&sys.h) {
                 *r -= h;
             }
@@ -290,7 +306,7 @@ impl GenAlpha {
             };
             if refresh {
                 ws.newton_matrix_h = f64::NAN;
-                system::assemble_mass(model, &b.q_new, sys.mass.as_mut());
+                system::assemble_mass(model, &b.q_new, sys.mass.as_mut(), &mut sys.local);
                 system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
                 for j in 0..nu {
                     for i in 0..nu {
