@@ -179,6 +179,17 @@ impl Element for FfrElement {
         self.body.coordinate_rates(q, u, q_dot);
     }
 
+    /// `q ⊕ dv` node by node: the floating-frame pose through its node kind (the exponential map
+    /// for quaternions, as for rigid bodies; addition for Cardan angles), `q_f + dv_f`.
+    fn integrate_position(&self, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+        let pose = self.node_kinds[0];
+        let (nq, nu) = (pose.nq(), pose.nu());
+        pose.integrate(&q[..nq], &dv[..nu], &mut q_new[..nq]);
+        for ((x, q), d) in q_new[nq..].iter_mut().zip(&q[nq..]).zip(&dv[nu..]) {
+            *x = q + d;
+        }
+    }
+
     fn normalize(&self, q: &mut [f64]) {
         if self.body.normalize(q).is_err() {
             fill_nan(q);
