@@ -46,16 +46,14 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
     })?;
     integrator.initialize(&model, &mut state, &mut ws)?;
     let (h, t_end, every) = (2e-4, 0.2, 10usize);
-    let q0 = model.bodies[b.0].q_offset;
-    let nq = model.bodies[b.0].element.nq();
     let nu = model.bodies[b.0].element.nu();
-    let mut samples: Vec<(f64, Vec<f64>)> = vec![(0.0, state.q[q0..q0 + nq].to_vec())];
+    let mut samples: Vec<(f64, Vec<f64>)> = vec![(0.0, model.body_q(b, &state.q).to_vec())];
     let mut step = 0usize;
     integrator
         .integrate(&model, &mut state, &mut ws, h, t_end, |s, _| {
             step += 1;
             if step.is_multiple_of(every) {
-                samples.push((s.t, s.q[q0..q0 + nq].to_vec()));
+                samples.push((s.t, model.body_q(b, &s.q).to_vec()));
             }
         })
         .context("time integration of the cantilever")?;
@@ -75,7 +73,7 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
             let frame = LocalFrame {
                 position: Vector3::from(*x0),
                 rotation: Matrix3::identity(),
-                node: Some(n),
+                mesh_node: Some(n),
             };
             element.frame_kinematics(q, &zero_u, &frame, &mut fk);
             points.push([fk.position[0], fk.position[1], fk.position[2]]);

@@ -28,9 +28,9 @@ pub struct LocalFrame {
     pub position: Vector3<f64>,
     /// Orientation relative to the element reference frame (columns = frame axes).
     pub rotation: Matrix3<f64>,
-    /// FE node the frame follows (flexible elements); `None` for a point fixed in the
+    /// FE mesh node the frame follows (flexible elements); `None` for a point fixed in the
     /// reference frame (rigid bodies).
-    pub node: Option<usize>,
+    pub mesh_node: Option<usize>,
 }
 
 impl LocalFrame {
@@ -39,7 +39,7 @@ impl LocalFrame {
         Self {
             position,
             rotation: Matrix3::identity(),
-            node: None,
+            mesh_node: None,
         }
     }
 }
@@ -119,6 +119,11 @@ impl TangentScratch {
 /// views into the global matrices. Implementations must not allocate in any method called
 /// during a time step (all methods except the pose setters).
 pub trait Element: std::fmt::Debug + Send + Sync {
+    /// The kinds of the nodes the element's coordinates live on, in order: its local `q` (`u`)
+    /// is the concatenation of their position (velocity) coordinates, so the kinds' `nq` (`nu`)
+    /// sum to [`Element::nq`] ([`Element::nu`]). A rigid body is one pose node, an FFR body a pose
+    /// node and a `Vector(n_f)` node.
+    fn node_kinds(&self) -> &[crate::NodeKind];
     /// Number of position coordinates `nq`.
     fn nq(&self) -> usize;
     /// Number of velocity coordinates `nu`.
@@ -128,8 +133,9 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn validate(&self) -> Result<(), String> {
         Ok(())
     }
-    /// Number of FE nodes frames may refer to ([`LocalFrame::node`]); 0 for rigid bodies.
-    fn num_nodes(&self) -> usize {
+    /// Number of FE mesh nodes frames may refer to ([`LocalFrame::mesh_node`]); 0 for rigid
+    /// bodies.
+    fn num_mesh_nodes(&self) -> usize {
         0
     }
     /// Reference coordinates: element at the origin, unrotated, undeformed, at rest.

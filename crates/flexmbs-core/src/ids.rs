@@ -29,6 +29,10 @@ typed_id!(
     BodyId
 );
 typed_id!(
+    /// A node: the owner of a block of coordinates, referenced by one or several bodies.
+    NodeId
+);
+typed_id!(
     /// A frame: the attachment point of joints, loads and springs.
     FrameId
 );

@@ -2,9 +2,10 @@
 
 use crate::element::{Element, FrameKinematics, LocalFrame};
 use crate::error::ModelError;
-use crate::ids::{BodyId, FrameId, JointId, LoadId};
+use crate::ids::{BodyId, FrameId, JointId, LoadId, NodeId};
 use crate::joint::{Joint, PrescribedMotion};
 use crate::load::Load;
+use crate::node::{DofMap, Node, NodeKind};
 use crate::state::State;
 use nalgebra::{Matrix3, Vector3};
 
@@ -35,10 +36,22 @@ pub struct Body {
     pub name: String,
     /// The element.
     pub element: Box<dyn Element>,
-    /// Offset of its coordinates in the global `q`.
-    pub q_offset: usize,
-    /// Offset of its velocity coordinates in the global `u`.
-    pub u_offset: usize,
+    /// Offset of its coordinates in the global `q` (contiguous layout).
+    pub(crate) q_offset: usize,
+    /// Offset of its velocity coordinates in the global `u` (contiguous layout).
+    pub(crate) u_offset: usize,
+    /// Where its coordinates lie in the global vectors.
+    dofs: BodyDofs,
+}
+
+/// Global indices of a body's (element-local) coordinates: [`Model::body_dofs`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BodyDofs {
+    /// Position coordinates `q` (nq of the element).
+    pub q: DofMap,
+    /// Velocity coordinates `u` (nu of the element): also the body's columns of `M`, the
+    /// tangents and `G`.
+    pub u: DofMap,
 }
 
 /// Editable model description. Add bodies, frames, joints and loads, then [`ModelSpec::compile`].
@@ -46,7 +59,8 @@ pub struct Body {
 pub struct ModelSpec {
     /// Gravitational acceleration (global). Default `(0, 0, 0)`.
     pub gravity: Vector3<f64>,
-    bodies: Vec<(String, Box<dyn Element>)>,
+    nodes: Vec<(String, NodeKind)>,
+    bodies: Vec<(String, Box<dyn Element>, Vec<NodeId>)>,
     frames: Vec<Frame>,
     joints: Vec<Joint>,
     loads: Vec<Load>,
@@ -63,6 +77,7 @@ impl ModelSpec {
     pub fn new() -> Self {
         Self {
             gravity: Vector3::zeros(),
+            nodes: Vec::new(),
             bodies: Vec::new(),
             frames: Vec::new(),
             joints: Vec::new(),
@@ -76,9 +91,45 @@ impl ModelSpec {
         self
     }
 
-    /// Adds a body.
+    /// Adds a body with its own nodes: one new node per entry of
+    /// [`Element::node_kinds`], in order, named `name` (one node) or `name.0`, `name.1`, ...
     pub fn add_body(&mut self, name: &str, element: impl Element + 'static) -> BodyId {
-        self.bodies.push((name.to_string(), Box::new(element)));
+        let kinds = element.node_kinds().to_vec();
+        let nodes = kinds
+            .iter()
+            .enumerate()
+            .map(|(i, k)| {
+                let node_name = if kinds.len() == 1 {
+                    name.to_string()
+                } else {
+                    format!("{name}.{i}")
+                };
+                self.add_node(&node_name, *k)
+            })
+            .collect();
+        self.bodies
+            .push((name.to_string(), Box::new(element), nodes));
+        BodyId(self.bodies.len() - 1)
+    }
+
+    /// Adds a node of `kind` (coordinates in the reference configuration until a body on it is
+    /// placed). Nodes get their global coordinates in the order they are added.
+    pub fn add_node(&mut self, name: &str, kind: NodeKind) -> NodeId {
+        self.nodes.push((name.to_string(), kind));
+        NodeId(self.nodes.len() - 1)
+    }
+
+    /// Adds a body whose element lives on existing `nodes` (in the order and of the kinds of its
+    /// [`Element::node_kinds`]): bodies that share a node share its coordinates, with no
+    /// constraint between them. Checked by [`Self::compile`].
+    pub fn add_body_on(
+        &mut self,
+        name: &str,
+        element: impl Element + 'static,
+        nodes: &[NodeId],
+    ) -> BodyId {
+        self.bodies
+            .push((name.to_string(), Box::new(element), nodes.to_vec()));
         BodyId(self.bodies.len() - 1)
     }
 
@@ -96,7 +147,7 @@ impl ModelSpec {
             LocalFrame {
                 position,
                 rotation,
-                node: None,
+                mesh_node: None,
             },
         )
     }
@@ -130,7 +181,7 @@ impl ModelSpec {
         let local = LocalFrame {
             position,
             rotation,
-            node: Some(node),
+            mesh_node: Some(node),
         };
         self.push_frame(name, FrameOwner::Body(body), local)
     }
@@ -148,7 +199,7 @@ impl ModelSpec {
             LocalFrame {
                 position,
                 rotation,
-                node: None,
+                mesh_node: None,
             },
         )
     }
@@ -176,33 +227,49 @@ impl ModelSpec {
 
     /// Validates the description and builds the immutable model.
     pub fn compile(self) -> Result<Model, ModelError> {
+        let (nodes, nq, nu) = layout_nodes(&self.nodes);
+        let mut users = vec![0usize; nodes.len()];
         let mut bodies = Vec::with_capacity(self.bodies.len());
-        let (mut nq, mut nu) = (0, 0);
-        for (name, element) in self.bodies {
-            element
-                .validate()
-                .map_err(|reason| ModelError::InvalidBody {
-                    body: name.clone(),
-                    reason,
-                })?;
-            let (q_offset, u_offset) = (nq, nu);
-            nq += element.nq();
-            nu += element.nu();
+        for (name, element, body_nodes) in self.bodies {
+            let invalid = |reason: String| ModelError::InvalidBody {
+                body: name.clone(),
+                reason,
+            };
+            element.validate().map_err(invalid)?;
+            let dofs = body_dofs(&nodes, element.as_ref(), &body_nodes).map_err(invalid)?;
+            for n in &body_nodes {
+                users[n.0] += 1;
+            }
+            let (Some(q), Some(u)) = (dofs.q.as_range(), dofs.u.as_range()) else {
+                return Err(invalid(
+                    "its nodes must be consecutive in the order they were added (scattered \
+                     coordinate maps are not supported yet)"
+                        .into(),
+                ));
+            };
             bodies.push(Body {
                 name,
                 element,
-                q_offset,
-                u_offset,
+                q_offset: q.start,
+                u_offset: u.start,
+                dofs,
             });
         }
+        if let Some(n) = users.iter().position(|&c| c == 0) {
+            return Err(ModelError::InvalidBody {
+                body: nodes[n].name.clone(),
+                reason: "node used by no body (its coordinates would have no mass)".into(),
+            });
+        }
+        let shared_nodes = users.iter().any(|&c| c > 1);
         for f in &self.frames {
             if let FrameOwner::Body(b) = f.owner {
                 let body = bodies.get(b.0).ok_or(ModelError::UnknownBody {
                     frame: f.name.clone(),
                     body: b,
                 })?;
-                if let Some(node) = f.local.node {
-                    let num_nodes = body.element.num_nodes();
+                if let Some(node) = f.local.mesh_node {
+                    let num_nodes = body.element.num_mesh_nodes();
                     if node >= num_nodes {
                         return Err(ModelError::InvalidNode {
                             frame: f.name.clone(),
@@ -298,9 +365,20 @@ impl ModelSpec {
                 reason: "must be finite",
             });
         }
+        let frame_cols = self
+            .frames
+            .iter()
+            .map(|f| match f.owner {
+                FrameOwner::Ground => DofMap::Contiguous(0..0),
+                FrameOwner::Body(b) => bodies[b.0].dofs.u.clone(),
+            })
+            .collect();
         Ok(Model {
             gravity: self.gravity,
+            nodes,
+            shared_nodes,
             bodies,
+            frame_cols,
             frames: self.frames,
             joints: self.joints,
             joint_rows,
@@ -312,15 +390,91 @@ impl ModelSpec {
     }
 }
 
+/// Global coordinate ranges of the nodes, in the order they were added; totals `nq`, `nu`.
+fn layout_nodes(spec: &[(String, NodeKind)]) -> (Vec<Node>, usize, usize) {
+    let (mut nq, mut nu) = (0, 0);
+    let nodes = spec
+        .iter()
+        .map(|(name, kind)| {
+            let node = Node {
+                name: name.clone(),
+                kind: *kind,
+                q: nq..nq + kind.nq(),
+                u: nu..nu + kind.nu(),
+            };
+            (nq, nu) = (node.q.end, node.u.end);
+            node
+        })
+        .collect();
+    (nodes, nq, nu)
+}
+
+/// The coordinate maps of a body on `body_nodes` (the concatenation of their ranges), after
+/// checking them against the element's node kinds and sizes.
+fn body_dofs(
+    nodes: &[Node],
+    element: &dyn Element,
+    body_nodes: &[NodeId],
+) -> Result<BodyDofs, String> {
+    let kinds = element.node_kinds();
+    if kinds.len() != body_nodes.len() {
+        return Err(format!(
+            "the element lives on {} nodes, {} given",
+            kinds.len(),
+            body_nodes.len()
+        ));
+    }
+    let (mut q, mut u) = (Vec::new(), Vec::new());
+    for (i, (id, kind)) in body_nodes.iter().zip(kinds).enumerate() {
+        let node = nodes
+            .get(id.0)
+            .ok_or_else(|| format!("node {i}: {id} does not exist"))?;
+        if node.kind != *kind {
+            return Err(format!(
+                "node {i} (`{}`) is {:?}, the element needs {kind:?}",
+                node.name, node.kind
+            ));
+        }
+        q.extend(node.q.clone());
+        u.extend(node.u.clone());
+    }
+    if (q.len(), u.len()) != (element.nq(), element.nu()) {
+        return Err(format!(
+            "node kinds give {} + {} coordinates, the element has nq = {}, nu = {}",
+            q.len(),
+            u.len(),
+            element.nq(),
+            element.nu()
+        ));
+    }
+    let map = |v: Vec<usize>| match (v.first(), v.last()) {
+        (Some(&a), Some(&b)) if b + 1 - a == v.len() && v.windows(2).all(|w| w[1] == w[0] + 1) => {
+            DofMap::Contiguous(a..b + 1)
+        }
+        (None, _) => DofMap::Contiguous(0..0),
+        _ => DofMap::Scattered(v),
+    };
+    Ok(BodyDofs {
+        q: map(q),
+        u: map(u),
+    })
+}
+
 /// The compiled, immutable model: bodies with coordinate offsets, frames, joints, loads.
 #[derive(Debug)]
 pub struct Model {
     /// Gravitational acceleration.
     pub gravity: Vector3<f64>,
-    /// Bodies (elements) with their offsets.
+    /// Nodes (owners of the coordinates), in the order of the global vectors.
+    pub nodes: Vec<Node>,
+    /// Some node is used by more than one body: element blocks overlap and are accumulated.
+    pub(crate) shared_nodes: bool,
+    /// Bodies (elements) with their coordinate maps.
     pub bodies: Vec<Body>,
     /// Frames.
     pub frames: Vec<Frame>,
+    /// Global columns of each frame's Jacobians (empty for ground frames).
+    frame_cols: Vec<DofMap>,
     /// Joints.
     pub joints: Vec<Joint>,
     /// First constraint row of each joint.
@@ -384,6 +538,24 @@ impl Model {
         );
     }
 
+    /// Where the coordinates of `body` lie in the global `q` and `u` (its columns of `M`, the
+    /// tangents and `G`): for assembly patterns (e.g. a sparse iteration matrix) and output.
+    ///
+    /// # Panics
+    /// If `body` belongs to another model ([`Self::body_id`] gives ids by name).
+    pub fn body_dofs(&self, body: BodyId) -> &BodyDofs {
+        &self.bodies[body.0].dofs
+    }
+
+    /// Global columns of the Jacobians of `frame` ([`FrameKinematics::jac_t`] column `j` is global
+    /// column `frame_cols(frame).global(j)`); empty for a ground frame.
+    ///
+    /// # Panics
+    /// If `frame` belongs to another model.
+    pub fn frame_cols(&self, frame: FrameId) -> &DofMap {
+        &self.frame_cols[frame.0]
+    }
+
     /// Coordinates of one body in a global vector.
     ///
     /// # Panics
@@ -401,6 +573,32 @@ impl Model {
     pub fn body_u<'a>(&self, body: BodyId, u: &'a [f64]) -> &'a [f64] {
         let b = &self.bodies[body.0];
         &u[b.u_offset..b.u_offset + b.element.nu()]
+    }
+
+    /// [`Self::body_q`], mutable (e.g. to set initial modal coordinates).
+    ///
+    /// # Panics
+    /// As [`Self::body_q`].
+    pub fn body_q_mut<'a>(&self, body: BodyId, q: &'a mut [f64]) -> &'a mut [f64] {
+        let b = &self.bodies[body.0];
+        &mut q[b.q_offset..b.q_offset + b.element.nq()]
+    }
+
+    /// [`Self::body_u`], mutable (e.g. to set initial modal velocities).
+    ///
+    /// # Panics
+    /// As [`Self::body_q`], for `u` and `nu`.
+    pub fn body_u_mut<'a>(&self, body: BodyId, u: &'a mut [f64]) -> &'a mut [f64] {
+        let b = &self.bodies[body.0];
+        &mut u[b.u_offset..b.u_offset + b.element.nu()]
+    }
+
+    /// One zeroed [`FrameKinematics`] per frame, sized for its owner (the buffers
+    /// [`crate::system::update_frames`] writes).
+    pub fn frame_buffers(&self) -> Vec<FrameKinematics> {
+        (0..self.frames.len())
+            .map(|f| FrameKinematics::for_frame(self, FrameId(f)))
+            .collect()
     }
 
     /// The body called `name`.
@@ -422,16 +620,15 @@ impl Model {
         if s.q.len() != self.nq || s.u.len() != self.nu {
             return None;
         }
+        let mut k = FrameKinematics::for_frame(self, frame);
         match f.owner {
             FrameOwner::Ground => {
-                let mut k = FrameKinematics::new(0);
                 k.position = f.local.position;
                 k.rotation = f.local.rotation;
                 Some(k)
             }
             FrameOwner::Body(b) => {
                 let b = self.bodies.get(b.0)?;
-                let mut k = FrameKinematics::new(b.element.nu());
                 b.element.frame_kinematics(
                     &s.q[b.q_offset..b.q_offset + b.element.nq()],
                     &s.u[b.u_offset..b.u_offset + b.element.nu()],
@@ -441,5 +638,24 @@ impl Model {
                 Some(k)
             }
         }
+    }
+}
+
+impl FrameKinematics {
+    /// Zeroed kinematics sized for `frame` of `model` (Jacobians with the columns of its owner,
+    /// none for ground).
+    ///
+    /// # Panics
+    /// If `frame` belongs to another model.
+    pub fn for_frame(model: &Model, frame: FrameId) -> Self {
+        Self::new(model.frame_cols(frame).len())
+    }
+
+    /// Zeroed kinematics for a frame on `body` of `model` (e.g. for output points of the body).
+    ///
+    /// # Panics
+    /// If `body` belongs to another model.
+    pub fn for_body(model: &Model, body: BodyId) -> Self {
+        Self::new(model.body_dofs(body).u.len())
     }
 }

@@ -9,6 +9,7 @@
 //!   Positions are updated by the exponential map `p ⊕ dv = p * exp(dv_rot / 2)`.
 
 use crate::element::{skew, Element, FrameKinematics, LocalFrame, TangentScratch};
+use crate::node::{cardan_g, NodeKind};
 use faer::MatMut;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -98,13 +99,6 @@ pub fn cardan_matrix(a: f64, b: f64, c: f64) -> Matrix3<f64> {
     crate::rotation::cardan_matrix(&Vector3::new(a, b, c))
 }
 
-/// Global `G(alpha, beta)` with `omega = G theta_dot` for Cardan x-y-z angles.
-fn cardan_g(a: f64, b: f64) -> Matrix3<f64> {
-    let (sa, ca) = a.sin_cos();
-    let (sb, cb) = b.sin_cos();
-    Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb)
-}
-
 /// `G_dot theta_dot` for Cardan x-y-z angles.
 fn cardan_g_dot_theta_dot(a: f64, b: f64, td: &Vector3<f64>) -> Vector3<f64> {
     let (sa, ca) = a.sin_cos();
@@ -157,27 +151,17 @@ impl Element for RigidBody {
     fn nu(&self) -> usize {
         6
     }
-    fn reference_coordinates(&self, q: &mut [f64], u: &mut [f64]) {
-        q.fill(0.0);
-        u.fill(0.0);
-        if self.rotation == RotationParam::Quaternion {
-            q[3] = 1.0;
+    fn node_kinds(&self) -> &[NodeKind] {
+        match self.rotation {
+            RotationParam::Cardan => &[NodeKind::PoseCardan],
+            RotationParam::Quaternion => &[NodeKind::Pose],
         }
     }
+    fn reference_coordinates(&self, q: &mut [f64], u: &mut [f64]) {
+        self.node_kinds()[0].reference(q, u);
+    }
     fn set_pose(&self, q: &mut [f64], position: &Vector3<f64>, rotation: &Matrix3<f64>) {
-        q[..3].copy_from_slice(position.as_slice());
-        match self.rotation {
-            RotationParam::Cardan => {
-                let r = rotation;
-                q[3] = (-r[(1, 2)]).atan2(r[(2, 2)]);
-                q[4] = r[(0, 2)].clamp(-1.0, 1.0).asin();
-                q[5] = (-r[(0, 1)]).atan2(r[(0, 0)]);
-            }
-            RotationParam::Quaternion => {
-                let p = UnitQuaternion::from_matrix(rotation);
-                q[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
-            }
-        }
+        self.node_kinds()[0].set_pose(q, position, rotation);
     }
     fn set_velocity(
         &self,
@@ -186,52 +170,16 @@ impl Element for RigidBody {
         velocity: &Vector3<f64>,
         omega: &Vector3<f64>,
     ) {
-        u[..3].copy_from_slice(velocity.as_slice());
-        let w = match self.rotation {
-            RotationParam::Cardan => cardan_g(q[3], q[4])
-                .try_inverse()
-                .map(|gi| gi * omega)
-                .unwrap_or_else(|| Vector3::from_element(f64::NAN)),
-            RotationParam::Quaternion => self.rotation_matrix(q).transpose() * omega,
-        };
-        u[3..6].copy_from_slice(w.as_slice());
+        self.node_kinds()[0].set_velocity(q, u, velocity, omega);
     }
     fn q_dot(&self, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
-        q_dot[..3].copy_from_slice(&u[..3]);
-        match self.rotation {
-            RotationParam::Cardan => q_dot[3..6].copy_from_slice(&u[3..6]),
-            RotationParam::Quaternion => {
-                let p = nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]);
-                let d = p * nalgebra::Quaternion::new(0.0, u[3], u[4], u[5]) * 0.5;
-                q_dot[3..7].copy_from_slice(&[d.w, d.i, d.j, d.k]);
-            }
-        }
+        self.node_kinds()[0].q_dot(q, u, q_dot);
     }
     fn integrate_position(&self, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
-        for i in 0..3 {
-            q_new[i] = q[i] + dv[i];
-        }
-        match self.rotation {
-            RotationParam::Cardan => {
-                for i in 3..6 {
-                    q_new[i] = q[i] + dv[i];
-                }
-            }
-            RotationParam::Quaternion => {
-                let p = quaternion(q)
-                    * UnitQuaternion::from_scaled_axis(Vector3::new(dv[3], dv[4], dv[5]));
-                q_new[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
-                self.normalize(q_new);
-            }
-        }
+        self.node_kinds()[0].integrate(q, dv, q_new);
     }
     fn normalize(&self, q: &mut [f64]) {
-        if self.rotation == RotationParam::Quaternion {
-            let n = (q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]).sqrt();
-            for x in &mut q[3..7] {
-                *x /= n;
-            }
-        }
+        self.node_kinds()[0].normalize(q);
     }
     fn mass_matrix(&self, q: &[f64], mut m: MatMut<'_, f64>) {
         m.fill(0.0);

@@ -2,7 +2,7 @@
 
 use crate::element::{FrameKinematics, TangentScratch};
 use crate::linsolve::DenseLu;
-use crate::model::{FrameOwner, Model};
+use crate::model::Model;
 use faer::Mat;
 
 /// Everything that evolves in time. Separate from the immutable [`Model`].
@@ -37,6 +37,32 @@ impl State {
     }
 }
 
+/// Element-local results of one body, accumulated into the global ones when bodies share nodes
+/// (their blocks overlap); empty otherwise.
+#[derive(Debug)]
+pub struct ElementBuffers {
+    /// Local forces / mass-vector product (nu of the element).
+    pub h: Vec<f64>,
+    /// Local mass matrix (nu x nu).
+    pub mass: Mat<f64>,
+    /// Local `dh/dq` (nu x nu).
+    pub dh_dq: Mat<f64>,
+    /// Local `dh/du` (nu x nu).
+    pub dh_du: Mat<f64>,
+}
+
+impl ElementBuffers {
+    /// Buffers for an element with `nu` velocity coordinates.
+    pub fn new(nu: usize) -> Self {
+        Self {
+            h: vec![0.0; nu],
+            mass: Mat::zeros(nu, nu),
+            dh_dq: Mat::zeros(nu, nu),
+            dh_du: Mat::zeros(nu, nu),
+        }
+    }
+}
+
 /// Buffers of the system-level evaluations ([`crate::system`]).
 #[derive(Debug)]
 pub struct SystemBuffers {
@@ -44,6 +70,8 @@ pub struct SystemBuffers {
     pub frames: Vec<FrameKinematics>,
     /// Tangent scratch per body.
     pub tangent_scratch: Vec<TangentScratch>,
+    /// Element-local results per body, only for models whose bodies share nodes.
+    pub local: Vec<ElementBuffers>,
     /// Global mass matrix (nu x nu).
     pub mass: Mat<f64>,
     /// Global forces `h` incl. loads (nu).
@@ -120,14 +148,7 @@ impl Workspace {
     /// Allocates all buffers for `model`.
     pub fn new(model: &Model) -> Self {
         let (nq, nu, nc) = (model.nq, model.nu, model.nc);
-        let frames = model
-            .frames
-            .iter()
-            .map(|f| match f.owner {
-                FrameOwner::Ground => FrameKinematics::new(0),
-                FrameOwner::Body(b) => FrameKinematics::new(model.bodies[b.0].element.nu()),
-            })
-            .collect();
+        let frames = model.frame_buffers();
         let tangent_scratch = model
             .bodies
             .iter()
@@ -138,6 +159,15 @@ impl Workspace {
             sys: SystemBuffers {
                 frames,
                 tangent_scratch,
+                local: if model.shared_nodes {
+                    model
+                        .bodies
+                        .iter()
+                        .map(|b| ElementBuffers::new(b.element.nu()))
+                        .collect()
+                } else {
+                    Vec::new()
+                },
                 mass: Mat::zeros(nu, nu),
                 h: v(nu),
                 dh_dq: Mat::zeros(nu, nu),

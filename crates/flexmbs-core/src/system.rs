@@ -7,7 +7,7 @@ use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::{FrameWrench, Load};
 use crate::model::{FrameOwner, Model};
-use crate::state::{State, SystemBuffers, Workspace};
+use crate::state::{ElementBuffers, State, SystemBuffers, Workspace};
 use faer::MatMut;
 use nalgebra::Vector3;
 
@@ -52,8 +52,24 @@ pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKin
 }
 
 /// Global mass matrix `M(q)`. Every element overwrites its diagonal block
-/// ([`crate::Element::mass_matrix`]); only the entries outside these blocks are zeroed.
-pub fn assemble_mass(model: &Model, q: &[f64], mut mass: MatMut<'_, f64>) {
+/// ([`crate::Element::mass_matrix`]); only the entries outside these blocks are zeroed. With
+/// shared nodes the blocks overlap: each is computed into `local` and added.
+pub fn assemble_mass(
+    model: &Model,
+    q: &[f64],
+    mut mass: MatMut<'_, f64>,
+    local: &mut [ElementBuffers],
+) {
+    if model.shared_nodes {
+        mass.fill(0.0);
+        for (b, l) in model.bodies.iter().zip(local.iter_mut()) {
+            let (nq, o) = (b.element.nq(), b.u_offset);
+            b.element
+                .mass_matrix(&q[b.q_offset..b.q_offset + nq], l.mass.as_mut());
+            add_block(mass.as_mut(), o, &l.mass);
+        }
+        return;
+    }
     zero_outside_diagonal_blocks(model, mass.as_mut());
     for b in &model.bodies {
         let (nq, nu) = (b.element.nq(), b.element.nu());
@@ -61,6 +77,15 @@ pub fn assemble_mass(model: &Model, q: &[f64], mut mass: MatMut<'_, f64>) {
             &q[b.q_offset..b.q_offset + nq],
             mass.as_mut().submatrix_mut(b.u_offset, b.u_offset, nu, nu),
         );
+    }
+}
+
+/// `m[o.., o..] += block`.
+fn add_block(mut m: MatMut<'_, f64>, o: usize, block: &faer::Mat<f64>) {
+    for j in 0..block.ncols() {
+        for i in 0..block.nrows() {
+            m[(o + i, o + j)] += block[(i, j)];
+        }
     }
 }
 
@@ -87,7 +112,24 @@ pub fn mass_times_vector(
     v: &[f64],
     mut mass: MatMut<'_, f64>,
     out: &mut [f64],
+    local: &mut [ElementBuffers],
 ) {
+    if model.shared_nodes {
+        out.fill(0.0);
+        for (b, l) in model.bodies.iter().zip(local.iter_mut()) {
+            let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
+            b.element.mass_times_vector(
+                &q[b.q_offset..b.q_offset + nq],
+                &v[o..o + nu],
+                l.mass.as_mut(),
+                &mut l.h,
+            );
+            for (x, y) in out[o..o + nu].iter_mut().zip(&l.h) {
+                *x += y;
+            }
+        }
+        return;
+    }
     for b in &model.bodies {
         let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
         b.element.mass_times_vector(
@@ -101,6 +143,7 @@ pub fn mass_times_vector(
 
 /// Global forces `h(t, q, u)` of the elements (gravity scaled by `load_factor`) plus all
 /// loads. `frames` must be up to date ([`update_frames`]).
+#[allow(clippy::too_many_arguments)]
 pub fn assemble_forces(
     model: &Model,
     t: f64,
@@ -109,16 +152,24 @@ pub fn assemble_forces(
     load_factor: f64,
     frames: &[FrameKinematics],
     h: &mut [f64],
+    local: &mut [ElementBuffers],
 ) {
     let g = model.gravity * load_factor;
-    for b in &model.bodies {
-        let (nq, nu) = (b.element.nq(), b.element.nu());
-        let (qb, ub) = (
-            &q[b.q_offset..b.q_offset + nq],
-            &u[b.u_offset..b.u_offset + nu],
-        );
-        b.element
-            .forces(t, qb, ub, &g, &mut h[b.u_offset..b.u_offset + nu]);
+    if model.shared_nodes {
+        h.fill(0.0);
+    }
+    for (i, b) in model.bodies.iter().enumerate() {
+        let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
+        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[o..o + nu]);
+        if model.shared_nodes {
+            let l = &mut local[i].h;
+            b.element.forces(t, qb, ub, &g, l);
+            for (x, y) in h[o..o + nu].iter_mut().zip(l.iter()) {
+                *x += y;
+            }
+        } else {
+            b.element.forces(t, qb, ub, &g, &mut h[o..o + nu]);
+        }
     }
     add_load_forces(model, t, load_factor, frames, h);
 }
@@ -176,17 +227,25 @@ pub fn assemble_tangents(
     ws.dh_dq.fill(0.0);
     ws.dh_du.fill(0.0);
     let g = model.gravity * load_factor;
-    for (b, scratch) in model.bodies.iter().zip(ws.tangent_scratch.iter_mut()) {
+    for (i, (b, scratch)) in model
+        .bodies
+        .iter()
+        .zip(ws.tangent_scratch.iter_mut())
+        .enumerate()
+    {
         let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
-        b.element.force_tangents(
-            t,
-            &q[b.q_offset..b.q_offset + nq],
-            &u[o..o + nu],
-            &g,
-            ws.dh_dq.as_mut().submatrix_mut(o, o, nu, nu),
-            ws.dh_du.as_mut().submatrix_mut(o, o, nu, nu),
-            scratch,
-        );
+        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[o..o + nu]);
+        if model.shared_nodes {
+            let l = &mut ws.local[i];
+            let (dq, du) = (l.dh_dq.as_mut(), l.dh_du.as_mut());
+            b.element.force_tangents(t, qb, ub, &g, dq, du, scratch);
+            add_block(ws.dh_dq.as_mut(), o, &l.dh_dq);
+            add_block(ws.dh_du.as_mut(), o, &l.dh_du);
+        } else {
+            let dq = ws.dh_dq.as_mut().submatrix_mut(o, o, nu, nu);
+            let du = ws.dh_du.as_mut().submatrix_mut(o, o, nu, nu);
+            b.element.force_tangents(t, qb, ub, &g, dq, du, scratch);
+        }
     }
     add_load_tangents(model, t, q, u, load_factor, ws);
 }
@@ -269,13 +328,28 @@ fn add_local_force_tangent(
         let b = &model.bodies[o];
         b.u_offset..b.u_offset + b.element.nu()
     };
-    for &ob in owners {
+    // with shared nodes the owners' coordinates may overlap: each global column / row once, and
+    // a perturbation moves the frames of every owner
+    let covered = |k: usize, i: usize| owners[..k].iter().any(|&r| rows(r).contains(&i));
+    let refresh = |ob: usize, q: &[f64], u: &[f64], out: &mut [FrameKinematics]| {
+        if model.shared_nodes {
+            for &r in owners {
+                update_owned_frames(model, r, frames, q, u, out);
+            }
+        } else {
+            update_owned_frames(model, ob, frames, q, u, out);
+        }
+    };
+    for (k, &ob) in owners.iter().enumerate() {
         let b = &model.bodies[ob];
         let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
         ws.q_pert[oq..oq + nq].copy_from_slice(&q[oq..oq + nq]);
         ws.u_pert[o..o + nu].copy_from_slice(&u[o..o + nu]);
         ws.dv_pert[o..o + nu].fill(0.0);
         for j in 0..nu {
+            if covered(k, o + j) {
+                continue;
+            }
             let directions: &[bool] = if velocity { &[true, false] } else { &[true] };
             for &position in directions {
                 let eps = if position {
@@ -292,10 +366,10 @@ fn add_local_force_tangent(
                             &ws.dv_pert[o..o + nu],
                             &mut ws.q_pert[oq..oq + nq],
                         );
-                        update_owned_frames(model, ob, frames, &ws.q_pert, u, &mut ws.frames);
+                        refresh(ob, &ws.q_pert, u, &mut ws.frames);
                     } else {
                         ws.u_pert[o + j] = u[o + j] + e;
-                        update_owned_frames(model, ob, frames, q, &ws.u_pert, &mut ws.frames);
+                        refresh(ob, q, &ws.u_pert, &mut ws.frames);
                     }
                     let hh = if plus {
                         &mut ws.h_plus
@@ -314,14 +388,14 @@ fn add_local_force_tangent(
                 } else {
                     &mut ws.dh_du
                 };
-                for &r in owners {
-                    for i in rows(r) {
+                for (kr, &r) in owners.iter().enumerate() {
+                    for i in rows(r).filter(|&i| !covered(kr, i)) {
                         m[(i, o + j)] += sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
                     }
                 }
             }
         }
-        update_owned_frames(model, ob, frames, q, u, &mut ws.frames);
+        refresh(ob, q, u, &mut ws.frames);
     }
 }
 
@@ -410,7 +484,16 @@ fn write_joint_jacobian(
         FrameOwner::Ground => None,
     };
     let (body_a, body_b) = (body_of(joint.frame_a), body_of(joint.frame_b));
+    if model.shared_nodes {
+        // overlapping column blocks: zero the rows, then accumulate both sides
+        for j in 0..g_jac.ncols() {
+            col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
+        }
+    }
     for (i, b) in model.bodies.iter().enumerate() {
+        if model.shared_nodes {
+            break;
+        }
         if Some(i) != body_a && Some(i) != body_b {
             for j in b.u_offset..b.u_offset + b.element.nu() {
                 col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
@@ -426,8 +509,12 @@ fn write_joint_jacobian(
         .sum();
     let finite = coefficient_sum.is_finite();
     let sides = [
-        (joint.frame_a, body_a, true),
-        (joint.frame_b, body_b, body_a != body_b),
+        (joint.frame_a, body_a, !model.shared_nodes),
+        (
+            joint.frame_b,
+            body_b,
+            body_a != body_b && !model.shared_nodes,
+        ),
     ];
     for (side, (frame, body, first)) in sides.into_iter().enumerate() {
         let Some(b) = body else { continue };
@@ -502,8 +589,15 @@ pub fn constraint_drift(ws: &SystemBuffers, u: &[f64]) -> (f64, f64) {
     (gmax, gdmax)
 }
 
-/// Global `q ⊕ dv`, body by body.
+/// Global `q ⊕ dv`, body by body (node by node when bodies share nodes).
 pub fn integrate_positions(model: &Model, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+    if model.shared_nodes {
+        for n in &model.nodes {
+            let (rq, ru) = (n.q.clone(), n.u.clone());
+            n.kind.integrate(&q[rq.clone()], &dv[ru], &mut q_new[rq]);
+        }
+        return;
+    }
     for b in &model.bodies {
         let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
         b.element
@@ -511,8 +605,15 @@ pub fn integrate_positions(model: &Model, q: &[f64], dv: &[f64], q_new: &mut [f6
     }
 }
 
-/// Global `q_dot = T(q) u`, body by body.
+/// Global `q_dot = T(q) u`, body by body (node by node when bodies share nodes).
 pub fn q_dot(model: &Model, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
+    if model.shared_nodes {
+        for n in &model.nodes {
+            let (rq, ru) = (n.q.clone(), n.u.clone());
+            n.kind.q_dot(&q[rq.clone()], &u[ru], &mut q_dot[rq]);
+        }
+        return;
+    }
     for b in &model.bodies {
         let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
         b.element
@@ -522,6 +623,12 @@ pub fn q_dot(model: &Model, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
 
 /// Normalizes all element coordinates (unit quaternions).
 pub fn normalize(model: &Model, q: &mut [f64]) {
+    if model.shared_nodes {
+        for n in &model.nodes {
+            n.kind.normalize(&mut q[n.q.clone()]);
+        }
+        return;
+    }
     for b in &model.bodies {
         let (nq, oq) = (b.element.nq(), b.q_offset);
         b.element.normalize(&mut q[oq..oq + nq]);

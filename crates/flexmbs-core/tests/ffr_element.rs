@@ -96,7 +96,7 @@ fn zero_modes_is_exactly_the_rigid_body() {
         let frame = LocalFrame {
             position: Vector3::new(0.2, 0.1, -0.05),
             rotation: Matrix3::identity(),
-            node: None,
+            mesh_node: None,
         };
         let (mut kf, mut kr) = (FrameKinematics::new(n), FrameKinematics::new(n));
         f.frame_kinematics(&q, &u, &frame, &mut kf);
@@ -137,17 +137,13 @@ fn free_spinning_flexible_body_conserves_energy_and_angular_momentum() {
     let model = spec.compile().unwrap();
     let mut s = model.initial_state();
     let body = &model.bodies[b.0];
-    {
-        let (q, u) = (&mut s.q[body.q_offset..], &mut s.u[body.u_offset..]);
-        body.element.set_velocity(
-            q,
-            u,
-            &Vector3::new(0.1, 0.0, 0.0),
-            &Vector3::new(0.3, 4.0, 1.0),
-        );
-        u[6] = 0.05;
-        u[7] = -0.02;
-    }
+    model.set_body_velocity(
+        &mut s,
+        b,
+        Vector3::new(0.1, 0.0, 0.0),
+        Vector3::new(0.3, 4.0, 1.0),
+    );
+    model.body_u_mut(b, &mut s.u)[6..8].copy_from_slice(&[0.05, -0.02]);
     let mut ws = Workspace::new(&model);
     let ga = GenAlpha::new(GenAlphaSettings {
         rho_inf: 1.0,
@@ -156,19 +152,19 @@ fn free_spinning_flexible_body_conserves_energy_and_angular_momentum() {
     .unwrap();
     ga.initialize(&model, &mut s, &mut ws).unwrap();
     let energy = |s: &flexmbs_core::State| {
-        let (q, u) = (&s.q[body.q_offset..], &s.u[body.u_offset..]);
+        let (q, u) = (model.body_q(b, &s.q), model.body_u(b, &s.u));
         body.element.kinetic_energy(q, u) + body.element.elastic_energy(q)
     };
     // angular momentum about the origin: sum_j m_j r_j x v_j from node kinematics
     let momentum = |s: &flexmbs_core::State| {
-        let (q, u) = (&s.q[body.q_offset..], &s.u[body.u_offset..]);
+        let (q, u) = (model.body_q(b, &s.q), model.body_u(b, &s.u));
         let mut l = Vector3::zeros();
-        let mut fk = FrameKinematics::new(body.element.nu());
+        let mut fk = FrameKinematics::for_body(&model, b);
         for (n, (p, mi)) in x.iter().zip(&m).enumerate() {
             let fr = LocalFrame {
                 position: Vector3::from(*p),
                 rotation: Matrix3::identity(),
-                node: Some(n),
+                mesh_node: Some(n),
             };
             body.element.frame_kinematics(q, u, &fr, &mut fk);
             l += *mi * fk.position.cross(&fk.velocity);

@@ -65,8 +65,7 @@ fn simulate(body: &ReducedBody, fd: bool, rot: RotationParam, modified: bool) ->
     let model = spec.compile().unwrap();
     let mut s = model.initial_state();
     model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, 100.0));
-    let uo = model.bodies[b.index()].u_offset;
-    s.u[uo + 6] = 0.05;
+    model.body_u_mut(b, &mut s.u)[6] = 0.05;
     let mut ws = Workspace::new(&model);
     let ga = GenAlpha::new(GenAlphaSettings {
         rho_inf: 0.9,

@@ -121,14 +121,12 @@ fn general_state(model: &Model) -> (Vec<f64>, Vec<f64>) {
     (q, u)
 }
 
+/// A global force vector `h(q, u)` (length nu) written into the last argument.
+type GlobalForce<'a> = dyn FnMut(&[f64], &[f64], &mut [f64]) + 'a;
+
 /// Column-by-column central differences of `f(q, u)` (length nu) over all coordinates:
 /// position columns along `q ⊕ dv` with step 1e-6, velocity columns with 1e-6 max(1, |u_j|).
-fn global_fd(
-    model: &Model,
-    q: &[f64],
-    u: &[f64],
-    f: &mut dyn FnMut(&[f64], &[f64], &mut [f64]),
-) -> (Mat<f64>, Mat<f64>) {
+fn global_fd(model: &Model, q: &[f64], u: &[f64], f: &mut GlobalForce<'_>) -> (Mat<f64>, Mat<f64>) {
     let nu = model.nu;
     let (mut dq, mut du) = (Mat::zeros(nu, nu), Mat::zeros(nu, nu));
     let (mut hp, mut hm) = (vec![0.0; nu], vec![0.0; nu]);
@@ -241,7 +239,11 @@ fn load_tangent_touches_only_the_owners() {
     ws.sys.dh_du.fill(0.0);
     add_load_tangents(&model, 0.0, &q, &u, 1.0, &mut ws.sys);
     // body 0 (flex) and 1 (rigid) are coupled by the spring; body 2 only to ground
-    let third = model.bodies[2].u_offset..model.nu;
+    let third = model
+        .body_dofs(flexmbs_core::BodyId(2))
+        .u
+        .as_range()
+        .unwrap();
     let coupled = 0..third.start;
     for i in coupled.clone() {
         for j in third.clone() {

@@ -298,14 +298,13 @@ fn body_points(
 ) {
     for ((info, k), pts) in cm.bodies.iter().zip(fk.iter_mut()).zip(out.iter_mut()) {
         let b = &m.bodies[info.id.0];
-        let q = &s.q[b.q_offset..b.q_offset + b.element.nq()];
-        let u = &s.u[b.u_offset..b.u_offset + b.element.nu()];
+        let (q, u) = (m.body_q(info.id, &s.q), m.body_u(info.id, &s.u));
         pts.clear();
         for (n, p) in info.geometry.points.iter().enumerate() {
             let lf = LocalFrame {
                 position: Vector3::from(*p),
                 rotation: Matrix3::identity(),
-                node: info.geometry.fe_nodes.then_some(n),
+                mesh_node: info.geometry.fe_nodes.then_some(n),
             };
             b.element.frame_kinematics(q, u, &lf, k);
             pts.push([k.position.x, k.position.y, k.position.z]);
@@ -385,20 +384,11 @@ pub fn run_model(
         cm,
         writer: Some(writer),
         anim,
-        frames: m
-            .frames
-            .iter()
-            .map(|f| match f.owner {
-                flexmbs_core::model::FrameOwner::Ground => FrameKinematics::new(0),
-                flexmbs_core::model::FrameOwner::Body(b) => {
-                    FrameKinematics::new(m.bodies[b.0].element.nu())
-                }
-            })
-            .collect(),
+        frames: m.frame_buffers(),
         body_fk: cm
             .bodies
             .iter()
-            .map(|b| FrameKinematics::new(m.bodies[b.id.0].element.nu()))
+            .map(|b| FrameKinematics::for_body(m, b.id))
             .collect(),
         signals: Vec::with_capacity(signal_width(&cm.signals)),
         positions: cm

@@ -140,7 +140,7 @@ pub fn parse_signals(
                 "orientation" => ("rad".into(), xyz(), SignalKind::Orientation(f)),
                 "deformation" => {
                     let fr = &model.frames[f.0];
-                    let (Some(_), FrameOwner::Body(b)) = (fr.local.node, fr.owner) else {
+                    let (Some(_), FrameOwner::Body(b)) = (fr.local.mesh_node, fr.owner) else {
                         return Err(err(format!("`{item}` is not a node frame of an ffr body: `deformation` needs `node` or `nearest`")));
                     };
                     let body_frame = bodies.iter().find(|x| x.id == b).map(|x| x.frame).ok_or_else(|| err("internal: body without frame".into()))?;

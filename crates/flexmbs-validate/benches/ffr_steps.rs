@@ -136,10 +136,8 @@ fn run(
     let model = spec.compile().expect("model");
     let mut s = model.initial_state();
     model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, OMEGA));
-    let uo = model.bodies[b.index()].u_offset;
-    let qo = model.bodies[b.index()].q_offset;
-    for i in 0..2.min(nf) {
-        s.u[uo + 6 + i] = QF_DOT0;
+    for u in &mut model.body_u_mut(b, &mut s.u)[6..6 + 2.min(nf)] {
+        *u = QF_DOT0;
     }
     let mut ws = Workspace::new(&model);
     let settings = GenAlphaSettings {
@@ -162,7 +160,7 @@ fn run(
         k += 1;
         iterations += stats.iterations;
         if k.is_multiple_of(10) {
-            let qf = &st.q[qo + 6..qo + 6 + nf];
+            let qf = &model.body_q(b, &st.q)[6..];
             series.push((st.t, tip.phi.iter().zip(qf).map(|(p, q)| p * q).sum()));
         }
     })

@@ -66,26 +66,20 @@ pub fn simulate_ffr(ffr: FfrBody, h: f64, t_end: f64) -> Result<(Vec<f64>, Vec<[
     spec.add_joint(Joint::fixed("clamp", fg, fb));
     let model = spec.compile()?;
     let mut state = model.initial_state();
-    let u0 = model.bodies[b.0].u_offset;
-    for (k, v) in U_F0.iter().enumerate() {
-        state.u[u0 + 6 + k] = *v;
-    }
+    model.body_u_mut(b, &mut state.u)[6..6 + U_F0.len()].copy_from_slice(&U_F0);
     let mut ws = Workspace::new(&model);
     let integrator = GenAlpha::new(GenAlphaSettings {
         rho_inf: 1.0,
         ..GenAlphaSettings::default()
     })?;
     integrator.initialize(&model, &mut state, &mut ws)?;
-    let q0 = model.bodies[b.0].q_offset;
     let mut t = vec![0.0];
     let mut q = vec![[0.0; 5]];
     integrator
         .integrate(&model, &mut state, &mut ws, h, t_end, |s, _| {
             t.push(s.t);
             let mut row = [0.0; 5];
-            for (k, r) in row.iter_mut().enumerate() {
-                *r = s.q[q0 + 6 + k];
-            }
+            row.copy_from_slice(&model.body_q(b, &s.q)[6..11]);
             q.push(row);
         })
         .context("time integration")?;

@@ -87,12 +87,13 @@ fn simulate_ffr(
         ..GenAlphaSettings::default()
     })?;
     ga.initialize(&model, &mut s, &mut ws)?;
-    let qf0 = model.bodies[b.0].q_offset + 6;
+
     let phi_tip: Vec<f64> = (0..MODES).map(|k| body.modes_t[(3 * tip + 1, k)]).collect();
     let (mut t, mut w) = (vec![0.0], vec![0.0]);
     ga.integrate(&model, &mut s, &mut ws, H, T_END, |st, _| {
         t.push(st.t);
-        w.push((0..MODES).map(|k| phi_tip[k] * st.q[qf0 + k]).sum());
+        let qf = &model.body_q(b, &st.q)[6..];
+        w.push((0..MODES).map(|k| phi_tip[k] * qf[k]).sum());
     })
     .context("time integration of the rotating beam")?;
     Ok((t, w))

@@ -125,14 +125,13 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
     })?;
     ga.initialize(&model, &mut s, &mut ws)?;
     let rb = &model.bodies[rod_id.0];
-    let nu = rb.element.nu();
-    let mut fk = FrameKinematics::new(nu);
+    let mut fk = FrameKinematics::for_body(&model, rod_id);
     let mid = ELEMENTS / 2;
     let mut node_pos = |q: &[f64], u: &[f64], n: usize| {
         let f = LocalFrame {
             position: Vector3::from(body.nodes[n]),
             rotation: i3,
-            node: Some(n),
+            mesh_node: Some(n),
         };
         rb.element.frame_kinematics(q, u, &f, &mut fk);
         fk.position
@@ -150,10 +149,7 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
             k += 1;
             g_max = g_max.max(stats.g_max);
             if k.is_multiple_of(10) {
-                let (q, u) = (
-                    &st.q[rb.q_offset..rb.q_offset + rb.element.nq()],
-                    &st.u[rb.u_offset..rb.u_offset + nu],
-                );
+                let (q, u) = (model.body_q(rod_id, &st.q), model.body_u(rod_id, &st.u));
                 let (a, b, m) = (
                     node_pos(q, u, 0),
                     node_pos(q, u, ELEMENTS),

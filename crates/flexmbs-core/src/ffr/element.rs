@@ -5,6 +5,7 @@ use super::{FfrBody, FfrScratch, FfrTangentScratch, MomentCache, RotationParam};
 use crate::element::{
     finite_difference_tangents, Element, FrameKinematics, LocalFrame, TangentScratch,
 };
+use crate::node::NodeKind;
 use crate::rotation::{cardan_from_matrix, cardan_g_bar, quaternion_from_matrix, skew};
 use faer::MatMut;
 use nalgebra::{Matrix3, Vector3};
@@ -24,6 +25,8 @@ pub struct FfrElement {
     /// Kinematic state only (rotation state, `q_f`, `q_f_dot`; no moments) for
     /// [`Element::frame_kinematics_only`].
     kinematics: Mutex<FfrScratch>,
+    /// Floating-frame pose node and modal `Vector(n_f)` node.
+    node_kinds: [NodeKind; 2],
 }
 
 impl FfrElement {
@@ -32,13 +35,20 @@ impl FfrElement {
         let nf = body.nf();
         let nu = body.nu();
         Self {
-            body,
             scratch: Mutex::new(FfrScratch::new(nf)),
             zero_u: vec![0.0; nu],
             tangent: Mutex::new(FfrTangentScratch::new(nf)),
             analytic_tangent: true,
             moments: Mutex::new(MomentCache::new(nf)),
             kinematics: Mutex::new(FfrScratch::new(nf)),
+            node_kinds: [
+                match body.rotation {
+                    RotationParam::Cardan => NodeKind::PoseCardan,
+                    RotationParam::Quaternion => NodeKind::Pose,
+                },
+                NodeKind::Vector(nf),
+            ],
+            body,
         }
     }
 
@@ -103,6 +113,10 @@ fn fill_nan(x: &mut [f64]) {
 }
 
 impl Element for FfrElement {
+    fn node_kinds(&self) -> &[NodeKind] {
+        &self.node_kinds
+    }
+
     fn nq(&self) -> usize {
         self.body.nq()
     }
@@ -111,7 +125,7 @@ impl Element for FfrElement {
         self.body.nu()
     }
 
-    fn num_nodes(&self) -> usize {
+    fn num_mesh_nodes(&self) -> usize {
         self.body.num_nodes()
     }
 
@@ -163,6 +177,17 @@ impl Element for FfrElement {
 
     fn q_dot(&self, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
         self.body.coordinate_rates(q, u, q_dot);
+    }
+
+    /// `q ⊕ dv` node by node: the floating-frame pose through its node kind (the exponential map
+    /// for quaternions, as for rigid bodies; addition for Cardan angles), `q_f + dv_f`.
+    fn integrate_position(&self, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+        let pose = self.node_kinds[0];
+        let (nq, nu) = (pose.nq(), pose.nu());
+        pose.integrate(&q[..nq], &dv[..nu], &mut q_new[..nq]);
+        for ((x, q), d) in q_new[nq..].iter_mut().zip(&q[nq..]).zip(&dv[nu..]) {
+            *x = q + d;
+        }
     }
 
     fn normalize(&self, q: &mut [f64]) {
@@ -336,7 +361,7 @@ fn frame_from_state(
     frame: &LocalFrame,
     out: &mut FrameKinematics,
 ) -> Option<()> {
-    match frame.node {
+    match frame.mesh_node {
         Some(node) => {
             let k = b.node_kinematics(node, q, u, s).ok()?;
             b.node_jacobian_translation(node, s, out.jac_t.as_mut())

@@ -102,8 +102,8 @@ fn derivative(
     let (dq, du) = dy.split_at_mut(nq);
     system::q_dot(model, q, u, dq);
     system::update_frames(model, q, u, &mut sys.frames);
-    system::assemble_mass(model, q, sys.mass.as_mut());
-    system::assemble_forces(model, t, q, u, 1.0, &sys.frames, &mut sys.h);
+    system::assemble_mass(model, q, sys.mass.as_mut(), &mut sys.local);
+    system::assemble_forces(model, t, q, u, 1.0, &sys.frames, &mut sys.h, &mut sys.local);
     lu.a.copy_from(&sys.mass);
     if !lu.factor() {
         return Err(SolverError::Singular {

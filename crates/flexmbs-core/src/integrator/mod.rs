@@ -118,8 +118,17 @@ pub fn consistent_accelerations(
     let (nu, nc) = (model.nu, model.nc);
     let sys = &mut ws.sys;
     system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-    system::assemble_mass(model, &s.q, sys.mass.as_mut());
-    system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, &sys.frames, &mut sys.h);
+    system::assemble_mass(model, &s.q, sys.mass.as_mut(), &mut sys.local);
+    system::assemble_forces(
+        model,
+        s.t,
+        &s.q,
+        &s.u,
+        1.0,
+        &sys.frames,
+        &mut sys.h,
+        &mut sys.local,
+    );
     system::assemble_constraints(
         model,
         s.t,

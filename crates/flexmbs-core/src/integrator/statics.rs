@@ -97,7 +97,17 @@ impl Statics {
         s.u.fill(0.0);
         s.u_dot.fill(0.0);
         system::update_frames(model, &s.q, &s.u, &mut ws.sys.frames);
-        system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, &ws.sys.frames, &mut ws.sys.h);
+        let sys = &mut ws.sys;
+        system::assemble_forces(
+            model,
+            s.t,
+            &s.q,
+            &s.u,
+            1.0,
+            &sys.frames,
+            &mut sys.h,
+            &mut sys.local,
+        );
         let tol = cfg.force_tol * super::max_abs(&ws.sys.h).max(1.0);
         let mut stats = StaticStats {
             increments: 0,
@@ -147,7 +157,16 @@ impl Statics {
     ) -> Result<(), SolverError> {
         let (nu, t, sys) = (model.nu, s.t, &mut ws.sys);
         system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-        system::assemble_forces(model, t, &s.q, &s.u, mu, &sys.frames, &mut sys.h);
+        system::assemble_forces(
+            model,
+            t,
+            &s.q,
+            &s.u,
+            mu,
+            &sys.frames,
+            &mut sys.h,
+            &mut sys.local,
+        );
         system::assemble_constraints(
             model,
             t,
@@ -195,7 +214,16 @@ impl Statics {
         for iter in 0..=nt.max_iterations {
             let sys = &mut ws.sys;
             system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-            system::assemble_forces(model, t, &s.q, &s.u, mu, &sys.frames, &mut sys.h);
+            system::assemble_forces(
+                model,
+                t,
+                &s.q,
+                &s.u,
+                mu,
+                &sys.frames,
+                &mut sys.h,
+                &mut sys.local,
+            );
             system::assemble_constraints(
                 model,
                 t,

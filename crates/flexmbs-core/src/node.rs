@@ -1,0 +1,221 @@
+//! Coordinate maps: where the coordinates of a body (element) or a frame's Jacobian columns lie in
+//! the global `q` / `u`.
+
+use std::ops::Range;
+
+/// Global indices of a sequence of element-local coordinates: one contiguous range (every body
+/// created by [`crate::ModelSpec::add_body`], the zero-copy case), or an explicit list.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum DofMap {
+    /// Local coordinate `i` is global `range.start + i`.
+    Contiguous(Range<usize>),
+    /// Local coordinate `i` is global `indices[i]`.
+    Scattered(Vec<usize>),
+}
+
+impl DofMap {
+    /// Number of coordinates.
+    pub fn len(&self) -> usize {
+        match self {
+            DofMap::Contiguous(r) => r.len(),
+            DofMap::Scattered(v) => v.len(),
+        }
+    }
+
+    /// No coordinates (a ground frame).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Global index of local coordinate `i`.
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    pub fn global(&self, i: usize) -> usize {
+        match self {
+            DofMap::Contiguous(r) => {
+                assert!(i < r.len(), "local coordinate {i} of {}", r.len());
+                r.start + i
+            }
+            DofMap::Scattered(v) => v[i],
+        }
+    }
+
+    /// The contiguous range, if the map is one.
+    pub fn as_range(&self) -> Option<Range<usize>> {
+        match self {
+            DofMap::Contiguous(r) => Some(r.clone()),
+            DofMap::Scattered(_) => None,
+        }
+    }
+
+    /// Global indices in local order.
+    pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        let (range, list) = match self {
+            DofMap::Contiguous(r) => (r.clone(), &[][..]),
+            DofMap::Scattered(v) => (0..0, v.as_slice()),
+        };
+        range.chain(list.iter().copied())
+    }
+}
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+
+/// The kind of a node: how its coordinates are parametrized and updated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeKind {
+    /// `n` additive coordinates (modal coordinates, point positions): `q ⊕ dv = q + dv`,
+    /// `q_dot = u`.
+    Vector(usize),
+    /// Position (3) and unit quaternion `[w, x, y, z]` (4); `u = [R_dot; omega_bar]` with the
+    /// body-frame angular velocity; `p ⊕ dv = p exp(dv_rot)` (exponential map).
+    Pose,
+    /// Position (3) and Cardan angles x-y-z (3, legacy: singular at `beta = ±90°`);
+    /// `u = [R_dot; theta_dot]`, `q ⊕ dv = q + dv`.
+    PoseCardan,
+}
+
+impl NodeKind {
+    /// Number of position coordinates.
+    pub fn nq(self) -> usize {
+        match self {
+            NodeKind::Vector(n) => n,
+            NodeKind::Pose => 7,
+            NodeKind::PoseCardan => 6,
+        }
+    }
+
+    /// Number of velocity coordinates.
+    pub fn nu(self) -> usize {
+        match self {
+            NodeKind::Vector(n) => n,
+            NodeKind::Pose | NodeKind::PoseCardan => 6,
+        }
+    }
+
+    /// Reference coordinates: at the origin, unrotated, at rest.
+    pub fn reference(self, q: &mut [f64], u: &mut [f64]) {
+        q.fill(0.0);
+        u.fill(0.0);
+        if self == NodeKind::Pose {
+            q[3] = 1.0;
+        }
+    }
+
+    /// Position update `q_new = q ⊕ dv`.
+    pub fn integrate(self, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+        match self {
+            NodeKind::Vector(_) | NodeKind::PoseCardan => {
+                for ((qn, qi), d) in q_new.iter_mut().zip(q).zip(dv) {
+                    *qn = qi + d;
+                }
+            }
+            NodeKind::Pose => {
+                for i in 0..3 {
+                    q_new[i] = q[i] + dv[i];
+                }
+                let p = UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+                    q[3], q[4], q[5], q[6],
+                )) * UnitQuaternion::from_scaled_axis(Vector3::new(dv[3], dv[4], dv[5]));
+                q_new[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
+                self.normalize(q_new);
+            }
+        }
+    }
+
+    /// Kinematic relation `q_dot = T(q) u`.
+    pub fn q_dot(self, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
+        match self {
+            NodeKind::Vector(_) | NodeKind::PoseCardan => q_dot.copy_from_slice(u),
+            NodeKind::Pose => {
+                q_dot[..3].copy_from_slice(&u[..3]);
+                let p = nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]);
+                let d = p * nalgebra::Quaternion::new(0.0, u[3], u[4], u[5]) * 0.5;
+                q_dot[3..7].copy_from_slice(&[d.w, d.i, d.j, d.k]);
+            }
+        }
+    }
+
+    /// Projects the coordinates onto their manifold (unit quaternion of a `Pose`).
+    pub fn normalize(self, q: &mut [f64]) {
+        if self == NodeKind::Pose {
+            let n = (q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]).sqrt();
+            for x in &mut q[3..7] {
+                *x /= n;
+            }
+        }
+    }
+
+    /// Sets the pose of a `Pose` / `PoseCardan` node (global position and rotation matrix); for a
+    /// `Vector(3)` node the position (the rotation is ignored); other vectors are unchanged.
+    pub fn set_pose(self, q: &mut [f64], position: &Vector3<f64>, rotation: &Matrix3<f64>) {
+        match self {
+            NodeKind::Vector(3) => q.copy_from_slice(position.as_slice()),
+            NodeKind::Vector(_) => {}
+            NodeKind::PoseCardan => {
+                q[..3].copy_from_slice(position.as_slice());
+                let r = rotation;
+                q[3] = (-r[(1, 2)]).atan2(r[(2, 2)]);
+                q[4] = r[(0, 2)].clamp(-1.0, 1.0).asin();
+                q[5] = (-r[(0, 1)]).atan2(r[(0, 0)]);
+            }
+            NodeKind::Pose => {
+                q[..3].copy_from_slice(position.as_slice());
+                let p = UnitQuaternion::from_matrix(rotation);
+                q[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
+            }
+        }
+    }
+
+    /// Sets the velocity of the node origin and the angular velocity (global) of a pose node
+    /// (after its pose); for a `Vector(3)` node the velocity; other vectors are unchanged.
+    pub fn set_velocity(
+        self,
+        q: &[f64],
+        u: &mut [f64],
+        velocity: &Vector3<f64>,
+        omega: &Vector3<f64>,
+    ) {
+        match self {
+            NodeKind::Vector(3) => u.copy_from_slice(velocity.as_slice()),
+            NodeKind::Vector(_) => {}
+            NodeKind::PoseCardan => {
+                u[..3].copy_from_slice(velocity.as_slice());
+                let w = cardan_g(q[3], q[4])
+                    .try_inverse()
+                    .map(|gi| gi * omega)
+                    .unwrap_or_else(|| Vector3::from_element(f64::NAN));
+                u[3..6].copy_from_slice(w.as_slice());
+            }
+            NodeKind::Pose => {
+                u[..3].copy_from_slice(velocity.as_slice());
+                let a = UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+                    q[3], q[4], q[5], q[6],
+                ))
+                .to_rotation_matrix()
+                .into_inner();
+                u[3..6].copy_from_slice((a.transpose() * omega).as_slice());
+            }
+        }
+    }
+}
+
+/// Global `G(alpha, beta)` with `omega = G theta_dot` for Cardan x-y-z angles.
+pub(crate) fn cardan_g(a: f64, b: f64) -> Matrix3<f64> {
+    let (sa, ca) = a.sin_cos();
+    let (sb, cb) = b.sin_cos();
+    Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb)
+}
+
+/// A node: the owner of a block of coordinates that one or several elements reference.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Node {
+    /// Name (for messages and output).
+    pub name: String,
+    /// Parametrization.
+    pub kind: NodeKind,
+    /// Its position coordinates in the global `q`.
+    pub q: Range<usize>,
+    /// Its velocity coordinates in the global `u`.
+    pub u: Range<usize>,
+}
