@@ -66,7 +66,7 @@ fn frame() -> LocalFrame {
     LocalFrame {
         position: Vector3::zeros(),
         rotation: rotation_vector_matrix(&Vector3::new(0.2, 0.1, -0.3)),
-        node: Some(NODE),
+        mesh_node: Some(NODE),
     }
 }
 

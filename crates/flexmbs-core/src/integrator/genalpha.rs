@@ -456,7 +456,16 @@ fn newton_residual(
 ) -> Result<IterateResidual, &'static str> {
     let nu = model.nu;
     system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
-    system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, &sys.frames, &mut sys.h, &mut sys.local);
+    system::assemble_forces(
+        model,
+        t1,
+        &b.q_new,
+        &b.u_new,
+        1.0,
+        &sys.frames,
+        &mut sys.h,
+        &mut sys.local,
+    );
     system::assemble_constraints(
         model,
         t1,
@@ -467,7 +476,14 @@ fn newton_residual(
         &mut sys.g_bias,
     );
     let r_acc = &mut b.rhs[..nu];
-    system::mass_times_vector(model, &b.q_new, &b.u_dot_new, sys.mass.as_mut(), r_acc, &mut sys.local);
+    system::mass_times_vector(
+        model,
+        &b.q_new,
+        &b.u_dot_new,
+        sys.mass.as_mut(),
+        r_acc,
+        &mut sys.local,
+    );
     let f_scale = super::max_abs(r_acc).max(super::max_abs(&sys.h));
     // -h_i, then G_0i lambda_0, G_1i lambda_1, ... (contiguous columns of G)
     let mut r_max = 0.0_f64;
