@@ -89,8 +89,15 @@ impl GenAlphaParams {
 /// Step-size control of [`GenAlpha::integrate_adaptive`].
 ///
 /// Local error estimate (Géradin & Cardona 2001): the position error of the scheme is
-/// `e = h^2 |beta - 1/6| |u_dot_{n+1} - u_dot_n|` per velocity coordinate; the scaled norm is
-/// `max_i e_i / (atol + rtol max(1, |q|_inf))`. A step is accepted if it is <= 1; the next step is
+/// `e_i = h^2 |beta - 1/6| |u_dot_{n+1} - u_dot_n|` per velocity coordinate `i`, a displacement
+/// for translations, a rotation increment (rad) for angular velocities, a modal amplitude for
+/// modal coordinates. Each is turned into a displacement in metres with the length
+/// `L_i` of [`crate::Element::velocity_scales`] (1 for translations, the body's radius of
+/// gyration or extent for rotations, the mode's largest nodal displacement for a modal
+/// coordinate), so the scaled norm is `max_i L_i e_i / (atol + rtol max(1, R))` with `R` the
+/// largest distance of a frame from the origin (m) at the new state: the tolerance neither
+/// loosens as rotation angles accumulate (it never looks at `q`) nor judges modal coordinates on
+/// the scale of positions. A step is accepted if the norm is <= 1; the next step is
 /// `h * clamp(0.9 err^(-1/3), 0.2, 2)`. Newton failures halve the step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptiveSettings {
@@ -358,15 +365,20 @@ impl GenAlpha {
         }
         let mut h = ctl.h_init.min(ctl.h_max);
         let err_coeff = (self.params.beta - 1.0 / 6.0).abs();
+        fill_error_scales(model, &mut ws.error_scales);
         while s.t < t_end - 1e-14 * t_end.abs().max(1.0) {
             h = h.min(t_end - s.t);
             let mut err = f64::NAN;
             match self.solve_step(model, s, ws, h) {
                 Ok(mut stats) => {
                     let b = &ws.step;
-                    let w = ctl.atol + ctl.rtol * super::max_abs(&s.q).max(1.0);
+                    // frames are at the converged iterate (the last Newton evaluation)
+                    let w = ctl.atol + ctl.rtol * frame_extent(&ws.sys.frames).max(1.0);
                     err = (0..model.nu)
-                        .map(|i| h * h * err_coeff * (b.u_dot_new[i] - s.u_dot[i]).abs() / w)
+                        .map(|i| {
+                            let du = (b.u_dot_new[i] - s.u_dot[i]).abs();
+                            h * h * err_coeff * ws.error_scales[i] * du / w
+                        })
                         .fold(0.0, f64::max);
                     if err <= 1.0 {
                         commit(s, &ws.step, h);
@@ -422,6 +434,20 @@ fn kinematic_update(model: &Model, p: &GenAlphaParams, h: f64, s: &State, b: &mu
         b.dv[i] = h * (s.u[i] + h * ((0.5 - p.beta) * s.a[i] + p.beta * a_new));
     }
     system::integrate_positions(model, &s.q, &b.dv, &mut b.q_new);
+}
+
+/// [`crate::Element::velocity_scales`] of every body into `out` (nu).
+fn fill_error_scales(model: &Model, out: &mut [f64]) {
+    for b in &model.bodies {
+        let nu = b.element.nu();
+        b.element
+            .velocity_scales(&mut out[b.u_offset..b.u_offset + nu]);
+    }
+}
+
+/// Largest distance of a frame from the origin (m), 0 without frames.
+fn frame_extent(frames: &[crate::element::FrameKinematics]) -> f64 {
+    frames.iter().map(|k| k.position.norm()).fold(0.0, f64::max)
 }
 
 /// A non-finite quantity in the Newton iteration of the step `(t, h)`.
