@@ -29,6 +29,7 @@
 //! `alpha_m = (2 rho - 1) / (rho + 1)`, `alpha_f = rho / (rho + 1)`,
 //! `gamma = 1/2 + alpha_f - alpha_m`, `beta = 1/4 (gamma + 1/2)^2`.
 
+use super::stepper::{drive, GenAlphaStepper, StepAttempt, StepControl};
 use super::{
     consistent_accelerations, fill_saddle_matrix, ControlledRun, NewtonSettings, StepStats,
 };
@@ -300,7 +301,8 @@ impl GenAlpha {
         })
     }
 
-    /// Fixed-step integration to `t_end` (last step shortened), calling `on_step` after every step.
+    /// Fixed-step integration to `t_end` (last step shortened), calling `on_step` after every step
+    /// ([`super::drive`] with [`super::StepControl::Fixed`]).
     pub fn integrate(
         &self,
         model: &Model,
@@ -310,18 +312,13 @@ impl GenAlpha {
         t_end: f64,
         mut on_step: impl FnMut(&State, &StepStats),
     ) -> Result<(), SolverError> {
-        // A remainder below 1e-6 h is absorbed into the last step (no micro steps).
-        while t_end - s.t > 1e-6 * h {
-            let remaining = t_end - s.t;
-            let hs = if remaining < h * (1.0 + 1e-6) {
-                remaining
-            } else {
-                h
-            };
-            let stats = self.step(model, s, ws, hs)?;
-            on_step(s, &stats);
-        }
-        Ok(())
+        let mut stepper = GenAlphaStepper::new(*self, None);
+        let control = StepControl::Fixed { h };
+        drive(&mut stepper, model, s, ws, control, t_end, |s, st| {
+            on_step(s, st);
+            ControlFlow::Continue(())
+        })
+        .map(|_| ())
     }
 
     /// Adaptive-step integration to `t_end` (see [`AdaptiveSettings`] for the error estimate).
@@ -343,7 +340,7 @@ impl GenAlpha {
 
     /// As [`Self::integrate_adaptive`], but `on_step` may stop the run by returning
     /// `ControlFlow::Break(())`. Returns the number of rejected steps (error estimate or Newton
-    /// failure) and whether it was stopped.
+    /// failure) and whether it was stopped ([`super::drive`] with [`GenAlphaStepper`]).
     pub fn integrate_adaptive_controlled(
         &self,
         model: &Model,
@@ -351,75 +348,78 @@ impl GenAlpha {
         ws: &mut Workspace,
         ctl: &AdaptiveSettings,
         t_end: f64,
-        mut on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
+        on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
     ) -> Result<ControlledRun, SolverError> {
-        let mut run = ControlledRun::default();
+        self.check_adaptive(model)?;
+        let mut stepper = GenAlphaStepper::new(*self, Some(*ctl));
+        let control = stepper.control(0.0);
+        drive(&mut stepper, model, s, ws, control, t_end, on_step)
+    }
+
+    /// Adaptive steps of a constrained model need numerical damping: the undamped spurious
+    /// oscillation of the constraint forces enters the error estimate and collapses the step
+    /// (double pendulum: 3e-9 s after 0.27 s).
+    pub(super) fn check_adaptive(&self, model: &Model) -> Result<(), SolverError> {
         if self.settings.rho_inf >= 1.0 && model.nc > 0 {
-            // the undamped spurious oscillation of the constraint forces enters the error
-            // estimate and collapses the step (double pendulum: 3e-9 s after 0.27 s)
             return Err(SolverError::InvalidSetting {
                 name: "rho_inf",
                 value: self.settings.rho_inf,
                 reason: "adaptive steps of a constrained model need rho_inf < 1",
             });
         }
-        let mut h = ctl.h_init.min(ctl.h_max);
+        Ok(())
+    }
+
+    /// One adaptive step attempt of size `h` (see [`AdaptiveSettings`]): accepted (state
+    /// advanced) if the error estimate is <= 1; a Newton failure or singular iteration matrix is
+    /// a rejection with half the step. `ws.error_scales` must hold the velocity scales.
+    pub(super) fn attempt_adaptive(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        ctl: &AdaptiveSettings,
+        h: f64,
+    ) -> Result<StepAttempt, SolverError> {
         let err_coeff = (self.params.beta - 1.0 / 6.0).abs();
-        fill_error_scales(model, &mut ws.error_scales);
-        while s.t < t_end - 1e-14 * t_end.abs().max(1.0) {
-            h = h.min(t_end - s.t);
-            let mut err = f64::NAN;
-            match self.solve_step(model, s, ws, h) {
-                Ok(mut stats) => {
-                    let b = &ws.step;
-                    // frames are at the converged iterate (the last Newton evaluation)
-                    let w = ctl.atol + ctl.rtol * frame_extent(&ws.sys.frames).max(1.0);
-                    err = (0..model.nu)
-                        .map(|i| {
-                            let du = (b.u_dot_new[i] - s.u_dot[i]).abs();
-                            h * h * err_coeff * ws.error_scales[i] * du / w
-                        })
-                        .fold(0.0, f64::max);
-                    if err <= 1.0 {
-                        commit(s, &ws.step, h);
-                        let (energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
-                        (
-                            stats.energy,
-                            stats.g_max,
-                            stats.g_dot_max,
-                            stats.error_estimate,
-                        ) = (energy, g, gd, err);
-                        stats.rejected = run.rejected;
-                        if on_step(s, &stats).is_break() {
-                            run.stopped = true;
-                            return Ok(run);
-                        }
-                    } else {
-                        run.rejected += 1;
-                    }
-                    let fac = if err > 0.0 {
-                        0.9 * err.powf(-1.0 / 3.0)
-                    } else {
-                        2.0
-                    };
-                    h = (h * fac.clamp(0.2, 2.0)).min(ctl.h_max);
-                }
-                Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => {
-                    run.rejected += 1;
-                    h *= 0.5
-                }
-                Err(e) => return Err(e),
+        let mut stats = match self.solve_step(model, s, ws, h) {
+            Ok(stats) => stats,
+            Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => {
+                return Ok(StepAttempt::rejected(f64::NAN, 0.5 * h))
             }
-            if h < ctl.h_min {
-                return Err(SolverError::StepTooSmall {
-                    t: s.t,
-                    h,
-                    h_min: ctl.h_min,
-                    error: err,
-                });
-            }
+            Err(e) => return Err(e),
+        };
+        let b = &ws.step;
+        // frames are at the converged iterate (the last Newton evaluation)
+        let w = ctl.atol + ctl.rtol * frame_extent(&ws.sys.frames).max(1.0);
+        let err = (0..model.nu)
+            .map(|i| {
+                let du = (b.u_dot_new[i] - s.u_dot[i]).abs();
+                h * h * err_coeff * ws.error_scales[i] * du / w
+            })
+            .fold(0.0, f64::max);
+        let fac = if err > 0.0 {
+            0.9 * err.powf(-1.0 / 3.0)
+        } else {
+            2.0
+        };
+        let h_next = h * fac.clamp(0.2, 2.0);
+        if err > 1.0 {
+            return Ok(StepAttempt::rejected(err, h_next));
         }
-        Ok(run)
+        commit(s, &ws.step, h);
+        let (energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
+        (
+            stats.energy,
+            stats.g_max,
+            stats.g_dot_max,
+            stats.error_estimate,
+        ) = (energy, g, gd, err);
+        Ok(StepAttempt {
+            accepted: true,
+            stats,
+            h_next,
+        })
     }
 }
 
@@ -437,7 +437,7 @@ fn kinematic_update(model: &Model, p: &GenAlphaParams, h: f64, s: &State, b: &mu
 }
 
 /// [`crate::Element::velocity_scales`] of every body into `out` (nu).
-fn fill_error_scales(model: &Model, out: &mut [f64]) {
+pub(super) fn fill_error_scales(model: &Model, out: &mut [f64]) {
     for b in &model.bodies {
         let nu = b.element.nu();
         b.element

@@ -4,14 +4,22 @@
 //!   Bruls 2007), fixed or adaptive step.
 //! - [`Dopri5`]: explicit adaptive Dormand-Prince 5(4) for unconstrained systems.
 //! - [`Statics`]: static equilibrium by Newton with load stepping.
+//!
+//! All three are [`Stepper`]s, run by one driver [`drive`] (fixed or adaptive steps, output
+//! callback with `ControlFlow`).
 
 mod dopri5;
 mod genalpha;
 mod statics;
+mod stepper;
 
 pub use dopri5::{Dopri5, Dopri5Settings};
 pub use genalpha::{AdaptiveSettings, GenAlpha, GenAlphaParams, GenAlphaSettings};
 pub use statics::{StaticStats, Statics, StaticsSettings};
+pub use stepper::{
+    drive, Dopri5Stepper, GenAlphaStepper, StaticsStepper, StepAttempt, StepControl, Stepper,
+    StepperStatistics,
+};
 
 use crate::error::SolverError;
 use crate::model::Model;
