@@ -220,6 +220,8 @@ impl GenAlpha {
         ws.step.lambda_new.copy_from_slice(&s.lambda);
         // max |du_dot|, max |d lambda| of the last solve (none yet)
         let (mut du, mut dl) = (f64::INFINITY, f64::INFINITY);
+        // the same of the solve before (contraction estimate)
+        let mut prev = (f64::INFINITY, f64::INFINITY);
         // scaled increment and residual of the previous iterate (modified Newton's refresh test)
         let (mut last_e, mut last_r) = (f64::INFINITY, f64::INFINITY);
         let mut factorizations = 0;
@@ -230,7 +232,7 @@ impl GenAlpha {
                 .map_err(|what| nonfinite(what, s.t, h, residual))?;
             residual = it.r_max;
             let b = &ws.step;
-            let conv = judge_convergence(nt, &it, b, du, dl, beta_p);
+            let conv = judge_convergence(nt, &it, b, (du, dl), prev, beta_p);
             if iter > 1 && conv.converged {
                 return Ok(StepStats {
                     t: t1,
@@ -284,6 +286,7 @@ impl GenAlpha {
             if sol.iter().any(|x| !x.is_finite()) {
                 return Err(nonfinite("Newton increment", s.t, h, residual));
             }
+            prev = (du, dl);
             (du, dl) = (super::max_abs(&sol[..nu]), super::max_abs(&sol[nu..]));
             for (x, d) in b.u_dot_new.iter_mut().zip(&sol[..nu]) {
                 *x += d;
@@ -539,14 +542,14 @@ struct Convergence {
 const ROUNDOFF_RESIDUAL: f64 = 1e3 * f64::EPSILON;
 
 /// The Newton acceptance test of [`NewtonSettings`](super::NewtonSettings) for the iterate in
-/// `b` with residual `it`, reached by a solve with increments `du` (accelerations) and `dl`
-/// (multipliers).
+/// `b` with residual `it`, reached by a solve with increments `(du, dl)` (max norms of the
+/// accelerations and multipliers; `prev`: the solve before).
 fn judge_convergence(
     nt: &super::NewtonSettings,
     it: &IterateResidual,
     b: &StepBuffers,
-    du: f64,
-    dl: f64,
+    (du, dl): (f64, f64),
+    prev: (f64, f64),
     beta_p: f64,
 ) -> Convergence {
     let q_scale = super::max_abs(&b.q_new).max(1.0);
@@ -557,7 +560,8 @@ fn judge_convergence(
     let du_floor = beta_p * du <= 16.0 * f64::EPSILON * q_scale;
     let at_roundoff = it.r_max <= ROUNDOFF_RESIDUAL * it.f_scale;
     let residual_ok = it.r_max <= nt.rtol.max(ROUNDOFF_RESIDUAL) * it.f_scale;
-    let increments_ok = (du <= w_u || du_floor) && dl <= w_l;
+    let increments_ok = ((du <= w_u || du_floor) && dl <= w_l)
+        || (remaining_error(du, prev.0) <= w_u && remaining_error(dl, prev.1) <= w_l);
     Convergence {
         converged: it.g_max <= nt.constraint_tol * q_scale
             && residual_ok
@@ -565,6 +569,21 @@ fn judge_convergence(
         e,
         at_roundoff,
     }
+}
+
+/// Error left in an iterate reached by the increment `d` after the increment `d_prev`, for a
+/// linearly converging iteration with rate `theta = d / d_prev`: `theta / (1 - theta) d`
+/// (Hairer & Wanner, Solving ODEs II, IV.8, eq. (8.10)); infinite without a previous increment
+/// or at a rate >= [`MODIFIED_NEWTON_CONTRACTION`](super::MODIFIED_NEWTON_CONTRACTION).
+fn remaining_error(d: f64, d_prev: f64) -> f64 {
+    if d == 0.0 {
+        return 0.0;
+    }
+    let theta = d / d_prev;
+    if !(d_prev.is_finite() && theta < super::MODIFIED_NEWTON_CONTRACTION) {
+        return f64::INFINITY;
+    }
+    theta / (1.0 - theta) * d
 }
 
 /// Builds the iteration matrix `S` of the module doc at the iterate in `b` (mass, tangents,
