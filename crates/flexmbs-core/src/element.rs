@@ -138,6 +138,13 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn num_mesh_nodes(&self) -> usize {
         0
     }
+    /// Per velocity coordinate, the length (m per unit) that turns its position error into a
+    /// displacement: 1 for translations, a body length for rotations, the largest nodal
+    /// displacement of the mode for a modal coordinate. Weights the local error of adaptive
+    /// steps ([`crate::integrator::AdaptiveSettings`]). Default 1 for every coordinate.
+    fn velocity_scales(&self, out: &mut [f64]) {
+        out.fill(1.0);
+    }
     /// Reference coordinates: element at the origin, unrotated, undeformed, at rest.
     fn reference_coordinates(&self, q: &mut [f64], u: &mut [f64]);
     /// Sets the pose of the element reference frame (position and rotation matrix, global).

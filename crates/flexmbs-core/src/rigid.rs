@@ -113,6 +113,14 @@ fn quaternion(q: &[f64]) -> UnitQuaternion<f64> {
 }
 
 impl Element for RigidBody {
+    /// Translations 1; rotations the radius of gyration `sqrt(I_max / m)` about the centre of
+    /// mass (largest diagonal entry of the inertia tensor).
+    fn velocity_scales(&self, out: &mut [f64]) {
+        let i_max = (0..3).map(|k| self.inertia[(k, k)]).fold(0.0, f64::max);
+        out[..3].fill(1.0);
+        out[3..6].fill((i_max / self.mass).sqrt());
+    }
+
     /// Mass finite and > 0; inertia symmetric positive definite with principal moments obeying
     /// the triangle inequality (each at most the sum of the other two, as for any real body).
     fn validate(&self) -> Result<(), String> {

@@ -142,6 +142,9 @@ pub struct Workspace {
     /// Solves done with the current `lu_newton` (modified Newton), counted across steps: the
     /// matrix is rebuilt after [`crate::integrator::MODIFIED_NEWTON_MAX_REUSE`].
     pub newton_matrix_solves: usize,
+    /// Length per velocity coordinate for the adaptive error estimate
+    /// ([`crate::Element::velocity_scales`]), filled at the start of an adaptive run (nu).
+    pub error_scales: Vec<f64>,
 }
 
 impl Workspace {
@@ -198,6 +201,7 @@ impl Workspace {
             lu_newton: DenseLu::new(nu + nc),
             newton_matrix_h: f64::NAN,
             newton_matrix_solves: 0,
+            error_scales: vec![1.0; nu],
         }
     }
 }

@@ -7,7 +7,10 @@ use crate::compile::{CompiledModel, OutputEvery, SolverConfig};
 use crate::error::SimError;
 use crate::signals::{coordinate_names, evaluate_signals, signal_width};
 use flexmbs_core::ffr::FfrScratch;
-use flexmbs_core::integrator::{self, Dopri5, GenAlpha, Statics, StepStats};
+use flexmbs_core::integrator::{
+    self, Dopri5, Dopri5Stepper, GenAlpha, GenAlphaStepper, Statics, StaticsStepper, StepControl,
+    StepStats, Stepper,
+};
 use flexmbs_core::power::{external_power, has_external_work, stiffening_power, WorkMeter};
 use flexmbs_core::{system, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace};
 use flexmbs_io::results::{
@@ -167,6 +170,8 @@ struct Recorder<'a> {
     last_t: f64,
     last_h: f64,
     error: Option<ResultsError>,
+    /// Statics: every load increment is a row, at "time" = load factor.
+    statics: bool,
 }
 
 impl<'a> Recorder<'a> {
@@ -252,6 +257,7 @@ impl<'a> Recorder<'a> {
         self.g_max = self.g_max.max(st.g_max);
         self.g_dot_max = self.g_dot_max.max(st.g_dot_max);
         let due = match self.cm.output.every {
+            _ if self.statics => true,
             OutputEvery::Steps(n) => self.steps.is_multiple_of(n),
             OutputEvery::Time(dt) => {
                 if s.t >= self.next_time - 1e-9 * dt {
@@ -265,14 +271,18 @@ impl<'a> Recorder<'a> {
             }
         };
         if due {
-            if let Err(e) = self.record(s, st) {
+            if let Err(e) = self.record_at(s, st.t, st) {
                 self.error = Some(e);
                 return ControlFlow::Break(());
             }
         }
         progress(&Progress {
-            t: s.t,
-            t_end: self.cm.solver.t_end(),
+            t: st.t,
+            t_end: if self.statics {
+                1.0
+            } else {
+                self.cm.solver.t_end()
+            },
             steps: self.steps,
             newton_iterations: self.newton,
             h: st.h,
@@ -412,6 +422,7 @@ pub fn run_model(
         last_t: f64::NAN,
         last_h: 0.0,
         error: None,
+        statics: matches!(cm.solver, SolverConfig::Statics { .. }),
     };
     let mut s = cm.initial.clone();
     let mut ws = Workspace::new(m);
@@ -485,7 +496,37 @@ pub fn run_model(
     })
 }
 
-/// Initializes and integrates; returns (rejected steps, stopped).
+/// The stepper, step control and end point (time, or load factor 1 for statics) of a solver
+/// configuration.
+fn stepper_of(solver: &SolverConfig) -> Result<(Box<dyn Stepper>, StepControl, f64), SolverError> {
+    Ok(match solver {
+        SolverConfig::GenAlpha {
+            settings,
+            h,
+            t_end,
+            adaptive,
+        } => {
+            // energies only at output rows (`Recorder::record`)
+            let ga = GenAlpha::new(*settings)?.with_step_energy(false);
+            let stepper = GenAlphaStepper::new(ga, *adaptive);
+            let control = stepper.control(*h);
+            (Box::new(stepper), control, *t_end)
+        }
+        SolverConfig::Dopri5 { settings, t_end } => {
+            let stepper = Dopri5Stepper::new(Dopri5::new(*settings));
+            let control = stepper.control();
+            (Box::new(stepper), control, *t_end)
+        }
+        SolverConfig::Statics { settings } => {
+            let solver = Statics::new(*settings);
+            (Box::new(StaticsStepper::new(solver)), solver.control(), 1.0)
+        }
+    })
+}
+
+/// Initializes and runs the stepper of the solver through the one driver; returns (rejected
+/// steps, stopped). Time integrators write a first row at the initial state; statics writes one
+/// row per converged load increment, at "time" = load factor.
 fn integrate(
     cm: &CompiledModel,
     s: &mut State,
@@ -495,107 +536,27 @@ fn integrate(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<(usize, bool), SolverError> {
     let m = &cm.model;
-    let first_row =
-        |s: &State, ws: &mut Workspace, rec: &mut Recorder, h: f64| -> Result<(), SolverError> {
-            let (energy, g, gd) = integrator::monitor(m, s, ws);
-            let st = StepStats {
-                t: s.t,
-                h,
-                energy,
-                g_max: g,
-                g_dot_max: gd,
-                ..Default::default()
-            };
-            if let Err(e) = rec.record(s, &st) {
-                rec.error = Some(e);
-            }
-            Ok(())
+    let (mut stepper, control, end) = stepper_of(&cm.solver)?;
+    stepper.initialize(m, s, ws)?;
+    if !rec.statics {
+        let (energy, g, gd) = integrator::monitor(m, s, ws);
+        let st = StepStats {
+            t: s.t,
+            energy,
+            g_max: g,
+            g_dot_max: gd,
+            ..Default::default()
         };
-    match &cm.solver {
-        SolverConfig::GenAlpha {
-            settings,
-            h,
-            t_end,
-            adaptive,
-        } => {
-            // energies only at output rows (`Recorder::record`)
-            let ga = GenAlpha::new(*settings)?.with_step_energy(false);
-            ga.initialize(m, s, ws)?;
-            first_row(s, ws, rec, 0.0)?;
-            if rec.error.is_some() {
-                return Ok((0, true));
-            }
-            rec.next_time = next_output_time(cm, s.t);
-            if let Some(ctl) = adaptive {
-                let r = ga.integrate_adaptive_controlled(m, s, ws, ctl, *t_end, |s, st| {
-                    rec.on_step(s, st, stop, progress)
-                })?;
-                return Ok((r.rejected, r.stopped));
-            }
-            // fixed step, the loop of GenAlpha::integrate with a stop check after every step
-            while t_end - s.t > 1e-6 * h {
-                let remaining = t_end - s.t;
-                let hs = if remaining < h * (1.0 + 1e-6) {
-                    remaining
-                } else {
-                    *h
-                };
-                let st = ga.step(m, s, ws, hs)?;
-                if rec.on_step(s, &st, stop, progress).is_break() {
-                    return Ok((0, true));
-                }
-            }
-            Ok((0, false))
+        if let Err(e) = rec.record(s, &st) {
+            rec.error = Some(e);
+            return Ok((0, true));
         }
-        SolverConfig::Dopri5 { settings, t_end } => {
-            integrator::consistent_accelerations(m, s, ws)?;
-            first_row(s, ws, rec, 0.0)?;
-            if rec.error.is_some() {
-                return Ok((0, true));
-            }
-            rec.next_time = next_output_time(cm, s.t);
-            let r = Dopri5::new(*settings).integrate_controlled(m, s, ws, *t_end, |s, st| {
-                rec.on_step(s, st, stop, progress)
-            })?;
-            Ok((r.rejected, r.stopped))
-        }
-        SolverConfig::Statics { settings } => {
-            // one output row per converged load increment, at "time" = load factor mu
-            let (mut mu_prev, mut it_prev) = (0.0, 0);
-            let st = Statics::new(*settings).solve_with(m, s, ws, |s, mu, st| {
-                rec.steps = st.increments;
-                rec.newton = st.iterations;
-                rec.g_max = rec.g_max.max(st.g_max);
-                let dmu = mu - mu_prev;
-                rec.last_h = dmu;
-                let stats = StepStats {
-                    t: mu,
-                    h: dmu,
-                    iterations: st.iterations - it_prev,
-                    residual: st.residual,
-                    g_max: st.g_max,
-                    ..Default::default()
-                };
-                (mu_prev, it_prev) = (mu, st.iterations);
-                if rec.error.is_none() {
-                    if let Err(e) = rec.record_at(s, mu, &stats) {
-                        rec.error = Some(e);
-                    }
-                }
-                progress(&Progress {
-                    t: mu,
-                    t_end: 1.0,
-                    steps: st.increments,
-                    newton_iterations: st.iterations,
-                    h: dmu,
-                    rejected: 0,
-                });
-            })?;
-            rec.steps = st.increments;
-            rec.newton = st.iterations;
-            Ok((0, false))
-        }
+        rec.next_time = next_output_time(cm, s.t);
     }
+    let r = integrator::drive(stepper.as_mut(), m, s, ws, control, end, |s, st| {
+        rec.on_step(s, st, stop, progress)
+    })?;
+    Ok((r.rejected, r.stopped))
 }
 
 fn next_output_time(cm: &CompiledModel, t: f64) -> f64 {

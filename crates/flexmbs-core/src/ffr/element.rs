@@ -129,6 +129,30 @@ impl Element for FfrElement {
         self.body.num_nodes()
     }
 
+    /// Translations 1; rotations the body extent `max |u0|` (largest node distance from the
+    /// body frame origin); mode `k` its largest nodal displacement
+    /// `max_n max(|phi_t,nk|, extent |phi_r,nk|)` (a mode without nodal motion: the extent).
+    fn velocity_scales(&self, out: &mut [f64]) {
+        let b = &self.body;
+        let extent = b.u0.iter().map(|x| x.norm()).fold(0.0, f64::max);
+        let extent = if extent > 0.0 { extent } else { 1.0 };
+        out[..3].fill(1.0);
+        out[3..6].fill(extent);
+        for (k, o) in out[6..].iter_mut().enumerate() {
+            let node_max = |m: &nalgebra::DMatrix<f64>| {
+                m.column(k)
+                    .as_slice()
+                    .chunks(3)
+                    .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
+                    .fold(0.0, f64::max)
+            };
+            let t = node_max(&b.modes_t);
+            let r = b.modes_r.as_ref().map_or(0.0, |m| extent * node_max(m));
+            let scale = t.max(r);
+            *o = if scale > 0.0 { scale } else { extent };
+        }
+    }
+
     fn reference_coordinates(&self, q: &mut [f64], u: &mut [f64]) {
         q.fill(0.0);
         u.fill(0.0);

@@ -5,6 +5,7 @@
 //! Error norm: RMS of `err_i / (atol + rtol max(|y_i|, |y_new_i|))`; step factor
 //! `clamp(0.9 err^(-1/5), 0.2, 5)` (Hairer, Nørsett & Wanner, Solving ODEs I, II.4).
 
+use super::stepper::{drive, Dopri5Stepper, StepAttempt};
 use super::{monitor, ControlledRun, StepStats};
 use crate::error::SolverError;
 use crate::linsolve::DenseLu;
@@ -140,16 +141,24 @@ impl Dopri5 {
     }
 
     /// As [`Self::integrate`], but `on_step` may stop the run by returning
-    /// `ControlFlow::Break(())`. Returns the number of rejected steps and whether it was stopped.
+    /// `ControlFlow::Break(())`. Returns the number of rejected steps and whether it was stopped
+    /// ([`super::drive`] with [`Dopri5Stepper`]).
     pub fn integrate_controlled(
         &self,
         model: &Model,
         s: &mut State,
         ws: &mut Workspace,
         t_end: f64,
-        mut on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
+        on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
     ) -> Result<ControlledRun, SolverError> {
-        let mut run = ControlledRun::default();
+        self.check(model, s)?;
+        let mut stepper = Dopri5Stepper::new(*self);
+        let control = stepper.control();
+        drive(&mut stepper, model, s, ws, control, t_end, on_step)
+    }
+
+    /// The state fits the model and the model has no constraints.
+    pub(super) fn check(&self, model: &Model, s: &State) -> Result<(), SolverError> {
         crate::system::check_state_size(model, s)?;
         if model.nc > 0 {
             return Err(SolverError::ConstraintsUnsupported {
@@ -157,95 +166,95 @@ impl Dopri5 {
                 nc: model.nc,
             });
         }
+        Ok(())
+    }
+
+    /// One step attempt of size `h`: accepted (state advanced, normalized) if the error norm is
+    /// <= 1. `evals` counts the function evaluations since the last accepted step (reported as
+    /// its iterations, then reset).
+    pub(super) fn attempt(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        h: f64,
+        evals: &mut usize,
+    ) -> Result<StepAttempt, SolverError> {
         let cfg = &self.settings;
         let (nq, n) = (model.nq, model.nq + model.nu);
-        let mut h = cfg.h_init.min(cfg.h_max);
-        let mut evals = 0;
-        while s.t < t_end - 1e-14 * t_end.abs().max(1.0) {
-            h = h.min(t_end - s.t);
-            let b = &mut ws.step;
-            let [y_stage, y_new] = &mut b.y;
-            y_stage[..nq].copy_from_slice(&s.q);
-            y_stage[nq..].copy_from_slice(&s.u);
+        let b = &mut ws.step;
+        let [y_stage, y_new] = &mut b.y;
+        y_stage[..nq].copy_from_slice(&s.q);
+        y_stage[nq..].copy_from_slice(&s.u);
+        derivative(
+            model,
+            s.t,
+            y_stage,
+            &mut b.stages[0],
+            &mut ws.sys,
+            &mut ws.lu_mass,
+        )?;
+        for i in 1..7 {
+            for (k, yk) in y_stage.iter_mut().enumerate() {
+                let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
+                *yk = y0 + h * (0..i).map(|j| A[i][j] * b.stages[j][k]).sum::<f64>();
+            }
+            let (_, rest) = b.stages.split_at_mut(i);
             derivative(
                 model,
-                s.t,
+                s.t + C[i] * h,
                 y_stage,
-                &mut b.stages[0],
+                &mut rest[0],
                 &mut ws.sys,
                 &mut ws.lu_mass,
             )?;
-            for i in 1..7 {
-                for (k, yk) in y_stage.iter_mut().enumerate() {
-                    let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
-                    *yk = y0 + h * (0..i).map(|j| A[i][j] * b.stages[j][k]).sum::<f64>();
-                }
-                let (_, rest) = b.stages.split_at_mut(i);
-                derivative(
-                    model,
-                    s.t + C[i] * h,
-                    y_stage,
-                    &mut rest[0],
-                    &mut ws.sys,
-                    &mut ws.lu_mass,
-                )?;
-            }
-            evals += 7;
-            y_new.copy_from_slice(y_stage); // stage 7 state = 5th-order solution (FSAL)
-            let mut sum = 0.0;
-            for (k, yk) in y_new.iter().enumerate() {
-                let e = h * (0..7).map(|j| E[j] * b.stages[j][k]).sum::<f64>();
-                let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
-                let sc = cfg.atol + cfg.rtol * y0.abs().max(yk.abs());
-                sum += (e / sc).powi(2);
-            }
-            let err = (sum / n as f64).sqrt();
-            if !err.is_finite() {
-                return Err(SolverError::NonFinite {
-                    what: "DOPRI5 error estimate",
-                    t: s.t,
-                    h,
-                    residual: f64::NAN,
-                });
-            }
-            if err <= 1.0 {
-                s.t += h;
-                s.q.copy_from_slice(&y_new[..nq]);
-                s.u.copy_from_slice(&y_new[nq..]);
-                s.u_dot.copy_from_slice(&b.stages[6][nq..]);
-                system::normalize(model, &mut s.q);
-                let (energy, g_max, g_dot_max) = monitor(model, s, ws);
-                let stats = StepStats {
-                    t: s.t,
-                    h,
-                    iterations: evals,
-                    residual: 0.0,
-                    energy,
-                    g_max,
-                    g_dot_max,
-                    error_estimate: err,
-                    rejected: run.rejected,
-                    factorizations: 0,
-                };
-                evals = 0;
-                if on_step(s, &stats).is_break() {
-                    run.stopped = true;
-                    return Ok(run);
-                }
-            } else {
-                run.rejected += 1;
-            }
-            let fac = if err > 0.0 { 0.9 * err.powf(-0.2) } else { 5.0 };
-            h = (h * fac.clamp(0.2, 5.0)).min(cfg.h_max);
-            if h < cfg.h_min {
-                return Err(SolverError::StepTooSmall {
-                    t: s.t,
-                    h,
-                    h_min: cfg.h_min,
-                    error: err,
-                });
-            }
         }
-        Ok(run)
+        *evals += 7;
+        y_new.copy_from_slice(y_stage); // stage 7 state = 5th-order solution (FSAL)
+        let mut sum = 0.0;
+        for (k, yk) in y_new.iter().enumerate() {
+            let e = h * (0..7).map(|j| E[j] * b.stages[j][k]).sum::<f64>();
+            let y0 = if k < nq { s.q[k] } else { s.u[k - nq] };
+            let sc = cfg.atol + cfg.rtol * y0.abs().max(yk.abs());
+            sum += (e / sc).powi(2);
+        }
+        let err = (sum / n as f64).sqrt();
+        if !err.is_finite() {
+            return Err(SolverError::NonFinite {
+                what: "DOPRI5 error estimate",
+                t: s.t,
+                h,
+                residual: f64::NAN,
+            });
+        }
+        let fac = if err > 0.0 { 0.9 * err.powf(-0.2) } else { 5.0 };
+        let h_next = h * fac.clamp(0.2, 5.0);
+        if err > 1.0 {
+            return Ok(StepAttempt::rejected(err, h_next));
+        }
+        s.t += h;
+        s.q.copy_from_slice(&y_new[..nq]);
+        s.u.copy_from_slice(&y_new[nq..]);
+        s.u_dot.copy_from_slice(&b.stages[6][nq..]);
+        system::normalize(model, &mut s.q);
+        let (energy, g_max, g_dot_max) = monitor(model, s, ws);
+        let stats = StepStats {
+            t: s.t,
+            h,
+            iterations: *evals,
+            residual: 0.0,
+            energy,
+            g_max,
+            g_dot_max,
+            error_estimate: err,
+            rejected: 0,
+            factorizations: 0,
+        };
+        *evals = 0;
+        Ok(StepAttempt {
+            accepted: true,
+            stats,
+            h_next,
+        })
     }
 }

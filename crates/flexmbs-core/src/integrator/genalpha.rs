@@ -29,6 +29,7 @@
 //! `alpha_m = (2 rho - 1) / (rho + 1)`, `alpha_f = rho / (rho + 1)`,
 //! `gamma = 1/2 + alpha_f - alpha_m`, `beta = 1/4 (gamma + 1/2)^2`.
 
+use super::stepper::{drive, GenAlphaStepper, StepAttempt, StepControl};
 use super::{
     consistent_accelerations, fill_saddle_matrix, ControlledRun, NewtonSettings, StepStats,
 };
@@ -89,8 +90,15 @@ impl GenAlphaParams {
 /// Step-size control of [`GenAlpha::integrate_adaptive`].
 ///
 /// Local error estimate (Géradin & Cardona 2001): the position error of the scheme is
-/// `e = h^2 |beta - 1/6| |u_dot_{n+1} - u_dot_n|` per velocity coordinate; the scaled norm is
-/// `max_i e_i / (atol + rtol max(1, |q|_inf))`. A step is accepted if it is <= 1; the next step is
+/// `e_i = h^2 |beta - 1/6| |u_dot_{n+1} - u_dot_n|` per velocity coordinate `i`, a displacement
+/// for translations, a rotation increment (rad) for angular velocities, a modal amplitude for
+/// modal coordinates. Each is turned into a displacement in metres with the length
+/// `L_i` of [`crate::Element::velocity_scales`] (1 for translations, the body's radius of
+/// gyration or extent for rotations, the mode's largest nodal displacement for a modal
+/// coordinate), so the scaled norm is `max_i L_i e_i / (atol + rtol max(1, R))` with `R` the
+/// largest distance of a frame from the origin (m) at the new state: the tolerance neither
+/// loosens as rotation angles accumulate (it never looks at `q`) nor judges modal coordinates on
+/// the scale of positions. A step is accepted if the norm is <= 1; the next step is
 /// `h * clamp(0.9 err^(-1/3), 0.2, 2)`. Newton failures halve the step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdaptiveSettings {
@@ -212,6 +220,8 @@ impl GenAlpha {
         ws.step.lambda_new.copy_from_slice(&s.lambda);
         // max |du_dot|, max |d lambda| of the last solve (none yet)
         let (mut du, mut dl) = (f64::INFINITY, f64::INFINITY);
+        // the same of the solve before (contraction estimate)
+        let mut prev = (f64::INFINITY, f64::INFINITY);
         // scaled increment and residual of the previous iterate (modified Newton's refresh test)
         let (mut last_e, mut last_r) = (f64::INFINITY, f64::INFINITY);
         let mut factorizations = 0;
@@ -222,7 +232,7 @@ impl GenAlpha {
                 .map_err(|what| nonfinite(what, s.t, h, residual))?;
             residual = it.r_max;
             let b = &ws.step;
-            let conv = judge_convergence(nt, &it, b, du, dl, beta_p);
+            let conv = judge_convergence(nt, &it, b, (du, dl), prev, beta_p);
             if iter > 1 && conv.converged {
                 return Ok(StepStats {
                     t: t1,
@@ -276,6 +286,7 @@ impl GenAlpha {
             if sol.iter().any(|x| !x.is_finite()) {
                 return Err(nonfinite("Newton increment", s.t, h, residual));
             }
+            prev = (du, dl);
             (du, dl) = (super::max_abs(&sol[..nu]), super::max_abs(&sol[nu..]));
             for (x, d) in b.u_dot_new.iter_mut().zip(&sol[..nu]) {
                 *x += d;
@@ -293,7 +304,8 @@ impl GenAlpha {
         })
     }
 
-    /// Fixed-step integration to `t_end` (last step shortened), calling `on_step` after every step.
+    /// Fixed-step integration to `t_end` (last step shortened), calling `on_step` after every step
+    /// ([`super::drive`] with [`super::StepControl::Fixed`]).
     pub fn integrate(
         &self,
         model: &Model,
@@ -303,18 +315,13 @@ impl GenAlpha {
         t_end: f64,
         mut on_step: impl FnMut(&State, &StepStats),
     ) -> Result<(), SolverError> {
-        // A remainder below 1e-6 h is absorbed into the last step (no micro steps).
-        while t_end - s.t > 1e-6 * h {
-            let remaining = t_end - s.t;
-            let hs = if remaining < h * (1.0 + 1e-6) {
-                remaining
-            } else {
-                h
-            };
-            let stats = self.step(model, s, ws, hs)?;
-            on_step(s, &stats);
-        }
-        Ok(())
+        let mut stepper = GenAlphaStepper::new(*self, None);
+        let control = StepControl::Fixed { h };
+        drive(&mut stepper, model, s, ws, control, t_end, |s, st| {
+            on_step(s, st);
+            ControlFlow::Continue(())
+        })
+        .map(|_| ())
     }
 
     /// Adaptive-step integration to `t_end` (see [`AdaptiveSettings`] for the error estimate).
@@ -336,7 +343,7 @@ impl GenAlpha {
 
     /// As [`Self::integrate_adaptive`], but `on_step` may stop the run by returning
     /// `ControlFlow::Break(())`. Returns the number of rejected steps (error estimate or Newton
-    /// failure) and whether it was stopped.
+    /// failure) and whether it was stopped ([`super::drive`] with [`GenAlphaStepper`]).
     pub fn integrate_adaptive_controlled(
         &self,
         model: &Model,
@@ -344,70 +351,78 @@ impl GenAlpha {
         ws: &mut Workspace,
         ctl: &AdaptiveSettings,
         t_end: f64,
-        mut on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
+        on_step: impl FnMut(&State, &StepStats) -> ControlFlow<()>,
     ) -> Result<ControlledRun, SolverError> {
-        let mut run = ControlledRun::default();
+        self.check_adaptive(model)?;
+        let mut stepper = GenAlphaStepper::new(*self, Some(*ctl));
+        let control = stepper.control(0.0);
+        drive(&mut stepper, model, s, ws, control, t_end, on_step)
+    }
+
+    /// Adaptive steps of a constrained model need numerical damping: the undamped spurious
+    /// oscillation of the constraint forces enters the error estimate and collapses the step
+    /// (double pendulum: 3e-9 s after 0.27 s).
+    pub(super) fn check_adaptive(&self, model: &Model) -> Result<(), SolverError> {
         if self.settings.rho_inf >= 1.0 && model.nc > 0 {
-            // the undamped spurious oscillation of the constraint forces enters the error
-            // estimate and collapses the step (double pendulum: 3e-9 s after 0.27 s)
             return Err(SolverError::InvalidSetting {
                 name: "rho_inf",
                 value: self.settings.rho_inf,
                 reason: "adaptive steps of a constrained model need rho_inf < 1",
             });
         }
-        let mut h = ctl.h_init.min(ctl.h_max);
+        Ok(())
+    }
+
+    /// One adaptive step attempt of size `h` (see [`AdaptiveSettings`]): accepted (state
+    /// advanced) if the error estimate is <= 1; a Newton failure or singular iteration matrix is
+    /// a rejection with half the step. `ws.error_scales` must hold the velocity scales.
+    pub(super) fn attempt_adaptive(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        ctl: &AdaptiveSettings,
+        h: f64,
+    ) -> Result<StepAttempt, SolverError> {
         let err_coeff = (self.params.beta - 1.0 / 6.0).abs();
-        while s.t < t_end - 1e-14 * t_end.abs().max(1.0) {
-            h = h.min(t_end - s.t);
-            let mut err = f64::NAN;
-            match self.solve_step(model, s, ws, h) {
-                Ok(mut stats) => {
-                    let b = &ws.step;
-                    let w = ctl.atol + ctl.rtol * super::max_abs(&s.q).max(1.0);
-                    err = (0..model.nu)
-                        .map(|i| h * h * err_coeff * (b.u_dot_new[i] - s.u_dot[i]).abs() / w)
-                        .fold(0.0, f64::max);
-                    if err <= 1.0 {
-                        commit(s, &ws.step, h);
-                        let (energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
-                        (
-                            stats.energy,
-                            stats.g_max,
-                            stats.g_dot_max,
-                            stats.error_estimate,
-                        ) = (energy, g, gd, err);
-                        stats.rejected = run.rejected;
-                        if on_step(s, &stats).is_break() {
-                            run.stopped = true;
-                            return Ok(run);
-                        }
-                    } else {
-                        run.rejected += 1;
-                    }
-                    let fac = if err > 0.0 {
-                        0.9 * err.powf(-1.0 / 3.0)
-                    } else {
-                        2.0
-                    };
-                    h = (h * fac.clamp(0.2, 2.0)).min(ctl.h_max);
-                }
-                Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => {
-                    run.rejected += 1;
-                    h *= 0.5
-                }
-                Err(e) => return Err(e),
+        let mut stats = match self.solve_step(model, s, ws, h) {
+            Ok(stats) => stats,
+            Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => {
+                return Ok(StepAttempt::rejected(f64::NAN, 0.5 * h))
             }
-            if h < ctl.h_min {
-                return Err(SolverError::StepTooSmall {
-                    t: s.t,
-                    h,
-                    h_min: ctl.h_min,
-                    error: err,
-                });
-            }
+            Err(e) => return Err(e),
+        };
+        let b = &ws.step;
+        // frames are at the converged iterate (the last Newton evaluation)
+        let w = ctl.atol + ctl.rtol * frame_extent(&ws.sys.frames).max(1.0);
+        let err = (0..model.nu)
+            .map(|i| {
+                let du = (b.u_dot_new[i] - s.u_dot[i]).abs();
+                h * h * err_coeff * ws.error_scales[i] * du / w
+            })
+            .fold(0.0, f64::max);
+        let fac = if err > 0.0 {
+            0.9 * err.powf(-1.0 / 3.0)
+        } else {
+            2.0
+        };
+        let h_next = h * fac.clamp(0.2, 2.0);
+        if err > 1.0 {
+            return Ok(StepAttempt::rejected(err, h_next));
         }
-        Ok(run)
+        commit(s, &ws.step, h);
+        let (energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
+        (
+            stats.energy,
+            stats.g_max,
+            stats.g_dot_max,
+            stats.error_estimate,
+        ) = (energy, g, gd, err);
+        Ok(StepAttempt {
+            accepted: true,
+            stats,
+            h_next,
+        })
     }
 }
 
@@ -422,6 +437,20 @@ fn kinematic_update(model: &Model, p: &GenAlphaParams, h: f64, s: &State, b: &mu
         b.dv[i] = h * (s.u[i] + h * ((0.5 - p.beta) * s.a[i] + p.beta * a_new));
     }
     system::integrate_positions(model, &s.q, &b.dv, &mut b.q_new);
+}
+
+/// [`crate::Element::velocity_scales`] of every body into `out` (nu).
+pub(super) fn fill_error_scales(model: &Model, out: &mut [f64]) {
+    for b in &model.bodies {
+        let nu = b.element.nu();
+        b.element
+            .velocity_scales(&mut out[b.u_offset..b.u_offset + nu]);
+    }
+}
+
+/// Largest distance of a frame from the origin (m), 0 without frames.
+fn frame_extent(frames: &[crate::element::FrameKinematics]) -> f64 {
+    frames.iter().map(|k| k.position.norm()).fold(0.0, f64::max)
 }
 
 /// A non-finite quantity in the Newton iteration of the step `(t, h)`.
@@ -529,14 +558,14 @@ struct Convergence {
 const ROUNDOFF_RESIDUAL: f64 = 1e3 * f64::EPSILON;
 
 /// The Newton acceptance test of [`NewtonSettings`](super::NewtonSettings) for the iterate in
-/// `b` with residual `it`, reached by a solve with increments `du` (accelerations) and `dl`
-/// (multipliers).
+/// `b` with residual `it`, reached by a solve with increments `(du, dl)` (max norms of the
+/// accelerations and multipliers; `prev`: the solve before).
 fn judge_convergence(
     nt: &super::NewtonSettings,
     it: &IterateResidual,
     b: &StepBuffers,
-    du: f64,
-    dl: f64,
+    (du, dl): (f64, f64),
+    prev: (f64, f64),
     beta_p: f64,
 ) -> Convergence {
     let q_scale = super::max_abs(&b.q_new).max(1.0);
@@ -547,7 +576,8 @@ fn judge_convergence(
     let du_floor = beta_p * du <= 16.0 * f64::EPSILON * q_scale;
     let at_roundoff = it.r_max <= ROUNDOFF_RESIDUAL * it.f_scale;
     let residual_ok = it.r_max <= nt.rtol.max(ROUNDOFF_RESIDUAL) * it.f_scale;
-    let increments_ok = (du <= w_u || du_floor) && dl <= w_l;
+    let increments_ok = ((du <= w_u || du_floor) && dl <= w_l)
+        || (remaining_error(du, prev.0) <= w_u && remaining_error(dl, prev.1) <= w_l);
     Convergence {
         converged: it.g_max <= nt.constraint_tol * q_scale
             && residual_ok
@@ -555,6 +585,21 @@ fn judge_convergence(
         e,
         at_roundoff,
     }
+}
+
+/// Error left in an iterate reached by the increment `d` after the increment `d_prev`, for a
+/// linearly converging iteration with rate `theta = d / d_prev`: `theta / (1 - theta) d`
+/// (Hairer & Wanner, Solving ODEs II, IV.8, eq. (8.10)); infinite without a previous increment
+/// or at a rate >= [`MODIFIED_NEWTON_CONTRACTION`](super::MODIFIED_NEWTON_CONTRACTION).
+fn remaining_error(d: f64, d_prev: f64) -> f64 {
+    if d == 0.0 {
+        return 0.0;
+    }
+    let theta = d / d_prev;
+    if !(d_prev.is_finite() && theta < super::MODIFIED_NEWTON_CONTRACTION) {
+        return f64::INFINITY;
+    }
+    theta / (1.0 - theta) * d
 }
 
 /// Builds the iteration matrix `S` of the module doc at the iterate in `b` (mass, tangents,

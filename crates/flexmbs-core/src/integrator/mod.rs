@@ -4,14 +4,22 @@
 //!   Bruls 2007), fixed or adaptive step.
 //! - [`Dopri5`]: explicit adaptive Dormand-Prince 5(4) for unconstrained systems.
 //! - [`Statics`]: static equilibrium by Newton with load stepping.
+//!
+//! All three are [`Stepper`]s, run by one driver [`drive`] (fixed or adaptive steps, output
+//! callback with `ControlFlow`).
 
 mod dopri5;
 mod genalpha;
 mod statics;
+mod stepper;
 
 pub use dopri5::{Dopri5, Dopri5Settings};
 pub use genalpha::{AdaptiveSettings, GenAlpha, GenAlphaParams, GenAlphaSettings};
 pub use statics::{StaticStats, Statics, StaticsSettings};
+pub use stepper::{
+    drive, Dopri5Stepper, GenAlphaStepper, StaticsStepper, StepAttempt, StepControl, Stepper,
+    StepperStatistics,
+};
 
 use crate::error::SolverError;
 use crate::model::Model;
@@ -64,8 +72,10 @@ pub struct ControlledRun {
 ///   cannot inflate it);
 /// - increments of the last solve: `max |du_dot| <= atol + rtol max |u_dot|` (or at the
 ///   positions' round-off floor `beta' max |du_dot| <= 16 eps max(1, |q|_inf)`) and
-///   `max |d lambda| <= atol + rtol max(|lambda|_inf, F)`;
-///   or instead of both increment tests: the residual is at round-off, `max |r| <= 1e3 eps F`
+///   `max |d lambda| <= atol + rtol max(|lambda|_inf, F)`; after two solves each increment may be
+///   replaced by the error it leaves, `theta / (1 - theta) |d|` with the contraction rate
+///   `theta = |d_k| / |d_(k-1)| < 0.5` (Hairer & Wanner, Solving ODEs II, IV.8);
+///   or instead of the increment tests: the residual is at round-off, `max |r| <= 1e3 eps F`
 ///   (an ill-conditioned direction may then amplify rounding noise into increments above the
 ///   tolerance, which no further iteration reduces).
 #[derive(Debug, Clone, Copy, PartialEq)]

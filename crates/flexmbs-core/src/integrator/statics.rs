@@ -7,11 +7,13 @@
 //! (the geometric stiffness of the constraint forces is what makes a loaded mechanism stiff;
 //! it is computed by finite differences, [`crate::system::subtract_constraint_force_tangent`]).
 
-use super::{fill_saddle_matrix, NewtonSettings};
+use super::stepper::{drive, StaticsStepper, StepAttempt, StepControl, Stepper};
+use super::{fill_saddle_matrix, NewtonSettings, StepStats};
 use crate::error::SolverError;
 use crate::model::Model;
 use crate::state::{State, Workspace};
 use crate::system;
+use std::ops::ControlFlow;
 
 /// Settings of [`Statics`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,7 +79,7 @@ impl Statics {
     /// [`Statics::solve`], calling `on_increment(state, mu, stats)` after every converged load
     /// increment (load factor `mu` in `(0, 1]`, the last call at `mu = 1`): the equilibrium path
     /// of a load-stepped solution, e.g. a load-deflection curve. Bisected increments that fail
-    /// are not reported.
+    /// are not reported. ([`super::drive`] with [`StaticsStepper`], load factor as its progress.)
     pub fn solve_with(
         &self,
         model: &Model,
@@ -85,6 +87,46 @@ impl Statics {
         ws: &mut Workspace,
         mut on_increment: impl FnMut(&State, f64, &StaticStats),
     ) -> Result<StaticStats, SolverError> {
+        let mut stepper = StaticsStepper::new(*self);
+        stepper.initialize(model, s, ws)?;
+        let mut stats = StaticStats {
+            increments: 0,
+            iterations: 0,
+            residual: 0.0,
+            g_max: 0.0,
+        };
+        drive(&mut stepper, model, s, ws, self.control(), 1.0, |s, st| {
+            stats = StaticStats {
+                increments: stats.increments + 1,
+                iterations: stats.iterations + st.iterations,
+                residual: st.residual,
+                g_max: st.g_max,
+            };
+            on_increment(s, st.t, &stats);
+            ControlFlow::Continue(())
+        })?;
+        Ok(stats)
+    }
+
+    /// Load increments for [`super::drive`]: `1 / load_steps`, halved on failure down to
+    /// `min_increment`.
+    pub fn control(&self) -> StepControl {
+        let dmu = 1.0 / self.settings.load_steps.max(1) as f64;
+        StepControl::Adaptive {
+            h_init: dmu,
+            h_min: self.settings.min_increment,
+            h_max: dmu,
+        }
+    }
+
+    /// Checks the settings, sets `u = u_dot = 0` and returns the force tolerance
+    /// `force_tol max(1, |h(q0, mu = 1)|_inf)`.
+    pub(super) fn prepare(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+    ) -> Result<f64, SolverError> {
         system::check_state_size(model, s)?;
         let cfg = &self.settings;
         if cfg.load_steps == 0 {
@@ -108,42 +150,45 @@ impl Statics {
             &mut sys.h,
             &mut sys.local,
         );
-        let tol = cfg.force_tol * super::max_abs(&ws.sys.h).max(1.0);
-        let mut stats = StaticStats {
-            increments: 0,
-            iterations: 0,
-            residual: 0.0,
-            g_max: 0.0,
-        };
-        let (mut mu, mut dmu) = (0.0, 1.0 / cfg.load_steps as f64);
-        while mu < 1.0 - 1e-14 {
-            let target = (mu + dmu).min(1.0);
-            ws.step.y[0][..model.nq].copy_from_slice(&s.q);
-            ws.step.y[1][..model.nc].copy_from_slice(&s.lambda);
-            match self.newton(model, s, ws, target, tol) {
-                Ok((it, res, g)) => {
-                    mu = target;
-                    stats = StaticStats {
-                        increments: stats.increments + 1,
-                        iterations: stats.iterations + it,
-                        residual: res,
-                        g_max: g,
-                    };
-                    on_increment(s, mu, &stats);
+        Ok(cfg.force_tol * super::max_abs(&ws.sys.h).max(1.0))
+    }
+
+    /// The load increment from `mu` to `target`: Newton from the current state; on failure
+    /// (Newton, singular tangent) the state is restored and the increment is rejected with half
+    /// its size, or the error is returned once half would fall below `min_increment`.
+    pub(super) fn increment(
+        &self,
+        model: &Model,
+        s: &mut State,
+        ws: &mut Workspace,
+        (mu, target, tol): (f64, f64, f64),
+    ) -> Result<StepAttempt, SolverError> {
+        ws.step.y[0][..model.nq].copy_from_slice(&s.q);
+        ws.step.y[1][..model.nc].copy_from_slice(&s.lambda);
+        match self.newton(model, s, ws, target, tol) {
+            Ok((iterations, residual, g_max)) => Ok(StepAttempt {
+                accepted: true,
+                stats: StepStats {
+                    t: target,
+                    h: target - mu,
+                    iterations,
+                    residual,
+                    g_max,
+                    ..Default::default()
+                },
+                h_next: target - mu,
+            }),
+            Err(e @ SolverError::NewtonFailed { .. }) | Err(e @ SolverError::Singular { .. }) => {
+                s.q.copy_from_slice(&ws.step.y[0][..model.nq]);
+                s.lambda.copy_from_slice(&ws.step.y[1][..model.nc]);
+                let half = 0.5 * (target - mu);
+                if half < self.settings.min_increment {
+                    return Err(e);
                 }
-                Err(e @ SolverError::NewtonFailed { .. })
-                | Err(e @ SolverError::Singular { .. }) => {
-                    s.q.copy_from_slice(&ws.step.y[0][..model.nq]);
-                    s.lambda.copy_from_slice(&ws.step.y[1][..model.nc]);
-                    dmu *= 0.5;
-                    if dmu < cfg.min_increment {
-                        return Err(e);
-                    }
-                }
-                Err(e) => return Err(e),
+                Ok(StepAttempt::rejected(f64::NAN, half))
             }
+            Err(e) => Err(e),
         }
-        Ok(stats)
     }
 
     /// Least-squares multipliers at the current configuration, `G G^T lambda = G h`, via
