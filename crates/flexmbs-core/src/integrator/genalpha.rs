@@ -29,9 +29,8 @@
 //! `alpha_m = (2 rho - 1) / (rho + 1)`, `alpha_f = rho / (rho + 1)`,
 //! `gamma = 1/2 + alpha_f - alpha_m`, `beta = 1/4 (gamma + 1/2)^2`.
 
-use super::{
-    consistent_accelerations, fill_saddle_matrix, ControlledRun, NewtonSettings, StepStats,
-};
+use super::{consistent_accelerations, ControlledRun, NewtonSettings, StepStats};
+use crate::algebra::{SaddleKind, SystemMatrix};
 use crate::error::SolverError;
 use crate::model::Model;
 use crate::state::{State, StepBuffers, Workspace};
@@ -238,15 +237,16 @@ impl GenAlpha {
             // -h_i, G_0i lambda_0, G_1i lambda_1, ... (contiguous columns of G)
             let (mut r_max, mut g_max) = (0.0_f64, 0.0_f64);
             let r_acc = &mut b.rhs[..nu];
-            system::mass_times_vector(model, &b.q_new, &b.u_dot_new, sys.mass.as_mut(), r_acc);
+            let saddle = if nt.modified {
+                &mut ws.newton_matrix
+            } else {
+                &mut ws.saddle
+            };
+            saddle.mass_times_vector(model, &b.q_new, &b.u_dot_new, sys, r_acc);
             for (r, h) in r_acc.iter_mut().zip(&sys.h) {
                 *r -= h;
             }
-            for (i, r) in r_acc.iter_mut().enumerate() {
-                for (g, l) in sys.g_jac.col_as_slice(i).iter().zip(&b.lambda_new) {
-                    *r += g * l;
-                }
-            }
+            saddle.add_g_transpose_times(sys, &b.lambda_new, r_acc);
             for i in 0..nu {
                 let r = b.rhs[i];
                 if !r.is_finite() {
@@ -283,24 +283,19 @@ impl GenAlpha {
                 || ws.newton_matrix_h.to_bits() != h.to_bits()
                 || rate > super::MODIFIED_NEWTON_CONTRACTION
                 || reuse >= super::MODIFIED_NEWTON_MAX_REUSE;
-            let lu = if nt.modified {
-                &mut ws.lu_newton
+            let saddle = if nt.modified {
+                &mut ws.newton_matrix
             } else {
-                &mut ws.lu
+                &mut ws.saddle
             };
             if refresh {
                 ws.newton_matrix_h = f64::NAN;
-                system::assemble_mass(model, &b.q_new, sys.mass.as_mut());
-                system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
-                for j in 0..nu {
-                    for i in 0..nu {
-                        sys.dh_dq[(i, j)] = sys.mass[(i, j)]
-                            - gamma_p * sys.dh_du[(i, j)]
-                            - beta_p * sys.dh_dq[(i, j)];
-                    }
-                }
-                fill_saddle_matrix(&mut lu.a, &sys.dh_dq, 1.0, &sys.g_jac);
-                if !lu.factor() {
+                let kind = SaddleKind::Iteration {
+                    t: t1,
+                    c_u: gamma_p,
+                    c_q: beta_p,
+                };
+                if !build_and_factor(saddle, kind, model, &b.q_new, &b.u_new, sys) {
                     return Err(SolverError::Singular {
                         what: "iteration",
                         t: s.t,
@@ -317,7 +312,7 @@ impl GenAlpha {
             for (k, gk) in sys.g.iter().enumerate() {
                 sol[nu + k] = -gk / beta_p;
             }
-            lu.solve_in_place(sol);
+            saddle.solve_in_place(sol);
             last_increment = increment;
             increment = super::max_abs(&sol[..nu]);
             if sol.iter().any(|x| !x.is_finite()) {
@@ -455,6 +450,20 @@ impl GenAlpha {
         }
         Ok(run)
     }
+}
+
+/// Builds the iteration matrix `kind` at `(q, u)` into `saddle` and factors it; `false` if it
+/// is singular. The one place where generalized-alpha builds and factors.
+fn build_and_factor(
+    saddle: &mut SystemMatrix,
+    kind: SaddleKind,
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    sys: &mut crate::state::SystemBuffers,
+) -> bool {
+    saddle.build(kind, model, q, u, &[], sys);
+    saddle.factor()
 }
 
 /// `a_{n+1}`, `u_{n+1}` and `q_{n+1} = q_n ⊕ dv` from the current `u_dot_{n+1}` iterate.
