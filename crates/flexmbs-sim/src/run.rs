@@ -382,7 +382,7 @@ pub fn run_model(
         error: None,
     };
     let mut s = cm.initial.clone();
-    let mut ws = Workspace::new(m);
+    let mut ws = Workspace::with_linear_solver(m, cm.linear_solver);
     let stop = opts.stop.clone();
     let result = integrate(cm, &mut s, &mut ws, &mut rec, &stop, progress);
     if let Some(e) = rec.error.take() {

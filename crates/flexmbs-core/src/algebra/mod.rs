@@ -27,7 +27,9 @@ use sparse::SparseSystem;
 /// Linear-solver backend of the system matrices (`solver.linear_solver` in model files).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LinearSolver {
-    /// Dense below [`SPARSE_MIN_DIM`] unknowns `nu + nc`, sparse from there. Default.
+    /// Sparse from [`SPARSE_MIN_DIM`] unknowns `nu + nc` on if at most [`SPARSE_MAX_FILL`] of
+    /// the matrix entries are structurally nonzero, dense otherwise (one large flexible body
+    /// is a dense block: the sparse LU would only add overhead). Default.
     #[default]
     Auto,
     /// Dense LU (bitwise the historical results).
@@ -40,11 +42,18 @@ pub enum LinearSolver {
 /// crossover, `benches/README.md`).
 pub const SPARSE_MIN_DIM: usize = 120;
 
+/// Largest fraction `nnz / (nu + nc)^2` of structurally nonzero entries for which
+/// [`LinearSolver::Auto`] picks the sparse backend.
+pub const SPARSE_MAX_FILL: f64 = 0.25;
+
 impl LinearSolver {
-    /// True if this choice means the sparse backend for a model with `nu + nc = dim`.
-    pub fn is_sparse(self, dim: usize) -> bool {
+    /// True if this choice means the sparse backend for a pattern of dimension `dim` with `nnz`
+    /// entries.
+    pub fn is_sparse(self, dim: usize, nnz: usize) -> bool {
         match self {
-            LinearSolver::Auto => dim >= SPARSE_MIN_DIM,
+            LinearSolver::Auto => {
+                dim >= SPARSE_MIN_DIM && (nnz as f64) <= SPARSE_MAX_FILL * (dim * dim) as f64
+            }
             LinearSolver::Dense => false,
             LinearSolver::Sparse => true,
         }
@@ -94,10 +103,20 @@ impl SystemMatrix {
     /// [`ColumnLists::of_model`], symbolic LU and one numeric factorization).
     pub fn new(model: &Model, choice: LinearSolver) -> Self {
         let dim = model.nu + model.nc;
-        let backend = if choice.is_sparse(dim) {
-            Backend::Sparse(Box::new(SparseSystem::new(model)))
-        } else {
-            Backend::Dense(DenseSystem::new(dim))
+        let sparse = match choice {
+            LinearSolver::Dense => None,
+            LinearSolver::Auto if dim < SPARSE_MIN_DIM => None,
+            _ => {
+                let lists = ColumnLists::of_model(model);
+                let pattern = SystemPattern::new(model.nu, &lists);
+                choice
+                    .is_sparse(dim, pattern.nnz())
+                    .then(|| SparseSystem::new(model, &lists, &pattern))
+            }
+        };
+        let backend = match sparse {
+            Some(s) => Backend::Sparse(Box::new(s)),
+            None => Backend::Dense(DenseSystem::new(dim)),
         };
         Self { backend }
     }
@@ -163,6 +182,15 @@ impl SystemMatrix {
                 crate::system::mass_times_vector(model, q, v, sys.mass.as_mut(), out)
             }
             Backend::Sparse(s) => s.mass_times_vector(model, q, v, out),
+        }
+    }
+
+    /// Constraint drift `(max |g|, max |G u + g_t|)` with the current `sys` (dense backend:
+    /// [`crate::system::constraint_drift`]; sparse: over the pattern of `G`).
+    pub fn constraint_drift(&self, sys: &SystemBuffers, u: &[f64]) -> (f64, f64) {
+        match &self.backend {
+            Backend::Dense(_) => crate::system::constraint_drift(sys, u),
+            Backend::Sparse(s) => s.constraint_drift(sys, u),
         }
     }
 

@@ -47,9 +47,7 @@ impl std::fmt::Debug for SparseSystem {
 
 impl SparseSystem {
     /// Pattern, slot maps, symbolic LU and one numeric factorization for `model`.
-    pub(super) fn new(model: &Model) -> Self {
-        let lists = ColumnLists::of_model(model);
-        let p = SystemPattern::new(model.nu, &lists);
+    pub(super) fn new(model: &Model, lists: &ColumnLists, p: &SystemPattern) -> Self {
         let n = p.dim();
         let elements = model
             .bodies
@@ -112,7 +110,7 @@ impl SparseSystem {
             g_entries,
             diag_slots,
         };
-        this.size_factor_buffers(&p);
+        this.size_factor_buffers(p);
         this
     }
 
@@ -273,6 +271,20 @@ impl SparseSystem {
         for (b, blk) in model.bodies.iter().zip(&mut self.elements) {
             blk.mass_times_vector(b, q, v, out);
         }
+    }
+
+    /// `(max |g|, max |G u + g_t|)` over the pattern of `G`.
+    pub(super) fn constraint_drift(&self, sys: &SystemBuffers, u: &[f64]) -> (f64, f64) {
+        let (mut g_max, mut gd_max) = (0.0_f64, 0.0_f64);
+        for r in 0..self.g_ptr.len() - 1 {
+            let mut gd = sys.g_t[r];
+            for &(c, _, _) in &self.g_entries[self.g_ptr[r]..self.g_ptr[r + 1]] {
+                gd += sys.g_jac[(r, c)] * u[c];
+            }
+            g_max = g_max.max(sys.g[r].abs());
+            gd_max = gd_max.max(gd.abs());
+        }
+        (g_max, gd_max)
     }
 
     /// `out += G^T lambda` over the pattern of `G`.

@@ -490,7 +490,7 @@ fn monitor_converged(
     with_energy: bool,
 ) -> (system::Energy, f64, f64) {
     let sys = &ws.sys;
-    let (g, gd) = system::constraint_drift(sys, &s.u);
+    let (g, gd) = ws.saddle.constraint_drift(sys, &s.u);
     let energy = if with_energy {
         system::energy(model, &s.q, &s.u, &sys.frames)
     } else {

@@ -161,7 +161,7 @@ pub fn monitor(model: &Model, s: &State, ws: &mut Workspace) -> (Energy, f64, f6
         &mut sys.g_t,
         &mut sys.g_bias,
     );
-    let (g, gd) = system::constraint_drift(sys, &s.u);
+    let (g, gd) = ws.saddle.constraint_drift(sys, &s.u);
     (system::energy(model, &s.q, &s.u, &sys.frames), g, gd)
 }
 
