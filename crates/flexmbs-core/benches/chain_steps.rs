@@ -10,7 +10,9 @@
 //! Environment:
 //! - `CHAIN_BENCH_N=1,10,100`: restrict the chain lengths;
 //! - `CHAIN_BENCH_DENSE_MAX=1000`: largest `nu + nc` run with the dense backend;
-//! - `CHAIN_BENCH_LINKS=flexible` (or `rigid`): one series only.
+//! - `CHAIN_BENCH_LINKS=flexible` (or `rigid`): one series only;
+//! - `CHAIN_BENCH_STEPS=5`: exactly this many steps per batch (for instruction counts with
+//!   `valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*GenAlpha::step'`).
 
 #[path = "../tests/chain/mod.rs"]
 mod chain;
@@ -32,6 +34,9 @@ fn env_list(name: &str, default: &[usize]) -> Vec<usize> {
 
 /// (us per step, Newton iterations per step) of `n` links with `choice`.
 fn time_steps(n: usize, link: Link, choice: LinearSolver, reps: usize) -> (f64, f64) {
+    let fixed = std::env::var("CHAIN_BENCH_STEPS")
+        .ok()
+        .and_then(|s| s.parse::<usize>().ok());
     let (model, s0) = chain(n, link, None);
     let ga = GenAlpha::new(GenAlphaSettings::default())
         .unwrap()
@@ -47,7 +52,10 @@ fn time_steps(n: usize, link: Link, choice: LinearSolver, reps: usize) -> (f64, 
     for _ in 0..reps {
         let (mut steps, mut its) = (0usize, 0usize);
         let start = Instant::now();
-        while steps < 3 || start.elapsed().as_secs_f64() < 0.2 {
+        while match fixed {
+            Some(k) => steps < k,
+            None => steps < 3 || start.elapsed().as_secs_f64() < 0.2,
+        } {
             its += ga.step(&model, &mut s, &mut ws, H).unwrap().iterations;
             steps += 1;
         }
