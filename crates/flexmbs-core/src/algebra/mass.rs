@@ -79,7 +79,7 @@ impl BlockMass {
     /// Solves `M X = B` in place for `k` right-hand sides: `b` holds `B` column-major
     /// (`nu x k`) and is overwritten by `X`.
     pub fn solve_in_place(&self, b: &mut [f64], k: usize) {
-        let nu = if k == 0 { 0 } else { b.len() / k };
+        let nu = b.len().checked_div(k).unwrap_or(0);
         debug_assert_eq!(nu * k, b.len(), "right-hand sides nu x k");
         for col in b.chunks_exact_mut(nu.max(1)).take(k) {
             for blk in &self.blocks {
