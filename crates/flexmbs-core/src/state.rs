@@ -108,8 +108,8 @@ pub struct Workspace {
     /// Factorized iteration matrix kept between steps by modified Newton (nu + nc).
     pub newton_matrix: SystemMatrix,
     /// Block-Cholesky factors of the mass matrix alone (explicit integration).
-    pub mass: BlockMass,
-    /// Step size `lu_newton` was built for (NaN: no valid factorization).
+    pub mass_blocks: BlockMass,
+    /// Step size `newton_matrix` was built for (NaN: no valid factorization).
     pub newton_matrix_h: f64,
 }
 
@@ -171,7 +171,7 @@ impl Workspace {
             },
             newton_matrix: SystemMatrix::new(model, choice),
             saddle,
-            mass: BlockMass::new(model),
+            mass_blocks: BlockMass::new(model),
             newton_matrix_h: f64::NAN,
         }
     }

@@ -173,7 +173,7 @@ impl Dopri5 {
                 y_stage,
                 &mut b.stages[0],
                 &mut ws.sys,
-                &mut ws.mass,
+                &mut ws.mass_blocks,
             )?;
             for i in 1..7 {
                 for (k, yk) in y_stage.iter_mut().enumerate() {
@@ -187,7 +187,7 @@ impl Dopri5 {
                     y_stage,
                     &mut rest[0],
                     &mut ws.sys,
-                    &mut ws.mass,
+                    &mut ws.mass_blocks,
                 )?;
             }
             evals += 7;

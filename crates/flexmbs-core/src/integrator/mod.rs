@@ -124,8 +124,8 @@ pub fn consistent_accelerations(
     };
     if nc == 0 && ws.saddle.is_sparse() {
         // M u_dot = h by the block Cholesky of the mass matrix alone
-        ws.mass.update(model, &s.q).map_err(|_| singular)?;
-        ws.mass.solve_in_place(rhs, 1);
+        ws.mass_blocks.update(model, &s.q).map_err(|_| singular)?;
+        ws.mass_blocks.solve_in_place(rhs, 1);
     } else {
         let saddle = &mut ws.saddle;
         saddle.build(SaddleKind::AugmentedMass, model, &s.q, &s.u, &s.lambda, sys);
