@@ -51,6 +51,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod algebra;
 pub mod element;
 pub mod error;
 pub mod ffr;

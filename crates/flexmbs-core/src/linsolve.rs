@@ -1,7 +1,9 @@
-//! Preallocated dense LU solver (faer, partial pivoting) used for the iteration matrix.
+//! Small dense factorizations: a preallocated LU (faer, partial pivoting) for the dense saddle
+//! matrices and an in-place Cholesky for symmetric positive definite blocks (element mass
+//! matrices, [`crate::algebra::BlockMass`]).
 //!
 //! All memory (matrix, permutations, faer scratch stack) is allocated in [`DenseLu::new`];
-//! [`DenseLu::factor`] and [`DenseLu::solve_in_place`] do not allocate.
+//! [`DenseLu::factor`], [`DenseLu::solve_in_place`] and the Cholesky functions do not allocate.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor;
@@ -115,6 +117,59 @@ impl DenseLu {
     }
 }
 
+/// Cholesky factorization `A = L L^T` in place: the lower triangle of `a` becomes `L` (the
+/// strict upper triangle is not read and not written). Returns `false` if a pivot is not
+/// positive or not finite (the matrix is not numerically positive definite).
+pub fn cholesky_in_place(a: &mut Mat<f64>) -> bool {
+    let n = a.nrows();
+    for j in 0..n {
+        // column j: a_jj - sum_k l_jk^2, then the entries below
+        for k in 0..j {
+            let ljk = a[(j, k)];
+            if ljk != 0.0 {
+                for i in j..n {
+                    let lik = a[(i, k)];
+                    a[(i, j)] -= lik * ljk;
+                }
+            }
+        }
+        let d = a[(j, j)];
+        if !(d > 0.0 && d.is_finite()) {
+            return false;
+        }
+        let d = d.sqrt();
+        a[(j, j)] = d;
+        for i in j + 1..n {
+            a[(i, j)] /= d;
+        }
+    }
+    true
+}
+
+/// Solves `L L^T x = b` with the factor of [`cholesky_in_place`]; `b` is overwritten by `x`.
+pub fn cholesky_solve_in_place(l: &Mat<f64>, b: &mut [f64]) {
+    let n = l.nrows();
+    debug_assert_eq!(b.len(), n, "right-hand side length");
+    for j in 0..n {
+        let col = l.col_as_slice(j);
+        let xj = b[j] / col[j];
+        b[j] = xj;
+        if xj != 0.0 {
+            for (bi, lij) in b[j + 1..].iter_mut().zip(&col[j + 1..]) {
+                *bi -= lij * xj;
+            }
+        }
+    }
+    for j in (0..n).rev() {
+        let col = l.col_as_slice(j);
+        let mut s = b[j];
+        for (bi, lij) in b[j + 1..].iter().zip(&col[j + 1..]) {
+            s -= lij * bi;
+        }
+        b[j] = s / col[j];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -171,5 +226,41 @@ mod tests {
         lu.a[(1, 0)] = 2.0;
         lu.a[(1, 1)] = 4.0;
         assert!(!lu.factor());
+    }
+
+    /// SPD 7 x 7 system: Cholesky solution against the LU solution and the residual.
+    #[test]
+    fn cholesky_matches_lu_on_spd_matrix() {
+        let n = 7;
+        let b_mat = |i: usize, j: usize| ((i * 5 + j * 3) % 7) as f64 - 3.0;
+        let a = Mat::from_fn(n, n, |i, j| {
+            (0..n).map(|k| b_mat(i, k) * b_mat(j, k)).sum::<f64>() + if i == j { 1.0 } else { 0.0 }
+        });
+        let rhs: Vec<f64> = (0..n).map(|i| 1.0 - 0.3 * i as f64).collect();
+        let mut l = a.clone();
+        assert!(cholesky_in_place(&mut l));
+        let mut x = rhs.clone();
+        cholesky_solve_in_place(&l, &mut x);
+        let mut lu = DenseLu::new(n);
+        lu.a.copy_from(&a);
+        assert!(lu.factor());
+        let mut y = rhs.clone();
+        lu.solve_in_place(&mut y);
+        for i in 0..n {
+            assert!(
+                (x[i] - y[i]).abs() <= 1e-12 * y[i].abs().max(1.0),
+                "{i}: {} vs {}",
+                x[i],
+                y[i]
+            );
+            let r: f64 = (0..n).map(|j| a[(i, j)] * x[j]).sum::<f64>() - rhs[i];
+            assert!(r.abs() < 1e-11, "row {i}: residual {r}");
+        }
+    }
+
+    #[test]
+    fn cholesky_rejects_indefinite_matrix() {
+        let mut a = Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 2.0 });
+        assert!(!cholesky_in_place(&mut a));
     }
 }

@@ -1,7 +1,7 @@
 //! The mutable [`State`] of a simulation and the preallocated [`Workspace`].
 
+use crate::algebra::{BlockMass, LinearSolver, SystemMatrix};
 use crate::element::{FrameKinematics, TangentScratch};
-use crate::linsolve::DenseLu;
 use crate::model::Model;
 use faer::Mat;
 
@@ -72,13 +72,13 @@ pub struct SystemBuffers {
     pub tangent_scratch: Vec<TangentScratch>,
     /// Element-local results per body, only for models whose bodies share nodes.
     pub local: Vec<ElementBuffers>,
-    /// Global mass matrix (nu x nu).
+    /// Global mass matrix (nu x nu; 0 x 0 with the sparse backend, which keeps element blocks).
     pub mass: Mat<f64>,
     /// Global forces `h` incl. loads (nu).
     pub h: Vec<f64>,
-    /// `dh/dq` along `q ⊕ dv` (nu x nu).
+    /// `dh/dq` along `q ⊕ dv` (nu x nu; 0 x 0 with the sparse backend).
     pub dh_dq: Mat<f64>,
-    /// `dh/du` (nu x nu).
+    /// `dh/du` (nu x nu; 0 x 0 with the sparse backend).
     pub dh_du: Mat<f64>,
     /// Constraint values `g` (nc).
     pub g: Vec<f64>,
@@ -131,13 +131,13 @@ pub struct Workspace {
     pub sys: SystemBuffers,
     /// Integrator buffers.
     pub step: StepBuffers,
-    /// Iteration / augmented matrix solver (nu + nc).
-    pub lu: DenseLu,
-    /// Mass-matrix solver (nu) for explicit integration.
-    pub lu_mass: DenseLu,
+    /// Saddle matrix (nu + nc) of consistent accelerations, full Newton and statics.
+    pub saddle: SystemMatrix,
     /// Factorized iteration matrix kept between steps by modified Newton (nu + nc).
-    pub lu_newton: DenseLu,
-    /// Step size `lu_newton` was built for (NaN: no valid factorization).
+    pub newton_matrix: SystemMatrix,
+    /// Block-Cholesky factors of the mass matrix alone (explicit integration).
+    pub mass_blocks: BlockMass,
+    /// Step size `newton_matrix` was built for (NaN: no valid factorization).
     pub newton_matrix_h: f64,
     /// Solves done with the current `lu_newton` (modified Newton), counted across steps: the
     /// matrix is rebuilt after [`crate::integrator::MODIFIED_NEWTON_MAX_REUSE`].
@@ -148,9 +148,18 @@ pub struct Workspace {
 }
 
 impl Workspace {
-    /// Allocates all buffers for `model`.
+    /// Allocates all buffers for `model` with the automatic choice of the linear-solver
+    /// backend ([`LinearSolver::Auto`]).
     pub fn new(model: &Model) -> Self {
+        Self::with_linear_solver(model, LinearSolver::Auto)
+    }
+
+    /// Allocates all buffers for `model` with the given linear-solver backend. The sparse
+    /// backend allocates no dense `nu x nu` matrix.
+    pub fn with_linear_solver(model: &Model, choice: LinearSolver) -> Self {
         let (nq, nu, nc) = (model.nq, model.nu, model.nc);
+        let saddle = SystemMatrix::new(model, choice);
+        let nd = if saddle.is_sparse() { 0 } else { nu };
         let frames = model.frame_buffers();
         let tangent_scratch = model
             .bodies
@@ -171,10 +180,10 @@ impl Workspace {
                 } else {
                     Vec::new()
                 },
-                mass: Mat::zeros(nu, nu),
+                mass: Mat::zeros(nd, nd),
                 h: v(nu),
-                dh_dq: Mat::zeros(nu, nu),
-                dh_du: Mat::zeros(nu, nu),
+                dh_dq: Mat::zeros(nd, nd),
+                dh_du: Mat::zeros(nd, nd),
                 g: v(nc),
                 g_jac: Mat::zeros(nc, nu),
                 g_t: v(nc),
@@ -196,9 +205,9 @@ impl Workspace {
                 stages: std::array::from_fn(|_| v(nq + nu)),
                 y: [v(nq + nu), v(nq + nu)],
             },
-            lu: DenseLu::new(nu + nc),
-            lu_mass: DenseLu::new(nu),
-            lu_newton: DenseLu::new(nu + nc),
+            newton_matrix: SystemMatrix::new(model, choice),
+            saddle,
+            mass_blocks: BlockMass::new(model),
             newton_matrix_h: f64::NAN,
             newton_matrix_solves: 0,
             error_scales: vec![1.0; nu],

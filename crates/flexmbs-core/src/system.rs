@@ -441,8 +441,9 @@ pub fn add_load_tangents(
 }
 
 /// Constraint values `g`, Jacobian `G`, `g_t` and acceleration bias of all joints at `t`.
-/// `frames` must be up to date. The rows of `G` are written, not accumulated
-/// ([`write_joint_jacobian`]): no separate zeroing pass over the whole `nc x nu` matrix.
+/// `frames` must be up to date. The rows of `G` are written, not accumulated, over the columns
+/// of each joint's bodies only ([`write_joint_jacobian`]); `g_jac` must be zero elsewhere (as
+/// the workspace's `G` is from its allocation on).
 pub fn assemble_constraints(
     model: &Model,
     t: f64,
@@ -468,8 +469,10 @@ pub fn assemble_constraints(
 
 /// Writes the rows `r0..r0 + rows.len()` of `G` of one joint: row `i` is
 /// `t_a^T J_T^a + r_a^T J_R^a` in the columns of the body of frame `a`, plus
-/// `t_b^T J_T^b + r_b^T J_R^b` in those of the body of frame `b` (added if it is the same body),
-/// and zero in all other columns. Column by column (contiguous Jacobian and `G` columns).
+/// `t_b^T J_T^b + r_b^T J_R^b` in those of the body of frame `b` (added if it is the same body).
+/// The other columns of these rows are not touched: they are zero from the allocation on (no
+/// one else writes `G`), so assembling costs `O(rows x owner columns)`, not `O(nc x nu)`.
+/// Column by column (contiguous Jacobian and `G` columns).
 fn write_joint_jacobian(
     model: &Model,
     joint: &crate::Joint,
@@ -488,16 +491,6 @@ fn write_joint_jacobian(
         // overlapping column blocks: zero the rows, then accumulate both sides
         for j in 0..g_jac.ncols() {
             col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
-        }
-    }
-    for (i, b) in model.bodies.iter().enumerate() {
-        if model.shared_nodes {
-            break;
-        }
-        if Some(i) != body_a && Some(i) != body_b {
-            for j in b.u_offset..b.u_offset + b.element.nu() {
-                col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
-            }
         }
     }
     // with finite row coefficients an all-zero Jacobian column gives exactly zero entries

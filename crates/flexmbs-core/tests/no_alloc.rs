@@ -1,5 +1,7 @@
 //! No heap allocation inside a time step (counting global allocator; own test binary).
+mod chain;
 mod common;
+use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{Dopri5, GenAlpha, GenAlphaSettings};
 use flexmbs_core::*;
 use nalgebra::{Matrix3, Vector3};
@@ -107,6 +109,32 @@ fn ffr_steps_allocations(modified: bool) -> usize {
     n
 }
 
+/// Allocations in 20 generalized-alpha steps of `model` from `s0` with the given backend,
+/// after the workspace exists and one warm-up step.
+fn steps_allocations(model: &Model, s0: &State, choice: LinearSolver, modified: bool) -> usize {
+    use flexmbs_core::integrator::NewtonSettings;
+    let mut s = s0.clone();
+    let mut ws = Workspace::with_linear_solver(model, choice);
+    let settings = GenAlphaSettings {
+        newton: NewtonSettings {
+            modified,
+            ..NewtonSettings::default()
+        },
+        ..GenAlphaSettings::default()
+    };
+    let ga = GenAlpha::new(settings).unwrap();
+    ga.initialize(model, &mut s, &mut ws).unwrap();
+    ga.step(model, &mut s, &mut ws, 1e-3).unwrap();
+    ON.with(|c| c.set(true));
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..20 {
+        ga.step(model, &mut s, &mut ws, 1e-3).unwrap();
+    }
+    let n = ALLOCS.load(Ordering::SeqCst) - before;
+    ON.with(|c| c.set(false));
+    n
+}
+
 /// Generalized-alpha steps (joint, spring, follower force, finite-difference tangents), FFR
 /// body steps (analytic tangent, full and modified Newton) and a DOPRI5 run perform zero
 /// allocations after the workspace exists. One test function so that
@@ -146,16 +174,8 @@ fn steps_do_not_allocate() {
     let mut s = model.initial_state();
     model.set_body_pose(&mut s, b, Vector3::new(0.0, -0.5, 0.0), Matrix3::identity());
     model.set_body_pose(&mut s, q, Vector3::new(0.3, -1.0, 0.0), Matrix3::identity());
-    let mut ws = Workspace::new(&model);
-    let ga = GenAlpha::new(GenAlphaSettings::default()).unwrap();
-    ga.initialize(&model, &mut s, &mut ws).unwrap();
-    ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    for _ in 0..20 {
-        ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    }
-    let n_ga = ALLOCS.load(Ordering::SeqCst) - before;
+    let n_ga = steps_allocations(&model, &s, LinearSolver::Dense, false)
+        + steps_allocations(&model, &s, LinearSolver::Sparse, false);
 
     let mut spec = ModelSpec::new();
     let body = spec.add_body(
@@ -175,9 +195,14 @@ fn steps_do_not_allocate() {
     let n_dp = ALLOCS.load(Ordering::SeqCst) - before;
     ON.with(|c| c.set(false));
     let (n_ffr_full, n_ffr_mod) = (ffr_steps_allocations(false), ffr_steps_allocations(true));
+    let (chain, chain0) = chain::chain(4, chain::Link::Flexible, Some(LoadCoordinates::Frame));
+    let n_sparse = steps_allocations(&chain, &chain0, LinearSolver::Sparse, false)
+        + steps_allocations(&chain, &chain0, LinearSolver::Sparse, true);
     assert_eq!(
-        (n_ga, n_dp, n_ffr_full, n_ffr_mod),
-        (0, 0, 0, 0),
-        "allocations in 20 generalized-alpha steps / a DOPRI5 run / 20 FFR steps (full, modified Newton)"
+        (n_ga, n_dp, n_ffr_full, n_ffr_mod, n_sparse),
+        (0, 0, 0, 0, 0),
+        "allocations in 20 generalized-alpha steps (dense and sparse backend) / a DOPRI5 run / \
+         20 FFR steps (full, modified Newton) / 20 steps of a flexible chain with loads (sparse \
+         backend, full and modified Newton)"
     );
 }

@@ -101,6 +101,8 @@ pub struct CompiledModel {
     pub initial: State,
     /// Solver.
     pub solver: SolverConfig,
+    /// Linear-solver backend (`solver.linear_solver`).
+    pub linear_solver: flexmbs_core::algebra::LinearSolver,
     /// Output.
     pub output: OutputConfig,
     /// Bodies.
@@ -612,6 +614,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         model,
         initial,
         solver,
+        linear_solver: crate::config::linear_solver(&mf),
         output,
         bodies,
         signals,

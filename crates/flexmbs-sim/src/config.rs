@@ -243,6 +243,17 @@ pub fn time_function(
     Ok(tf)
 }
 
+/// The linear-solver backend of `solver.linear_solver` (default `auto`).
+pub(crate) fn linear_solver(mf: &ModelFile) -> flexmbs_core::algebra::LinearSolver {
+    use crate::schema::LinearSolverName as N;
+    use flexmbs_core::algebra::LinearSolver as L;
+    match mf.solver.linear_solver {
+        None | Some(N::Auto) => L::Auto,
+        Some(N::Dense) => L::Dense,
+        Some(N::Sparse) => L::Sparse,
+    }
+}
+
 pub(crate) fn solver_config(
     ctx: &Ctx,
     mf: &ModelFile,

@@ -425,7 +425,7 @@ pub fn run_model(
         statics: matches!(cm.solver, SolverConfig::Statics { .. }),
     };
     let mut s = cm.initial.clone();
-    let mut ws = Workspace::new(m);
+    let mut ws = Workspace::with_linear_solver(m, cm.linear_solver);
     let stop = opts.stop.clone();
     let result = integrate(cm, &mut s, &mut ws, &mut rec, &stop, progress);
     if let Some(e) = rec.error.take() {

@@ -85,6 +85,20 @@ pub struct SolverSpec {
     pub h_max: Option<Quantity>,
     /// Load steps (statics), default 1.
     pub load_steps: Option<usize>,
+    /// Linear-solver backend of the system matrices, default `auto`.
+    pub linear_solver: Option<LinearSolverName>,
+}
+
+/// `solver.linear_solver` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LinearSolverName {
+    /// Dense below a size threshold, sparse above.
+    Auto,
+    /// Dense LU.
+    Dense,
+    /// Sparse LU.
+    Sparse,
 }
 
 /// `[solver.adaptive]`.

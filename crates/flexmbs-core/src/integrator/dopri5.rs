@@ -1,14 +1,16 @@
 //! Explicit adaptive Dormand-Prince 5(4) for unconstrained systems.
 //!
-//! First-order form `y = (q, u)`, `y_dot = (T(q) u, M(q)^-1 h(t, q, u))`. Stages combine `q`
+//! First-order form `y = (q, u)`, `y_dot = (T(q) u, M(q)^-1 h(t, q, u))`, with `M^-1` from the
+//! per-element Cholesky factors of [`crate::algebra::BlockMass`] (refactored only where an
+//! element's mass changed). Stages combine `q`
 //! additively; after each accepted step the coordinates are normalized (unit quaternions).
 //! Error norm: RMS of `err_i / (atol + rtol max(|y_i|, |y_new_i|))`; step factor
 //! `clamp(0.9 err^(-1/5), 0.2, 5)` (Hairer, Nørsett & Wanner, Solving ODEs I, II.4).
 
 use super::stepper::{drive, Dopri5Stepper, StepAttempt};
 use super::{monitor, ControlledRun, StepStats};
+use crate::algebra::BlockMass;
 use crate::error::SolverError;
-use crate::linsolve::DenseLu;
 use crate::model::Model;
 use crate::state::{State, SystemBuffers, Workspace};
 use crate::system;
@@ -96,17 +98,15 @@ fn derivative(
     y: &[f64],
     dy: &mut [f64],
     sys: &mut SystemBuffers,
-    lu: &mut DenseLu,
+    mass: &mut BlockMass,
 ) -> Result<(), SolverError> {
     let nq = model.nq;
     let (q, u) = y.split_at(nq);
     let (dq, du) = dy.split_at_mut(nq);
     system::q_dot(model, q, u, dq);
     system::update_frames(model, q, u, &mut sys.frames);
-    system::assemble_mass(model, q, sys.mass.as_mut(), &mut sys.local);
     system::assemble_forces(model, t, q, u, 1.0, &sys.frames, &mut sys.h, &mut sys.local);
-    lu.a.copy_from(&sys.mass);
-    if !lu.factor() {
+    if mass.update(model, q).is_err() {
         return Err(SolverError::Singular {
             what: "mass",
             t,
@@ -114,7 +114,7 @@ fn derivative(
         });
     }
     du.copy_from_slice(&sys.h);
-    lu.solve_in_place(du);
+    mass.solve_in_place(du, 1);
     Ok(())
 }
 
@@ -192,7 +192,7 @@ impl Dopri5 {
             y_stage,
             &mut b.stages[0],
             &mut ws.sys,
-            &mut ws.lu_mass,
+            &mut ws.mass_blocks,
         )?;
         for i in 1..7 {
             for (k, yk) in y_stage.iter_mut().enumerate() {
@@ -206,7 +206,7 @@ impl Dopri5 {
                 y_stage,
                 &mut rest[0],
                 &mut ws.sys,
-                &mut ws.lu_mass,
+                &mut ws.mass_blocks,
             )?;
         }
         *evals += 7;

@@ -30,11 +30,9 @@
 //! `gamma = 1/2 + alpha_f - alpha_m`, `beta = 1/4 (gamma + 1/2)^2`.
 
 use super::stepper::{drive, GenAlphaStepper, StepAttempt, StepControl};
-use super::{
-    consistent_accelerations, fill_saddle_matrix, ControlledRun, NewtonSettings, StepStats,
-};
+use super::{consistent_accelerations, ControlledRun, NewtonSettings, StepStats};
+use crate::algebra::{SaddleKind, SystemMatrix};
 use crate::error::SolverError;
-use crate::linsolve::DenseLu;
 use crate::model::Model;
 use crate::state::{State, StepBuffers, SystemBuffers, Workspace};
 use crate::system;
@@ -228,7 +226,12 @@ impl GenAlpha {
         let mut residual = f64::NAN;
         for iter in 1..=nt.max_iterations + 1 {
             kinematic_update(model, p, h, s, &mut ws.step);
-            let it = newton_residual(model, t1, &mut ws.step, &mut ws.sys)
+            let saddle = if nt.modified {
+                &mut ws.newton_matrix
+            } else {
+                &mut ws.saddle
+            };
+            let it = newton_residual(model, t1, &mut ws.step, &mut ws.sys, saddle)
                 .map_err(|what| nonfinite(what, s.t, h, residual))?;
             residual = it.r_max;
             let b = &ws.step;
@@ -256,14 +259,20 @@ impl GenAlpha {
                 || diverging
                 || ws.newton_matrix_solves >= super::MODIFIED_NEWTON_MAX_REUSE;
             (last_e, last_r) = (conv.e, it.r_max);
-            let lu = if nt.modified {
-                &mut ws.lu_newton
+            let saddle = if nt.modified {
+                &mut ws.newton_matrix
             } else {
-                &mut ws.lu
+                &mut ws.saddle
             };
             if refresh {
                 ws.newton_matrix_h = f64::NAN;
-                if !factor_iteration_matrix(model, t1, beta_p, gamma_p, &ws.step, &mut ws.sys, lu) {
+                let kind = SaddleKind::Iteration {
+                    t: t1,
+                    c_u: gamma_p,
+                    c_q: beta_p,
+                };
+                let b = &ws.step;
+                if !build_and_factor(saddle, kind, model, &b.q_new, &b.u_new, &mut ws.sys) {
                     return Err(SolverError::Singular {
                         what: "iteration",
                         t: s.t,
@@ -282,7 +291,7 @@ impl GenAlpha {
             for (k, gk) in ws.sys.g.iter().enumerate() {
                 sol[nu + k] = -gk / beta_p;
             }
-            lu.solve_in_place(sol);
+            saddle.solve_in_place(sol);
             if sol.iter().any(|x| !x.is_finite()) {
                 return Err(nonfinite("Newton increment", s.t, h, residual));
             }
@@ -426,6 +435,20 @@ impl GenAlpha {
     }
 }
 
+/// Builds the iteration matrix `kind` at `(q, u)` into `saddle` and factors it; `false` if it
+/// is singular. The one place where generalized-alpha builds and factors.
+fn build_and_factor(
+    saddle: &mut SystemMatrix,
+    kind: SaddleKind,
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    sys: &mut crate::state::SystemBuffers,
+) -> bool {
+    saddle.build(kind, model, q, u, &[], sys);
+    saddle.factor()
+}
+
 /// `a_{n+1}`, `u_{n+1}` and `q_{n+1} = q_n ⊕ dv` from the current `u_dot_{n+1}` iterate.
 fn kinematic_update(model: &Model, p: &GenAlphaParams, h: f64, s: &State, b: &mut StepBuffers) {
     for i in 0..model.nu {
@@ -482,6 +505,7 @@ fn newton_residual(
     t1: f64,
     b: &mut StepBuffers,
     sys: &mut SystemBuffers,
+    saddle: &mut SystemMatrix,
 ) -> Result<IterateResidual, &'static str> {
     let nu = model.nu;
     system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
@@ -505,22 +529,15 @@ fn newton_residual(
         &mut sys.g_bias,
     );
     let r_acc = &mut b.rhs[..nu];
-    system::mass_times_vector(
-        model,
-        &b.q_new,
-        &b.u_dot_new,
-        sys.mass.as_mut(),
-        r_acc,
-        &mut sys.local,
-    );
+    saddle.mass_times_vector(model, &b.q_new, &b.u_dot_new, sys, r_acc);
     let f_scale = super::max_abs(r_acc).max(super::max_abs(&sys.h));
-    // -h_i, then G_0i lambda_0, G_1i lambda_1, ... (contiguous columns of G)
-    let mut r_max = 0.0_f64;
-    for (i, (r, h)) in r_acc.iter_mut().zip(&sys.h).enumerate() {
+    // -h, then + G^T lambda (column by column of G, rows in order)
+    for (r, h) in r_acc.iter_mut().zip(&sys.h) {
         *r -= h;
-        for (g, l) in sys.g_jac.col_as_slice(i).iter().zip(&b.lambda_new) {
-            *r += g * l;
-        }
+    }
+    saddle.add_g_transpose_times(sys, &b.lambda_new, r_acc);
+    let mut r_max = 0.0_f64;
+    for r in r_acc.iter_mut() {
         if !r.is_finite() {
             return Err("force residual");
         }
@@ -602,31 +619,6 @@ fn remaining_error(d: f64, d_prev: f64) -> f64 {
     theta / (1.0 - theta) * d
 }
 
-/// Builds the iteration matrix `S` of the module doc at the iterate in `b` (mass, tangents,
-/// constraint Jacobian already in `sys.g_jac`) and factors it into `lu`; `false` if singular.
-fn factor_iteration_matrix(
-    model: &Model,
-    t1: f64,
-    beta_p: f64,
-    gamma_p: f64,
-    b: &StepBuffers,
-    sys: &mut SystemBuffers,
-    lu: &mut DenseLu,
-) -> bool {
-    let nu = model.nu;
-    system::assemble_mass(model, &b.q_new, sys.mass.as_mut(), &mut sys.local);
-    system::assemble_tangents(model, t1, &b.q_new, &b.u_new, 1.0, sys);
-    // the iteration block M - gamma' dh/du - beta' dh/dq, written over dh/dq
-    for j in 0..nu {
-        for i in 0..nu {
-            sys.dh_dq[(i, j)] =
-                sys.mass[(i, j)] - gamma_p * sys.dh_du[(i, j)] - beta_p * sys.dh_dq[(i, j)];
-        }
-    }
-    fill_saddle_matrix(&mut lu.a, &sys.dh_dq, 1.0, &sys.g_jac);
-    lu.factor()
-}
-
 /// [`super::monitor`] right after a converged [`GenAlpha::solve_step`] and [`commit`]: the last
 /// Newton evaluation was at the committed `(t, q, u)`, so the frames and constraint buffers in
 /// `ws.sys` are current and are reused (bitwise the same values as a fresh evaluation). Energies
@@ -638,7 +630,7 @@ fn monitor_converged(
     with_energy: bool,
 ) -> (system::Energy, f64, f64) {
     let sys = &ws.sys;
-    let (g, gd) = system::constraint_drift(sys, &s.u);
+    let (g, gd) = ws.saddle.constraint_drift(sys, &s.u);
     let energy = if with_energy {
         system::energy(model, &s.q, &s.u, &sys.frames)
     } else {

@@ -21,11 +21,11 @@ pub use stepper::{
     StepperStatistics,
 };
 
+use crate::algebra::SaddleKind;
 use crate::error::SolverError;
 use crate::model::Model;
 use crate::state::{State, Workspace};
 use crate::system::{self, Energy};
-use faer::Mat;
 
 /// Monitor output of one accepted step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -128,7 +128,6 @@ pub fn consistent_accelerations(
     let (nu, nc) = (model.nu, model.nc);
     let sys = &mut ws.sys;
     system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-    system::assemble_mass(model, &s.q, sys.mass.as_mut(), &mut sys.local);
     system::assemble_forces(
         model,
         s.t,
@@ -148,20 +147,28 @@ pub fn consistent_accelerations(
         &mut sys.g_t,
         &mut sys.g_bias,
     );
-    fill_saddle_matrix(&mut ws.lu.a, &sys.mass, 1.0, &sys.g_jac);
     let rhs = &mut ws.step.rhs;
     rhs[..nu].copy_from_slice(&sys.h);
     for r in 0..nc {
         rhs[nu + r] = -sys.g_bias[r];
     }
-    if !ws.lu.factor() {
-        return Err(SolverError::Singular {
-            what: "augmented mass",
-            t: s.t,
-            h: 0.0,
-        });
+    let singular = SolverError::Singular {
+        what: "augmented mass",
+        t: s.t,
+        h: 0.0,
+    };
+    if nc == 0 && ws.saddle.is_sparse() {
+        // M u_dot = h by the block Cholesky of the mass matrix alone
+        ws.mass_blocks.update(model, &s.q).map_err(|_| singular)?;
+        ws.mass_blocks.solve_in_place(rhs, 1);
+    } else {
+        let saddle = &mut ws.saddle;
+        saddle.build(SaddleKind::AugmentedMass, model, &s.q, &s.u, &s.lambda, sys);
+        if !saddle.factor() {
+            return Err(singular);
+        }
+        saddle.solve_in_place(rhs);
     }
-    ws.lu.solve_in_place(rhs);
     if rhs.iter().any(|x| !x.is_finite()) {
         return Err(SolverError::NonFinite {
             what: "initial accelerations",
@@ -174,25 +181,6 @@ pub fn consistent_accelerations(
     s.a.copy_from_slice(&rhs[..nu]);
     s.lambda.copy_from_slice(&rhs[nu..]);
     Ok(())
-}
-
-/// Writes `[c A, G^T; G, 0]` into `out` (`A`: nu x nu, `G`: nc x nu).
-pub(crate) fn fill_saddle_matrix(out: &mut Mat<f64>, a: &Mat<f64>, c: f64, g: &Mat<f64>) {
-    let (nu, nc) = (a.nrows(), g.nrows());
-    for j in 0..nu {
-        for i in 0..nu {
-            out[(i, j)] = c * a[(i, j)];
-        }
-        for r in 0..nc {
-            out[(nu + r, j)] = g[(r, j)];
-            out[(j, nu + r)] = g[(r, j)];
-        }
-    }
-    for j in 0..nc {
-        for i in 0..nc {
-            out[(nu + i, nu + j)] = 0.0;
-        }
-    }
 }
 
 /// Energy and constraint drift of a state (updates `ws.sys` frames and constraints).
@@ -208,7 +196,7 @@ pub fn monitor(model: &Model, s: &State, ws: &mut Workspace) -> (Energy, f64, f6
         &mut sys.g_t,
         &mut sys.g_bias,
     );
-    let (g, gd) = system::constraint_drift(sys, &s.u);
+    let (g, gd) = ws.saddle.constraint_drift(sys, &s.u);
     (system::energy(model, &s.q, &s.u, &sys.frames), g, gd)
 }
 

@@ -8,7 +8,8 @@
 //! it is computed by finite differences, [`crate::system::subtract_constraint_force_tangent`]).
 
 use super::stepper::{drive, StaticsStepper, StepAttempt, StepControl, Stepper};
-use super::{fill_saddle_matrix, NewtonSettings, StepStats};
+use super::{NewtonSettings, StepStats};
+use crate::algebra::SaddleKind;
 use crate::error::SolverError;
 use crate::model::Model;
 use crate::state::{State, Workspace};
@@ -221,12 +222,9 @@ impl Statics {
             &mut sys.g_t,
             &mut sys.g_bias,
         );
-        sys.dh_du.fill(0.0);
-        for i in 0..nu {
-            sys.dh_du[(i, i)] = 1.0;
-        }
-        fill_saddle_matrix(&mut ws.lu.a, &sys.dh_du, 1.0, &sys.g_jac);
-        if !ws.lu.factor() {
+        let saddle = &mut ws.saddle;
+        saddle.build(SaddleKind::LeastSquares, model, &s.q, &s.u, &s.lambda, sys);
+        if !saddle.factor() {
             return Err(SolverError::Singular {
                 what: "constraint Jacobian (redundant constraints?)",
                 t: mu,
@@ -236,7 +234,7 @@ impl Statics {
         let rhs = &mut ws.step.rhs;
         rhs[..nu].copy_from_slice(&sys.h);
         rhs[nu..].fill(0.0);
-        ws.lu.solve_in_place(rhs);
+        saddle.solve_in_place(rhs);
         s.lambda.copy_from_slice(&rhs[nu..]);
         Ok(())
     }
@@ -306,17 +304,17 @@ impl Statics {
             if iter == nt.max_iterations {
                 break;
             }
-            system::assemble_tangents(model, t, &s.q, &s.u, mu, sys);
-            system::subtract_constraint_force_tangent(model, t, &s.q, &s.u, &s.lambda, sys);
-            fill_saddle_matrix(&mut ws.lu.a, &sys.dh_dq, -1.0, &sys.g_jac);
-            if !ws.lu.factor() {
+            let saddle = &mut ws.saddle;
+            let kind = SaddleKind::StaticTangent { t, mu };
+            saddle.build(kind, model, &s.q, &s.u, &s.lambda, sys);
+            if !saddle.factor() {
                 return Err(SolverError::Singular {
                     what: "static tangent",
                     t: mu,
                     h: mu,
                 });
             }
-            ws.lu.solve_in_place(rhs);
+            saddle.solve_in_place(rhs);
             system::integrate_positions(model, &s.q, &rhs[..nu], &mut ws.step.q_new);
             s.q.copy_from_slice(&ws.step.q_new);
             for k in 0..nc {
