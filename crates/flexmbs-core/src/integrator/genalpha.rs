@@ -286,23 +286,9 @@ impl GenAlpha {
                 }
             }
             ws.newton_matrix_solves += 1;
-            let b = &mut ws.step;
-            let sol = &mut b.rhs;
-            for (k, gk) in ws.sys.g.iter().enumerate() {
-                sol[nu + k] = -gk / beta_p;
-            }
-            saddle.solve_in_place(sol);
-            if sol.iter().any(|x| !x.is_finite()) {
-                return Err(nonfinite("Newton increment", s.t, h, residual));
-            }
             prev = (du, dl);
-            (du, dl) = (super::max_abs(&sol[..nu]), super::max_abs(&sol[nu..]));
-            for (x, d) in b.u_dot_new.iter_mut().zip(&sol[..nu]) {
-                *x += d;
-            }
-            for (l, d) in b.lambda_new.iter_mut().zip(&sol[nu..]) {
-                *l += d;
-            }
+            (du, dl) = apply_newton_increment(nu, beta_p, &ws.sys.g, saddle, &mut ws.step)
+                .ok_or_else(|| nonfinite("Newton increment", s.t, h, residual))?;
         }
         ws.newton_matrix_h = f64::NAN;
         Err(SolverError::NewtonFailed {
@@ -617,6 +603,33 @@ fn remaining_error(d: f64, d_prev: f64) -> f64 {
         return f64::INFINITY;
     }
     theta / (1.0 - theta) * d
+}
+
+/// Solves `S [du_dot; d lambda] = [-r; -g / beta']` (`-r` already in `b.rhs[..nu]`) with the
+/// factored `saddle` and adds the increment to `b.u_dot_new`, `b.lambda_new`. Returns the max norms
+/// `(|du_dot|, |d lambda|)`, `None` if the increment is not finite.
+fn apply_newton_increment(
+    nu: usize,
+    beta_p: f64,
+    g: &[f64],
+    saddle: &mut SystemMatrix,
+    b: &mut StepBuffers,
+) -> Option<(f64, f64)> {
+    let sol = &mut b.rhs;
+    for (k, gk) in g.iter().enumerate() {
+        sol[nu + k] = -gk / beta_p;
+    }
+    saddle.solve_in_place(sol);
+    if sol.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    for (x, d) in b.u_dot_new.iter_mut().zip(&sol[..nu]) {
+        *x += d;
+    }
+    for (l, d) in b.lambda_new.iter_mut().zip(&sol[nu..]) {
+        *l += d;
+    }
+    Some((super::max_abs(&sol[..nu]), super::max_abs(&sol[nu..])))
 }
 
 /// [`super::monitor`] right after a converged [`GenAlpha::solve_step`] and [`commit`]: the last
