@@ -3,6 +3,7 @@
 
 use crate::element::FrameKinematics;
 use crate::error::SolverError;
+use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::FrameWrench;
 use crate::model::{FrameOwner, Model};
@@ -33,6 +34,34 @@ impl Energy {
 /// Kinematics of every frame at `(q, u)`.
 pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKinematics]) {
     for (f, k) in model.frames.iter().zip(frames.iter_mut()) {
+        match f.owner {
+            FrameOwner::Ground => {
+                k.position = f.local.position;
+                k.rotation = f.local.rotation;
+            }
+            FrameOwner::Body(b) => {
+                let b = &model.bodies[b.0];
+                let (qb, ub) = (
+                    &q[b.q_offset..b.q_offset + b.element.nq()],
+                    &u[b.u_offset..b.u_offset + b.element.nu()],
+                );
+                b.element.frame_kinematics(qb, ub, &f.local, k);
+            }
+        }
+    }
+}
+
+/// Kinematics of the frames `ids` only at `(q, u)` (the other entries of `frames` are left as
+/// they are), as [`update_frames`] computes them. No allocation.
+pub fn update_selected_frames(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    ids: &[FrameId],
+    frames: &mut [FrameKinematics],
+) {
+    for id in ids {
+        let (f, k) = (&model.frames[id.index()], &mut frames[id.index()]);
         match f.owner {
             FrameOwner::Ground => {
                 k.position = f.local.position;
