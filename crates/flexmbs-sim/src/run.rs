@@ -237,9 +237,7 @@ impl<'a> Recorder<'a> {
         system::update_selected_frames(m, &s.q, &s.u, &self.power_frames, &mut self.frames);
         let mut power = external_power(m, s.t, &self.frames, &s.lambda).total();
         for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
-            let b = &m.bodies[id.0];
-            let q = &s.q[b.q_offset..b.q_offset + body.nq()];
-            let u = &s.u[b.u_offset..b.u_offset + body.nu()];
+            let (q, u) = (m.body_q(*id, &s.q), m.body_u(*id, &s.u));
             power += stiffening_power(body, q, u, scratch, buf);
         }
         meter.advance(s.t, power);
