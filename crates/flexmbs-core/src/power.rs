@@ -17,6 +17,7 @@
 
 use crate::element::FrameKinematics;
 use crate::ffr::{FfrBody, FfrScratch};
+use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::Load;
 use crate::model::Model;
@@ -45,8 +46,29 @@ pub fn has_external_work(model: &Model) -> bool {
     !model.loads.is_empty() || model.joints.iter().any(|j| j.prescribed.is_some())
 }
 
-/// External power at time `t` from up-to-date frame kinematics `frames`
-/// ([`crate::system::update_frames`]) and the multipliers `lambda`. No allocation.
+/// The frames [`external_power`] reads: those of the loads and of the prescribed joints
+/// (sorted, without repeats), to be updated with [`crate::system::update_selected_frames`].
+pub fn power_frames(model: &Model) -> Vec<FrameId> {
+    let mut ids: Vec<FrameId> = Vec::new();
+    for load in &model.loads {
+        match load {
+            Load::Force { frame, .. } | Load::Torque { frame, .. } => ids.push(*frame),
+            Load::SpringDamper {
+                frame_a, frame_b, ..
+            } => ids.extend([*frame_a, *frame_b]),
+        }
+    }
+    for j in model.joints.iter().filter(|j| j.prescribed.is_some()) {
+        ids.extend([j.frame_a, j.frame_b]);
+    }
+    ids.sort();
+    ids.dedup();
+    ids
+}
+
+/// External power at time `t` from up-to-date kinematics of the [`power_frames`] in `frames`
+/// ([`crate::system::update_frames`] or [`crate::system::update_selected_frames`]) and the
+/// multipliers `lambda`. No allocation.
 pub fn external_power(model: &Model, t: f64, frames: &[FrameKinematics], lambda: &[f64]) -> Power {
     let mut p = Power::default();
     for load in &model.loads {
@@ -94,7 +116,7 @@ pub fn external_power(model: &Model, t: f64, frames: &[FrameKinematics], lambda:
 }
 
 /// Some frame of a point load (to initialize the wrench buffer).
-fn frame_a_of(load: &Load) -> crate::ids::FrameId {
+fn frame_a_of(load: &Load) -> FrameId {
     match load {
         Load::Force { frame, .. } | Load::Torque { frame, .. } => *frame,
         Load::SpringDamper { frame_a, .. } => *frame_a,

@@ -51,6 +51,34 @@ pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKin
     }
 }
 
+/// Kinematics of the frames `ids` only at `(q, u)` (the other entries of `frames` are left as
+/// they are), as [`update_frames`] computes them. No allocation.
+pub fn update_selected_frames(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    ids: &[FrameId],
+    frames: &mut [FrameKinematics],
+) {
+    for id in ids {
+        let (f, k) = (&model.frames[id.index()], &mut frames[id.index()]);
+        match f.owner {
+            FrameOwner::Ground => {
+                k.position = f.local.position;
+                k.rotation = f.local.rotation;
+            }
+            FrameOwner::Body(b) => {
+                let b = &model.bodies[b.0];
+                let (qb, ub) = (
+                    &q[b.q_offset..b.q_offset + b.element.nq()],
+                    &u[b.u_offset..b.u_offset + b.element.nu()],
+                );
+                b.element.frame_kinematics(qb, ub, &f.local, k);
+            }
+        }
+    }
+}
+
 /// Global mass matrix `M(q)`. Every element overwrites its diagonal block
 /// ([`crate::Element::mass_matrix`]); only the entries outside these blocks are zeroed. With
 /// shared nodes the blocks overlap: each is computed into `local` and added.

@@ -11,8 +11,12 @@ use flexmbs_core::integrator::{
     self, Dopri5, Dopri5Stepper, GenAlpha, GenAlphaStepper, Statics, StaticsStepper, StepControl,
     StepStats, Stepper,
 };
-use flexmbs_core::power::{external_power, has_external_work, stiffening_power, WorkMeter};
-use flexmbs_core::{system, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace};
+use flexmbs_core::power::{
+    external_power, has_external_work, power_frames, stiffening_power, WorkMeter,
+};
+use flexmbs_core::{
+    system, FrameId, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace,
+};
 use flexmbs_io::results::{
     plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
     ResultsLayout, ResultsRow, ResultsWriter, RunStatus, SignalSpec,
@@ -165,6 +169,8 @@ struct Recorder<'a> {
     work: Option<WorkMeter>,
     /// Scratch and force buffer of each stiffened body (`CompiledModel::stiffened`).
     stiffening: Vec<(FfrScratch, Vec<f64>)>,
+    /// The frames the external power reads (`power::power_frames`).
+    power_frames: Vec<FrameId>,
     g_max: f64,
     g_dot_max: f64,
     last_t: f64,
@@ -233,7 +239,7 @@ impl<'a> Recorder<'a> {
             return;
         };
         let m = &self.cm.model;
-        system::update_frames(m, &s.q, &s.u, &mut self.frames);
+        system::update_selected_frames(m, &s.q, &s.u, &self.power_frames, &mut self.frames);
         let mut power = external_power(m, s.t, &self.frames, &s.lambda).total();
         for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
             let (q, u) = (m.body_q(*id, &s.q), m.body_u(*id, &s.u));
@@ -417,6 +423,7 @@ pub fn run_model(
             .iter()
             .map(|(_, b)| (FfrScratch::new(b.nf()), vec![0.0; b.nu()]))
             .collect(),
+        power_frames: power_frames(m),
         g_max: 0.0,
         g_dot_max: 0.0,
         last_t: f64::NAN,
