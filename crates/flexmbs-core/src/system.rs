@@ -47,6 +47,11 @@ pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKin
                 );
                 b.element.frame_kinematics(qb, ub, &f.local, k);
             }
+            FrameOwner::Node(n) => {
+                let n = &model.nodes[n.0];
+                let (qn, un) = (&q[n.q.clone()], &u[n.u.clone()]);
+                n.kind.frame_kinematics(qn, un, &f.local, k);
+            }
         }
     }
 }
@@ -199,8 +204,8 @@ fn add_one_load_force(
     let mut w: [FrameWrench; 2] = [(FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
     let n = load.wrenches(t, load_factor, frames, &mut w);
     for (frame, f, m) in &w[..n] {
-        if let FrameOwner::Body(b) = model.frames[frame.0].owner {
-            let off = model.bodies[b.0].u_offset;
+        if let Some(cols) = model.frame_cols(*frame).as_range() {
+            let off = cols.start;
             let k = &frames[frame.0];
             for j in 0..k.jac_t.ncols() {
                 let mut s = 0.0;
@@ -260,41 +265,76 @@ fn load_frames(load: &Load) -> ([FrameId; 2], usize) {
     }
 }
 
-/// The distinct bodies owning `frames` (ground frames have none), at most two.
-fn frame_owners(model: &Model, frames: &[FrameId]) -> ([usize; 2], usize) {
-    let mut owners = [usize::MAX; 2];
+/// The distinct owners (bodies or nodes) of `frames` (ground frames have none), at most two.
+fn frame_owners(model: &Model, frames: &[FrameId]) -> ([FrameOwner; 2], usize) {
+    let mut owners = [FrameOwner::Ground; 2];
     let mut n = 0;
     for f in frames {
-        if let FrameOwner::Body(b) = model.frames[f.0].owner {
-            if !owners[..n].contains(&b.0) {
-                owners[n] = b.0;
-                n += 1;
-            }
+        let o = model.frames[f.0].owner;
+        if o != FrameOwner::Ground && !owners[..n].contains(&o) {
+            owners[n] = o;
+            n += 1;
         }
     }
     (owners, n)
 }
 
-/// Re-evaluates the frames in `frames` owned by `body` at `(q, u)` through the kinematics-only
-/// path ([`crate::Element::frame_kinematics_only`]).
+/// Global `q` and `u` ranges of a frame owner (empty for ground).
+fn owner_ranges(
+    model: &Model,
+    owner: FrameOwner,
+) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
+    match owner {
+        FrameOwner::Ground => (0..0, 0..0),
+        FrameOwner::Body(b) => {
+            let b = &model.bodies[b.0];
+            (
+                b.q_offset..b.q_offset + b.element.nq(),
+                b.u_offset..b.u_offset + b.element.nu(),
+            )
+        }
+        FrameOwner::Node(n) => (model.nodes[n.0].q.clone(), model.nodes[n.0].u.clone()),
+    }
+}
+
+/// `q_new = q ⊕ dv` on the coordinates of `owner` (element-local `q`, `dv`, `q_new`).
+fn integrate_owner(model: &Model, owner: FrameOwner, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+    match owner {
+        FrameOwner::Ground => {}
+        FrameOwner::Body(b) => model.bodies[b.0].element.integrate_position(q, dv, q_new),
+        FrameOwner::Node(n) => model.nodes[n.0].kind.integrate(q, dv, q_new),
+    }
+}
+
+/// Re-evaluates the frames in `frames` (all of them with `all`, else those owned by `owner`) at
+/// `(q, u)` through the kinematics-only path ([`crate::Element::frame_kinematics_only`]).
 fn update_owned_frames(
     model: &Model,
-    body: usize,
+    owner: FrameOwner,
+    all: bool,
     frames: &[FrameId],
     q: &[f64],
     u: &[f64],
     out: &mut [FrameKinematics],
 ) {
-    let b = &model.bodies[body];
-    let (qb, ub) = (
-        &q[b.q_offset..b.q_offset + b.element.nq()],
-        &u[b.u_offset..b.u_offset + b.element.nu()],
-    );
     for f in frames {
         let frame = &model.frames[f.0];
-        if frame.owner == FrameOwner::Body(crate::BodyId(body)) {
-            b.element
-                .frame_kinematics_only(qb, ub, &frame.local, &mut out[f.0]);
+        if !(all || frame.owner == owner) {
+            continue;
+        }
+        let (rq, ru) = owner_ranges(model, frame.owner);
+        let (qo, uo) = (&q[rq], &u[ru]);
+        let k = &mut out[f.0];
+        match frame.owner {
+            FrameOwner::Ground => {}
+            FrameOwner::Body(b) => {
+                model.bodies[b.0]
+                    .element
+                    .frame_kinematics_only(qo, uo, &frame.local, k)
+            }
+            FrameOwner::Node(n) => model.nodes[n.0]
+                .kind
+                .frame_kinematics(qo, uo, &frame.local, k),
         }
     }
 }
@@ -324,25 +364,17 @@ fn add_local_force_tangent(
 ) {
     let (owners, n_owners) = frame_owners(model, frames);
     let owners = &owners[..n_owners];
-    let rows = |o: usize| {
-        let b = &model.bodies[o];
-        b.u_offset..b.u_offset + b.element.nu()
+    let rows = |o: FrameOwner| owner_ranges(model, o).1;
+    // owners may share coordinates (bodies on a shared node, a node frame and a body on that
+    // node): then each global column / row once, and a perturbation moves every frame
+    let overlap = n_owners == 2 && {
+        let (a, b) = (rows(owners[0]), rows(owners[1]));
+        a.start < b.end && b.start < a.end
     };
-    // with shared nodes the owners' coordinates may overlap: each global column / row once, and
-    // a perturbation moves the frames of every owner
     let covered = |k: usize, i: usize| owners[..k].iter().any(|&r| rows(r).contains(&i));
-    let refresh = |ob: usize, q: &[f64], u: &[f64], out: &mut [FrameKinematics]| {
-        if model.shared_nodes {
-            for &r in owners {
-                update_owned_frames(model, r, frames, q, u, out);
-            }
-        } else {
-            update_owned_frames(model, ob, frames, q, u, out);
-        }
-    };
     for (k, &ob) in owners.iter().enumerate() {
-        let b = &model.bodies[ob];
-        let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+        let (rq, ru) = owner_ranges(model, ob);
+        let (oq, o, nq, nu) = (rq.start, ru.start, rq.len(), ru.len());
         ws.q_pert[oq..oq + nq].copy_from_slice(&q[oq..oq + nq]);
         ws.u_pert[o..o + nu].copy_from_slice(&u[o..o + nu]);
         ws.dv_pert[o..o + nu].fill(0.0);
@@ -361,15 +393,33 @@ fn add_local_force_tangent(
                     let e = if plus { eps } else { -eps };
                     if position {
                         ws.dv_pert[o + j] = e;
-                        b.element.integrate_position(
+                        integrate_owner(
+                            model,
+                            ob,
                             &q[oq..oq + nq],
                             &ws.dv_pert[o..o + nu],
                             &mut ws.q_pert[oq..oq + nq],
                         );
-                        refresh(ob, &ws.q_pert, u, &mut ws.frames);
+                        update_owned_frames(
+                            model,
+                            ob,
+                            overlap,
+                            frames,
+                            &ws.q_pert,
+                            u,
+                            &mut ws.frames,
+                        );
                     } else {
                         ws.u_pert[o + j] = u[o + j] + e;
-                        refresh(ob, q, &ws.u_pert, &mut ws.frames);
+                        update_owned_frames(
+                            model,
+                            ob,
+                            overlap,
+                            frames,
+                            q,
+                            &ws.u_pert,
+                            &mut ws.frames,
+                        );
                     }
                     let hh = if plus {
                         &mut ws.h_plus
@@ -395,7 +445,7 @@ fn add_local_force_tangent(
                 }
             }
         }
-        refresh(ob, q, u, &mut ws.frames);
+        update_owned_frames(model, ob, overlap, frames, q, u, &mut ws.frames);
     }
 }
 
@@ -481,17 +531,21 @@ fn write_joint_jacobian(
     let n = rows.len();
     let body_of = |frame: crate::FrameId| match model.frames[frame.0].owner {
         FrameOwner::Body(b) => Some(b.0),
-        FrameOwner::Ground => None,
+        FrameOwner::Ground | FrameOwner::Node(_) => None,
     };
     let (body_a, body_b) = (body_of(joint.frame_a), body_of(joint.frame_b));
-    if model.shared_nodes {
+    let node_owned =
+        |frame: crate::FrameId| matches!(model.frames[frame.0].owner, FrameOwner::Node(_));
+    // overlapping or node-owned column blocks: zero the rows, then accumulate both sides
+    let general = model.shared_nodes || node_owned(joint.frame_a) || node_owned(joint.frame_b);
+    if general {
         // overlapping column blocks: zero the rows, then accumulate both sides
         for j in 0..g_jac.ncols() {
             col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
         }
     }
     for (i, b) in model.bodies.iter().enumerate() {
-        if model.shared_nodes {
+        if general {
             break;
         }
         if Some(i) != body_a && Some(i) != body_b {
@@ -516,9 +570,11 @@ fn write_joint_jacobian(
             body_a != body_b && !model.shared_nodes,
         ),
     ];
-    for (side, (frame, body, first)) in sides.into_iter().enumerate() {
-        let Some(b) = body else { continue };
-        let off = model.bodies[b].u_offset;
+    for (side, (frame, _, first)) in sides.into_iter().enumerate() {
+        let Some(cols) = model.frame_cols(frame).as_range() else {
+            continue;
+        };
+        let off = cols.start;
         let k = &frames[frame.0];
         for j in 0..k.jac_t.ncols() {
             let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
@@ -659,8 +715,8 @@ impl FrameForce for JointForce<'_> {
             sides[1].1 += row.r_b * *l;
         }
         for (frame, (f, m)) in [joint.frame_a, joint.frame_b].into_iter().zip(sides) {
-            if let FrameOwner::Body(b) = self.model.frames[frame.0].owner {
-                let off = self.model.bodies[b.0].u_offset;
+            if let Some(cols) = self.model.frame_cols(frame).as_range() {
+                let off = cols.start;
                 let k = &frames[frame.0];
                 for j in 0..k.jac_t.ncols() {
                     let mut s = 0.0;
