@@ -59,6 +59,7 @@ impl DofMap {
     }
 }
 
+use crate::rotation::{cardan_g, cardan_g_dot_theta_dot};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// The kind of a node: how its coordinates are parametrized and updated.
@@ -273,22 +274,6 @@ impl NodeKind {
         out.bias_acc = alpha_bias.cross(&s) + omega.cross(&omega.cross(&s));
         out.bias_ang_acc = alpha_bias;
     }
-}
-
-/// `G_dot theta_dot` for Cardan x-y-z angles.
-pub(crate) fn cardan_g_dot_theta_dot(a: f64, b: f64, td: &Vector3<f64>) -> Vector3<f64> {
-    let (sa, ca) = a.sin_cos();
-    let (sb, cb) = b.sin_cos();
-    let dg_da = Matrix3::new(0.0, 0.0, 0.0, 0.0, -sa, -ca * cb, 0.0, ca, -sa * cb);
-    let dg_db = Matrix3::new(0.0, 0.0, cb, 0.0, 0.0, sa * sb, 0.0, 0.0, -ca * sb);
-    (dg_da * td.x + dg_db * td.y) * td
-}
-
-/// Global `G(alpha, beta)` with `omega = G theta_dot` for Cardan x-y-z angles.
-pub(crate) fn cardan_g(a: f64, b: f64) -> Matrix3<f64> {
-    let (sa, ca) = a.sin_cos();
-    let (sb, cb) = b.sin_cos();
-    Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb)
 }
 
 /// A node: the owner of a block of coordinates that one or several elements reference.

@@ -9,7 +9,8 @@
 //!   Positions are updated by the exponential map `p ⊕ dv = p * exp(dv_rot / 2)`.
 
 use crate::element::{skew, Element, FrameKinematics, LocalFrame, TangentScratch};
-use crate::node::{cardan_g, cardan_g_dot_theta_dot, NodeKind};
+use crate::node::NodeKind;
+use crate::rotation::{cardan_g, cardan_g_dot_theta_dot};
 use faer::MatMut;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
