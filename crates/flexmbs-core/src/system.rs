@@ -536,21 +536,19 @@ fn write_joint_jacobian(
     let (body_a, body_b) = (body_of(joint.frame_a), body_of(joint.frame_b));
     let node_owned =
         |frame: crate::FrameId| matches!(model.frames[frame.0].owner, FrameOwner::Node(_));
-    // overlapping or node-owned column blocks: zero the rows, then accumulate both sides
+    // overlapping (shared nodes) or node-owned column blocks: zero the rows, then accumulate
+    // both sides; otherwise zero the columns of the other bodies and overwrite
     let general = model.shared_nodes || node_owned(joint.frame_a) || node_owned(joint.frame_b);
     if general {
-        // overlapping column blocks: zero the rows, then accumulate both sides
         for j in 0..g_jac.ncols() {
             col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
         }
-    }
-    for (i, b) in model.bodies.iter().enumerate() {
-        if general {
-            break;
-        }
-        if Some(i) != body_a && Some(i) != body_b {
-            for j in b.u_offset..b.u_offset + b.element.nu() {
-                col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
+    } else {
+        for (i, b) in model.bodies.iter().enumerate() {
+            if Some(i) != body_a && Some(i) != body_b {
+                for j in b.u_offset..b.u_offset + b.element.nu() {
+                    col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
+                }
             }
         }
     }
@@ -563,18 +561,15 @@ fn write_joint_jacobian(
         .sum();
     let finite = coefficient_sum.is_finite();
     let sides = [
-        (joint.frame_a, body_a, !model.shared_nodes),
-        (
-            joint.frame_b,
-            body_b,
-            body_a != body_b && !model.shared_nodes,
-        ),
+        (joint.frame_a, !general),
+        (joint.frame_b, body_a != body_b && !general),
     ];
-    for (side, (frame, _, first)) in sides.into_iter().enumerate() {
-        let Some(cols) = model.frame_cols(frame).as_range() else {
-            continue;
+    for (side, (frame, first)) in sides.into_iter().enumerate() {
+        let off = match model.frames[frame.0].owner {
+            FrameOwner::Body(b) => model.bodies[b.0].u_offset,
+            FrameOwner::Node(nd) => model.nodes[nd.0].u.start,
+            FrameOwner::Ground => continue,
         };
-        let off = cols.start;
         let k = &frames[frame.0];
         for j in 0..k.jac_t.ncols() {
             let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));

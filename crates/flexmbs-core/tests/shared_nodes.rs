@@ -402,3 +402,70 @@ fn node_owned_frame_equals_body_frame() {
     let err = spec.compile().unwrap_err().to_string();
     assert!(err.contains("carries no frames"), "{err}");
 }
+
+/// Constraint Jacobian rows between frames whose owners share coordinates (a node-owned frame and
+/// a body frame on the same node, two bodies sharing a node) equal central differences of the
+/// constraint values along `q ⊕ dv`.
+#[test]
+fn constraint_jacobian_with_shared_owners_matches_finite_differences() {
+    use flexmbs_core::system::assemble_constraints;
+    use flexmbs_core::RigidBody;
+    let mut spec = ModelSpec::new();
+    let inertia = Matrix3::from_diagonal(&Vector3::new(0.1, 0.2, 0.3));
+    let node = spec.add_node("n", NodeKind::Pose);
+    let a = spec.add_body_on(
+        "a",
+        RigidBody::new(1.0, inertia).with_rotation(flexmbs_core::RotationParam::Quaternion),
+        &[node],
+    );
+    let c = spec.add_body("c", RigidBody::new(1.0, inertia));
+    let fn1 =
+        spec.add_node_owned_frame("n1", node, Vector3::new(0.2, 0.1, 0.0), Matrix3::identity());
+    let fa = spec.add_frame("a1", a, Vector3::new(-0.1, 0.3, 0.2), Matrix3::identity());
+    let fc = spec.add_frame("c1", c, Vector3::new(0.0, 0.1, -0.2), Matrix3::identity());
+    spec.add_joint(Joint::revolute("node-body", fn1, fa));
+    spec.add_joint(Joint::revolute("node-other", fn1, fc));
+    spec.add_joint(Joint::spherical("body-other", fa, fc));
+    let model = spec.compile().unwrap();
+    let s0 = model.initial_state();
+    let dv: Vec<f64> = (0..model.nu)
+        .map(|i| 0.4 * (i as f64 * 1.3 + 0.2).sin())
+        .collect();
+    let mut q = s0.q.clone();
+    integrate_positions(&model, &s0.q, &dv, &mut q);
+    let u = vec![0.0; model.nu];
+    let mut sys = Workspace::new(&model).sys;
+    let eval = |q: &[f64], sys: &mut flexmbs_core::state::SystemBuffers| {
+        update_frames(&model, q, &u, &mut sys.frames);
+        assemble_constraints(
+            &model,
+            0.0,
+            &sys.frames,
+            &mut sys.g,
+            sys.g_jac.as_mut(),
+            &mut sys.g_t,
+            &mut sys.g_bias,
+        );
+    };
+    eval(&q, &mut sys);
+    let g_jac = sys.g_jac.clone();
+    let (mut qp, eps) = (q.clone(), 1e-6);
+    for j in 0..model.nu {
+        let mut dvj = vec![0.0; model.nu];
+        let mut g = [vec![], vec![]];
+        for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
+            dvj[j] = sign * eps;
+            integrate_positions(&model, &q, &dvj, &mut qp);
+            eval(&qp, &mut sys);
+            g[k] = sys.g.clone();
+        }
+        for r in 0..model.nc {
+            let fd = (g[0][r] - g[1][r]) / (2.0 * eps);
+            assert!(
+                (fd - g_jac[(r, j)]).abs() < 1e-8,
+                "row {r} column {j}: {fd} vs {}",
+                g_jac[(r, j)]
+            );
+        }
+    }
+}
