@@ -273,7 +273,6 @@ pub fn finite_difference_tangents<E: Element + ?Sized>(
     }
 }
 
-/// Skew-symmetric matrix `a~` with `a~ b = a x b` (seed 000 eq. (2.29)).
-pub fn skew(a: &Vector3<f64>) -> Matrix3<f64> {
-    Matrix3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)
-}
+/// Skew-symmetric matrix `a~` with `a~ b = a x b`: the one implementation in
+/// [`crate::rotation::skew`], re-exported here for existing callers.
+pub use crate::rotation::skew;

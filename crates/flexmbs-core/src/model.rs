@@ -16,6 +16,9 @@ pub enum FrameOwner {
     Ground,
     /// A body (element) of the model.
     Body(BodyId),
+    /// A node (fixed to its pose, or a point node): rigid-offset frames without an element, e.g.
+    /// interface points shared by several bodies ([`ModelSpec::add_node_owned_frame`]).
+    Node(NodeId),
 }
 
 /// A frame: the attachment point of joints, loads and springs.
@@ -186,6 +189,24 @@ impl ModelSpec {
         self.push_frame(name, FrameOwner::Body(body), local)
     }
 
+    /// Adds a frame fixed to `node` (a `Pose`, `PoseCardan` or `Vector(3)` node) at `position`
+    /// in the node's axes, with `rotation` relative to them: its Jacobians have the node's
+    /// columns only, whichever bodies share the node.
+    pub fn add_node_owned_frame(
+        &mut self,
+        name: &str,
+        node: NodeId,
+        position: Vector3<f64>,
+        rotation: Matrix3<f64>,
+    ) -> FrameId {
+        let local = LocalFrame {
+            position,
+            rotation,
+            mesh_node: None,
+        };
+        self.push_frame(name, FrameOwner::Node(node), local)
+    }
+
     /// Adds a ground frame at a global position and orientation.
     pub fn add_ground_frame(
         &mut self,
@@ -255,14 +276,24 @@ impl ModelSpec {
                 dofs,
             });
         }
-        if let Some(n) = users.iter().position(|&c| c == 0) {
-            return Err(ModelError::InvalidBody {
-                body: nodes[n].name.clone(),
-                reason: "node used by no body (its coordinates would have no mass)".into(),
-            });
-        }
         let shared_nodes = users.iter().any(|&c| c > 1);
         for f in &self.frames {
+            if let FrameOwner::Node(n) = f.owner {
+                let node = nodes.get(n.0).ok_or_else(|| ModelError::InvalidBody {
+                    body: f.name.clone(),
+                    reason: format!("frame on {n}, which does not exist"),
+                })?;
+                if !node.kind.carries_frames() {
+                    return Err(ModelError::InvalidBody {
+                        body: node.name.clone(),
+                        reason: format!(
+                            "frame `{}`: a {:?} node carries no frames (Pose, PoseCardan or \
+                             Vector(3) do)",
+                            f.name, node.kind
+                        ),
+                    });
+                }
+            }
             if let FrameOwner::Body(b) = f.owner {
                 let body = bodies.get(b.0).ok_or(ModelError::UnknownBody {
                     frame: f.name.clone(),
@@ -279,6 +310,12 @@ impl ModelSpec {
                     }
                 }
             }
+        }
+        if let Some(n) = users.iter().position(|&c| c == 0) {
+            return Err(ModelError::InvalidBody {
+                body: nodes[n].name.clone(),
+                reason: "node used by no body (its coordinates would have no mass)".into(),
+            });
         }
         let check_frame = |item: String, id: FrameId| -> Result<FrameOwner, ModelError> {
             self.frames
@@ -371,6 +408,7 @@ impl ModelSpec {
             .map(|f| match f.owner {
                 FrameOwner::Ground => DofMap::Contiguous(0..0),
                 FrameOwner::Body(b) => bodies[b.0].dofs.u.clone(),
+                FrameOwner::Node(n) => DofMap::Contiguous(nodes[n.0].u.clone()),
             })
             .collect();
         Ok(Model {
@@ -635,6 +673,12 @@ impl Model {
                     &f.local,
                     &mut k,
                 );
+                Some(k)
+            }
+            FrameOwner::Node(n) => {
+                let n = self.nodes.get(n.0)?;
+                let (q, u) = (&s.q[n.q.clone()], &s.u[n.u.clone()]);
+                n.kind.frame_kinematics(q, u, &f.local, &mut k);
                 Some(k)
             }
         }

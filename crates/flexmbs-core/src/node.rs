@@ -59,6 +59,7 @@ impl DofMap {
     }
 }
 
+use crate::rotation::{cardan_g, cardan_g_dot_theta_dot};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// The kind of a node: how its coordinates are parametrized and updated.
@@ -200,11 +201,79 @@ impl NodeKind {
     }
 }
 
-/// Global `G(alpha, beta)` with `omega = G theta_dot` for Cardan x-y-z angles.
-pub(crate) fn cardan_g(a: f64, b: f64) -> Matrix3<f64> {
-    let (sa, ca) = a.sin_cos();
-    let (sb, cb) = b.sin_cos();
-    Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb)
+impl NodeKind {
+    /// Can frames be fixed to a node of this kind ([`Self::frame_kinematics`])?
+    pub fn carries_frames(self) -> bool {
+        matches!(
+            self,
+            NodeKind::Pose | NodeKind::PoseCardan | NodeKind::Vector(3)
+        )
+    }
+
+    /// Rotation matrix of a pose node (identity for a point).
+    pub fn rotation(self, q: &[f64]) -> Matrix3<f64> {
+        match self {
+            NodeKind::PoseCardan => crate::rotation::cardan_matrix(&Vector3::new(q[3], q[4], q[5])),
+            NodeKind::Pose => {
+                UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]))
+                    .to_rotation_matrix()
+                    .into_inner()
+            }
+            NodeKind::Vector(_) => Matrix3::identity(),
+        }
+    }
+
+    /// Kinematics of a frame fixed to the node at `local.position` (node axes) with
+    /// `local.rotation`: `r = R + A p`, `J_T = [I, -(A p)~ J_rot]`, `J_R = [0, J_rot]` with
+    /// `J_rot = G` (Cardan, global `G`) or `A` (quaternion); a `Vector(3)` node is a point
+    /// (`J_T = I`, no rotation). Jacobians have the node's `nu` columns.
+    pub fn frame_kinematics(
+        self,
+        q: &[f64],
+        u: &[f64],
+        local: &crate::LocalFrame,
+        out: &mut crate::FrameKinematics,
+    ) {
+        out.jac_t.fill(0.0);
+        out.jac_r.fill(0.0);
+        if let NodeKind::Vector(_) = self {
+            out.position = Vector3::new(q[0], q[1], q[2]);
+            out.rotation = local.rotation;
+            out.velocity = Vector3::new(u[0], u[1], u[2]);
+            out.angular_velocity = Vector3::zeros();
+            out.bias_acc = Vector3::zeros();
+            out.bias_ang_acc = Vector3::zeros();
+            for i in 0..3 {
+                out.jac_t[(i, i)] = 1.0;
+            }
+            return;
+        }
+        let a = self.rotation(q);
+        let r = Vector3::new(q[0], q[1], q[2]);
+        let v = Vector3::new(u[0], u[1], u[2]);
+        let s = a * local.position; // global offset node origin -> frame origin
+        let w = Vector3::new(u[3], u[4], u[5]);
+        // omega = J_rot w (global), with J_rot = G (Cardan) or A (quaternion)
+        let (jrot, alpha_bias) = match self {
+            NodeKind::PoseCardan => (cardan_g(q[3], q[4]), cardan_g_dot_theta_dot(q[3], q[4], &w)),
+            _ => (a, Vector3::zeros()),
+        };
+        let omega = jrot * w;
+        out.position = r + s;
+        out.rotation = a * local.rotation;
+        out.velocity = v + omega.cross(&s);
+        out.angular_velocity = omega;
+        let jt_rot = -crate::rotation::skew(&s) * jrot;
+        for i in 0..3 {
+            out.jac_t[(i, i)] = 1.0;
+            for j in 0..3 {
+                out.jac_t[(i, 3 + j)] = jt_rot[(i, j)];
+                out.jac_r[(i, 3 + j)] = jrot[(i, j)];
+            }
+        }
+        out.bias_acc = alpha_bias.cross(&s) + omega.cross(&omega.cross(&s));
+        out.bias_ang_acc = alpha_bias;
+    }
 }
 
 /// A node: the owner of a block of coordinates that one or several elements reference.

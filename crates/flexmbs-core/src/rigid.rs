@@ -9,7 +9,8 @@
 //!   Positions are updated by the exponential map `p ⊕ dv = p * exp(dv_rot / 2)`.
 
 use crate::element::{skew, Element, FrameKinematics, LocalFrame, TangentScratch};
-use crate::node::{cardan_g, NodeKind};
+use crate::node::NodeKind;
+use crate::rotation::{cardan_g, cardan_g_dot_theta_dot};
 use faer::MatMut;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -97,15 +98,6 @@ impl RigidBody {
 /// `Rx(a) Ry(b) Rz(c)` (seed 000 eq. (2.22)); see [`crate::rotation::cardan_matrix`].
 pub fn cardan_matrix(a: f64, b: f64, c: f64) -> Matrix3<f64> {
     crate::rotation::cardan_matrix(&Vector3::new(a, b, c))
-}
-
-/// `G_dot theta_dot` for Cardan x-y-z angles.
-fn cardan_g_dot_theta_dot(a: f64, b: f64, td: &Vector3<f64>) -> Vector3<f64> {
-    let (sa, ca) = a.sin_cos();
-    let (sb, cb) = b.sin_cos();
-    let dg_da = Matrix3::new(0.0, 0.0, 0.0, 0.0, -sa, -ca * cb, 0.0, ca, -sa * cb);
-    let dg_db = Matrix3::new(0.0, 0.0, cb, 0.0, 0.0, sa * sb, 0.0, 0.0, -ca * sb);
-    (dg_da * td.x + dg_db * td.y) * td
 }
 
 fn quaternion(q: &[f64]) -> UnitQuaternion<f64> {
@@ -233,33 +225,7 @@ impl Element for RigidBody {
         frame: &LocalFrame,
         out: &mut FrameKinematics,
     ) {
-        let a = self.rotation_matrix(q);
-        let r = Vector3::new(q[0], q[1], q[2]);
-        let v = Vector3::new(u[0], u[1], u[2]);
-        let s = a * frame.position; // global offset centre of mass -> frame origin
-        let w = Vector3::new(u[3], u[4], u[5]);
-        // omega = J_rot w (global), with J_rot = G (Cardan) or A (quaternion)
-        let (jrot, alpha_bias) = match self.rotation {
-            RotationParam::Cardan => (cardan_g(q[3], q[4]), cardan_g_dot_theta_dot(q[3], q[4], &w)),
-            RotationParam::Quaternion => (a, Vector3::zeros()),
-        };
-        let omega = jrot * w;
-        out.position = r + s;
-        out.rotation = a * frame.rotation;
-        out.velocity = v + omega.cross(&s);
-        out.angular_velocity = omega;
-        let jt_rot = -skew(&s) * jrot;
-        out.jac_t.fill(0.0);
-        out.jac_r.fill(0.0);
-        for i in 0..3 {
-            out.jac_t[(i, i)] = 1.0;
-            for j in 0..3 {
-                out.jac_t[(i, 3 + j)] = jt_rot[(i, j)];
-                out.jac_r[(i, 3 + j)] = jrot[(i, j)];
-            }
-        }
-        out.bias_acc = alpha_bias.cross(&s) + omega.cross(&omega.cross(&s));
-        out.bias_ang_acc = alpha_bias;
+        self.node_kinds()[0].frame_kinematics(q, u, frame, out);
     }
     fn force_tangents(
         &self,

@@ -90,6 +90,23 @@ pub fn cardan_g_bar_dot(theta: &Vector3<f64>, theta_dot: &Vector3<f64>) -> Matri
     )
 }
 
+/// Global `G(alpha, beta)` with `omega = G theta_dot` for Cardan x-y-z angles (`G = A G_bar`,
+/// seed 000 (2.31)).
+pub fn cardan_g(a: f64, b: f64) -> Matrix3<f64> {
+    let (sa, ca) = a.sin_cos();
+    let (sb, cb) = b.sin_cos();
+    Matrix3::new(1.0, 0.0, sb, 0.0, ca, -sa * cb, 0.0, sa, ca * cb)
+}
+
+/// `G_dot theta_dot` (global `G`, see [`cardan_g`]) for Cardan x-y-z angles.
+pub fn cardan_g_dot_theta_dot(a: f64, b: f64, td: &Vector3<f64>) -> Vector3<f64> {
+    let (sa, ca) = a.sin_cos();
+    let (sb, cb) = b.sin_cos();
+    let dg_da = Matrix3::new(0.0, 0.0, 0.0, 0.0, -sa, -ca * cb, 0.0, ca, -sa * cb);
+    let dg_db = Matrix3::new(0.0, 0.0, cb, 0.0, 0.0, sa * sb, 0.0, 0.0, -ca * sb);
+    (dg_da * td.x + dg_db * td.y) * td
+}
+
 /// Checks that the Cardan angles are away from the singularity `beta = +-pi/2`:
 /// error if `|cos beta| < tolerance` (then `G_bar` (2.31) cannot be inverted).
 pub fn check_cardan(theta: &Vector3<f64>, tolerance: f64) -> Result<(), RotationError> {

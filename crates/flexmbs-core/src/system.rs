@@ -9,6 +9,9 @@ use crate::load::{FrameWrench, Load};
 use crate::model::{FrameOwner, Model};
 use crate::state::{ElementBuffers, State, SystemBuffers, Workspace};
 use faer::MatMut;
+
+mod local_tangent;
+pub use local_tangent::{add_load_tangents, subtract_constraint_force_tangent};
 use nalgebra::Vector3;
 
 /// Energies of a state (seed 000 eq. (2.43) for the kinetic part).
@@ -33,20 +36,38 @@ impl Energy {
 
 /// Kinematics of every frame at `(q, u)`.
 pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKinematics]) {
-    for (f, k) in model.frames.iter().zip(frames.iter_mut()) {
-        match f.owner {
-            FrameOwner::Ground => {
-                k.position = f.local.position;
-                k.rotation = f.local.rotation;
-            }
-            FrameOwner::Body(b) => {
-                let b = &model.bodies[b.0];
-                let (qb, ub) = (
-                    &q[b.q_offset..b.q_offset + b.element.nq()],
-                    &u[b.u_offset..b.u_offset + b.element.nu()],
-                );
-                b.element.frame_kinematics(qb, ub, &f.local, k);
-            }
+    for (i, k) in frames.iter_mut().enumerate().take(model.frames.len()) {
+        frame_kinematics_into(model, FrameId(i), q, u, k);
+    }
+}
+
+/// Kinematics of frame `id` at `(q, u)` into `k`, by its owner: ground (constant), a body's
+/// element, or a node.
+fn frame_kinematics_into(
+    model: &Model,
+    id: FrameId,
+    q: &[f64],
+    u: &[f64],
+    k: &mut FrameKinematics,
+) {
+    let f = &model.frames[id.index()];
+    match f.owner {
+        FrameOwner::Ground => {
+            k.position = f.local.position;
+            k.rotation = f.local.rotation;
+        }
+        FrameOwner::Body(b) => {
+            let b = &model.bodies[b.0];
+            let (qb, ub) = (
+                &q[b.q_offset..b.q_offset + b.element.nq()],
+                &u[b.u_offset..b.u_offset + b.element.nu()],
+            );
+            b.element.frame_kinematics(qb, ub, &f.local, k);
+        }
+        FrameOwner::Node(n) => {
+            let n = &model.nodes[n.0];
+            let (qn, un) = (&q[n.q.clone()], &u[n.u.clone()]);
+            n.kind.frame_kinematics(qn, un, &f.local, k);
         }
     }
 }
@@ -61,21 +82,7 @@ pub fn update_selected_frames(
     frames: &mut [FrameKinematics],
 ) {
     for id in ids {
-        let (f, k) = (&model.frames[id.index()], &mut frames[id.index()]);
-        match f.owner {
-            FrameOwner::Ground => {
-                k.position = f.local.position;
-                k.rotation = f.local.rotation;
-            }
-            FrameOwner::Body(b) => {
-                let b = &model.bodies[b.0];
-                let (qb, ub) = (
-                    &q[b.q_offset..b.q_offset + b.element.nq()],
-                    &u[b.u_offset..b.u_offset + b.element.nu()],
-                );
-                b.element.frame_kinematics(qb, ub, &f.local, k);
-            }
-        }
+        frame_kinematics_into(model, *id, q, u, &mut frames[id.index()]);
     }
 }
 
@@ -227,8 +234,8 @@ fn add_one_load_force(
     let mut w: [FrameWrench; 2] = [(FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
     let n = load.wrenches(t, load_factor, frames, &mut w);
     for (frame, f, m) in &w[..n] {
-        if let FrameOwner::Body(b) = model.frames[frame.0].owner {
-            let off = model.bodies[b.0].u_offset;
+        if let Some(cols) = model.frame_cols(*frame).as_range() {
+            let off = cols.start;
             let k = &frames[frame.0];
             for j in 0..k.jac_t.ncols() {
                 let mut s = 0.0;
@@ -278,196 +285,6 @@ pub fn assemble_tangents(
     add_load_tangents(model, t, q, u, load_factor, ws);
 }
 
-/// The frames a load acts on (one for point loads, two for a spring-damper).
-fn load_frames(load: &Load) -> ([FrameId; 2], usize) {
-    match load {
-        Load::Force { frame, .. } | Load::Torque { frame, .. } => ([*frame, *frame], 1),
-        Load::SpringDamper {
-            frame_a, frame_b, ..
-        } => ([*frame_a, *frame_b], 2),
-    }
-}
-
-/// The distinct bodies owning `frames` (ground frames have none), at most two.
-fn frame_owners(model: &Model, frames: &[FrameId]) -> ([usize; 2], usize) {
-    let mut owners = [usize::MAX; 2];
-    let mut n = 0;
-    for f in frames {
-        if let FrameOwner::Body(b) = model.frames[f.0].owner {
-            if !owners[..n].contains(&b.0) {
-                owners[n] = b.0;
-                n += 1;
-            }
-        }
-    }
-    (owners, n)
-}
-
-/// Re-evaluates the frames in `frames` owned by `body` at `(q, u)` through the kinematics-only
-/// path ([`crate::Element::frame_kinematics_only`]).
-fn update_owned_frames(
-    model: &Model,
-    body: usize,
-    frames: &[FrameId],
-    q: &[f64],
-    u: &[f64],
-    out: &mut [FrameKinematics],
-) {
-    let b = &model.bodies[body];
-    let (qb, ub) = (
-        &q[b.q_offset..b.q_offset + b.element.nq()],
-        &u[b.u_offset..b.u_offset + b.element.nu()],
-    );
-    for f in frames {
-        let frame = &model.frames[f.0];
-        if frame.owner == FrameOwner::Body(crate::BodyId(body)) {
-            b.element
-                .frame_kinematics_only(qb, ub, &frame.local, &mut out[f.0]);
-        }
-    }
-}
-
-/// A generalized force of some frames (one load, or one joint's constraint forces) evaluated
-/// from the frame kinematics into the rows of the frames' owners.
-trait FrameForce {
-    /// Adds the force to `h` with `frames` evaluated at the current state.
-    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]);
-}
-
-/// Central differences of a [`FrameForce`] along `q ⊕ dv` (position columns) and `u` (velocity
-/// columns) of the owners of its frames only, re-evaluating only those frames: adds
-/// `sign * d(force)/dq` to `ws.dh_dq` and, with `velocity`, `sign * d(force)/du` to `ws.dh_du`
-/// (rows and columns of the owners). Expects `ws.frames` of `frames` at `(q, u)` and leaves them
-/// there. Steps: `1e-6` for positions, `1e-6 max(1, |u_j|)` for velocities.
-#[allow(clippy::too_many_arguments)]
-fn add_local_force_tangent(
-    model: &Model,
-    q: &[f64],
-    u: &[f64],
-    frames: &[FrameId],
-    force: &dyn FrameForce,
-    sign: f64,
-    velocity: bool,
-    ws: &mut SystemBuffers,
-) {
-    let (owners, n_owners) = frame_owners(model, frames);
-    let owners = &owners[..n_owners];
-    let rows = |o: usize| {
-        let b = &model.bodies[o];
-        b.u_offset..b.u_offset + b.element.nu()
-    };
-    // with shared nodes the owners' coordinates may overlap: each global column / row once, and
-    // a perturbation moves the frames of every owner
-    let covered = |k: usize, i: usize| owners[..k].iter().any(|&r| rows(r).contains(&i));
-    let refresh = |ob: usize, q: &[f64], u: &[f64], out: &mut [FrameKinematics]| {
-        if model.shared_nodes {
-            for &r in owners {
-                update_owned_frames(model, r, frames, q, u, out);
-            }
-        } else {
-            update_owned_frames(model, ob, frames, q, u, out);
-        }
-    };
-    for (k, &ob) in owners.iter().enumerate() {
-        let b = &model.bodies[ob];
-        let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
-        ws.q_pert[oq..oq + nq].copy_from_slice(&q[oq..oq + nq]);
-        ws.u_pert[o..o + nu].copy_from_slice(&u[o..o + nu]);
-        ws.dv_pert[o..o + nu].fill(0.0);
-        for j in 0..nu {
-            if covered(k, o + j) {
-                continue;
-            }
-            let directions: &[bool] = if velocity { &[true, false] } else { &[true] };
-            for &position in directions {
-                let eps = if position {
-                    1e-6
-                } else {
-                    1e-6 * u[o + j].abs().max(1.0)
-                };
-                for plus in [true, false] {
-                    let e = if plus { eps } else { -eps };
-                    if position {
-                        ws.dv_pert[o + j] = e;
-                        b.element.integrate_position(
-                            &q[oq..oq + nq],
-                            &ws.dv_pert[o..o + nu],
-                            &mut ws.q_pert[oq..oq + nq],
-                        );
-                        refresh(ob, &ws.q_pert, u, &mut ws.frames);
-                    } else {
-                        ws.u_pert[o + j] = u[o + j] + e;
-                        refresh(ob, q, &ws.u_pert, &mut ws.frames);
-                    }
-                    let hh = if plus {
-                        &mut ws.h_plus
-                    } else {
-                        &mut ws.h_minus
-                    };
-                    for &r in owners {
-                        hh[rows(r)].fill(0.0);
-                    }
-                    force.add(&ws.frames, hh);
-                }
-                ws.dv_pert[o + j] = 0.0;
-                ws.u_pert[o + j] = u[o + j];
-                let m = if position {
-                    &mut ws.dh_dq
-                } else {
-                    &mut ws.dh_du
-                };
-                for (kr, &r) in owners.iter().enumerate() {
-                    for i in rows(r).filter(|&i| !covered(kr, i)) {
-                        m[(i, o + j)] += sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
-                    }
-                }
-            }
-        }
-        refresh(ob, q, u, &mut ws.frames);
-    }
-}
-
-/// One load as a [`FrameForce`].
-struct LoadForce<'a> {
-    model: &'a Model,
-    load: &'a Load,
-    t: f64,
-    load_factor: f64,
-}
-
-impl FrameForce for LoadForce<'_> {
-    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]) {
-        add_one_load_force(self.model, self.load, self.t, self.load_factor, frames, h);
-    }
-}
-
-/// Adds the load tangents `d(J^T w)/dq` and `d(J^T w)/du` of every load to `ws.dh_dq`, `ws.dh_du`
-/// by central differences ([`add_local_force_tangent`]): per load, only the coordinates of the
-/// owners of its frames are perturbed and only its frames re-evaluated, so the cost does not grow
-/// with the size of the rest of the model; velocity columns only for damped springs (point loads
-/// and undamped springs do not depend on `u`: their `dh_du` is exactly zero). Expects `ws.frames` at `(q, u)` and leaves them there.
-pub fn add_load_tangents(
-    model: &Model,
-    t: f64,
-    q: &[f64],
-    u: &[f64],
-    load_factor: f64,
-    ws: &mut SystemBuffers,
-) {
-    for load in &model.loads {
-        let (frames, n) = load_frames(load);
-        let force = LoadForce {
-            model,
-            load,
-            t,
-            load_factor,
-        };
-        // point loads and undamped springs do not depend on u: no velocity columns
-        let velocity = matches!(load, Load::SpringDamper { damping, .. } if *damping != 0.0);
-        add_local_force_tangent(model, q, u, &frames[..n], &force, 1.0, velocity, ws);
-    }
-}
-
 /// Constraint values `g`, Jacobian `G`, `g_t` and acceleration bias of all joints at `t`.
 /// `frames` must be up to date. The rows of `G` are written, not accumulated, over the columns
 /// of each joint's bodies only ([`write_joint_jacobian`]); `g_jac` must be zero elsewhere (as
@@ -512,11 +329,15 @@ fn write_joint_jacobian(
     let n = rows.len();
     let body_of = |frame: crate::FrameId| match model.frames[frame.0].owner {
         FrameOwner::Body(b) => Some(b.0),
-        FrameOwner::Ground => None,
+        FrameOwner::Ground | FrameOwner::Node(_) => None,
     };
     let (body_a, body_b) = (body_of(joint.frame_a), body_of(joint.frame_b));
-    if model.shared_nodes {
-        // overlapping column blocks: zero the rows, then accumulate both sides
+    let node_owned =
+        |frame: crate::FrameId| matches!(model.frames[frame.0].owner, FrameOwner::Node(_));
+    // overlapping (shared nodes) or node-owned column blocks: zero the rows, then accumulate
+    // both sides; otherwise zero the columns of the other bodies and overwrite
+    let general = model.shared_nodes || node_owned(joint.frame_a) || node_owned(joint.frame_b);
+    if general {
         for j in 0..g_jac.ncols() {
             col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
         }
@@ -530,16 +351,15 @@ fn write_joint_jacobian(
         .sum();
     let finite = coefficient_sum.is_finite();
     let sides = [
-        (joint.frame_a, body_a, !model.shared_nodes),
-        (
-            joint.frame_b,
-            body_b,
-            body_a != body_b && !model.shared_nodes,
-        ),
+        (joint.frame_a, !general),
+        (joint.frame_b, body_a != body_b && !general),
     ];
-    for (side, (frame, body, first)) in sides.into_iter().enumerate() {
-        let Some(b) = body else { continue };
-        let off = model.bodies[b].u_offset;
+    for (side, (frame, first)) in sides.into_iter().enumerate() {
+        let off = match model.frames[frame.0].owner {
+            FrameOwner::Body(b) => model.bodies[b.0].u_offset,
+            FrameOwner::Node(nd) => model.nodes[nd.0].u.start,
+            FrameOwner::Ground => continue,
+        };
         let k = &frames[frame.0];
         for j in 0..k.jac_t.ncols() {
             let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
@@ -653,70 +473,6 @@ pub fn normalize(model: &Model, q: &mut [f64]) {
     for b in &model.bodies {
         let (nq, oq) = (b.element.nq(), b.q_offset);
         b.element.normalize(&mut q[oq..oq + nq]);
-    }
-}
-
-/// The constraint forces `G_j^T lambda_j` of one joint as a [`FrameForce`].
-struct JointForce<'a> {
-    model: &'a Model,
-    joint: &'a crate::Joint,
-    t: f64,
-    lambda: &'a [f64],
-}
-
-impl FrameForce for JointForce<'_> {
-    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]) {
-        let joint = self.joint;
-        let n = joint.num_rows();
-        let mut rows = [ConstraintRow::ZERO; MAX_JOINT_ROWS];
-        let (ka, kb) = (&frames[joint.frame_a.0], &frames[joint.frame_b.0]);
-        joint_rows(joint, self.t, ka, kb, &mut rows[..n]);
-        // G^T lambda = sum_rows lambda_i (J_T^T t + J_R^T r) per side: a wrench per frame
-        let mut sides = [(Vector3::zeros(), Vector3::zeros()); 2];
-        for (row, l) in rows[..n].iter().zip(self.lambda) {
-            sides[0].0 += row.t_a * *l;
-            sides[0].1 += row.r_a * *l;
-            sides[1].0 += row.t_b * *l;
-            sides[1].1 += row.r_b * *l;
-        }
-        for (frame, (f, m)) in [joint.frame_a, joint.frame_b].into_iter().zip(sides) {
-            if let FrameOwner::Body(b) = self.model.frames[frame.0].owner {
-                let off = self.model.bodies[b.0].u_offset;
-                let k = &frames[frame.0];
-                for j in 0..k.jac_t.ncols() {
-                    let mut s = 0.0;
-                    for i in 0..3 {
-                        s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
-                    }
-                    h[off + j] += s;
-                }
-            }
-        }
-    }
-}
-
-/// Subtracts the geometric stiffness of the constraint forces, `d(G^T lambda)/dq` (along
-/// `q ⊕ dv`, central differences), from `sys.dh_dq`. Needed by statics, where the reduced
-/// stiffness of a mechanism comes from it. Per joint, only the coordinates of the owners of its
-/// two frames are perturbed and only those frames re-evaluated ([`add_local_force_tangent`]).
-/// Expects `sys.frames` at `(q, u)` and leaves them there; the constraint buffers are untouched.
-pub fn subtract_constraint_force_tangent(
-    model: &Model,
-    t: f64,
-    q: &[f64],
-    u: &[f64],
-    lambda: &[f64],
-    sys: &mut SystemBuffers,
-) {
-    for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
-        let force = JointForce {
-            model,
-            joint,
-            t,
-            lambda: &lambda[r0..r0 + joint.num_rows()],
-        };
-        let frames = [joint.frame_a, joint.frame_b];
-        add_local_force_tangent(model, q, u, &frames, &force, -1.0, false, sys);
     }
 }
 

@@ -135,6 +135,45 @@ fn steps_allocations(model: &Model, s0: &State, choice: LinearSolver, modified: 
     n
 }
 
+/// Generalized-alpha steps of two rigid bodies sharing one pose node (accumulated element blocks,
+/// node-wise position update), hinged to ground, with a damped spring to a third body.
+fn shared_node_steps_allocations() -> usize {
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, -9.81, 0.0));
+    let node = spec.add_node("shared", NodeKind::PoseCardan);
+    let inertia = Matrix3::from_diagonal(&Vector3::new(0.1, 0.2, 0.3));
+    let a = spec.add_body_on("a", RigidBody::new(1.0, inertia), &[node]);
+    spec.add_body_on("b", RigidBody::new(2.0, inertia), &[node]);
+    let c = spec.add_body("c", RigidBody::new(1.0, inertia));
+    let g = spec.add_ground_frame("g", Vector3::zeros(), Matrix3::identity());
+    let fa = spec.add_frame("fa", a, Vector3::new(0.0, 0.5, 0.0), Matrix3::identity());
+    let fc = spec.add_frame("fc", c, Vector3::zeros(), Matrix3::identity());
+    spec.add_joint(Joint::revolute("hinge", g, fa));
+    spec.add_load(Load::SpringDamper {
+        frame_a: fa,
+        frame_b: fc,
+        stiffness: 100.0,
+        damping: 1.0,
+        free_length: 0.3,
+    });
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_pose(&mut s, a, Vector3::new(0.0, -0.5, 0.0), Matrix3::identity());
+    model.set_body_pose(&mut s, c, Vector3::new(0.3, -1.0, 0.0), Matrix3::identity());
+    let mut ws = Workspace::new(&model);
+    let ga = GenAlpha::new(GenAlphaSettings::default()).unwrap();
+    ga.initialize(&model, &mut s, &mut ws).unwrap();
+    ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    ON.with(|c| c.set(true));
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..20 {
+        ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    }
+    let n = ALLOCS.load(Ordering::SeqCst) - before;
+    ON.with(|c| c.set(false));
+    n
+}
+
 /// Generalized-alpha steps (joint, spring, follower force, finite-difference tangents), FFR
 /// body steps (analytic tangent, full and modified Newton) and a DOPRI5 run perform zero
 /// allocations after the workspace exists. One test function so that
@@ -198,11 +237,12 @@ fn steps_do_not_allocate() {
     let (chain, chain0) = chain::chain(4, chain::Link::Flexible, Some(LoadCoordinates::Frame));
     let n_sparse = steps_allocations(&chain, &chain0, LinearSolver::Sparse, false)
         + steps_allocations(&chain, &chain0, LinearSolver::Sparse, true);
+    let n_shared = shared_node_steps_allocations();
     assert_eq!(
-        (n_ga, n_dp, n_ffr_full, n_ffr_mod, n_sparse),
-        (0, 0, 0, 0, 0),
+        (n_ga, n_dp, n_ffr_full, n_ffr_mod, n_sparse, n_shared),
+        (0, 0, 0, 0, 0, 0),
         "allocations in 20 generalized-alpha steps (dense and sparse backend) / a DOPRI5 run / \
          20 FFR steps (full, modified Newton) / 20 steps of a flexible chain with loads (sparse \
-         backend, full and modified Newton)"
+         backend, full and modified Newton) / 20 steps of bodies sharing a node"
     );
 }

@@ -118,7 +118,8 @@ impl CouplingBlock {
         let mut fr = Vec::new();
         for &f in frames {
             let owner = match model.frames[f.0].owner {
-                FrameOwner::Ground => None,
+                // node-owned frames never reach the sparse backend (`sparse_supported`)
+                FrameOwner::Ground | FrameOwner::Node(_) => None,
                 FrameOwner::Body(b) => {
                     let pos = cols
                         .binary_search(&model.bodies[b.0].u_offset)
@@ -313,7 +314,7 @@ impl CouplingBlock {
 /// Block position of the first column of `frame`'s owner (`None`: ground).
 fn owner_position(model: &Model, owners: &[(usize, usize)], frame: FrameId) -> Option<usize> {
     match model.frames[frame.0].owner {
-        FrameOwner::Ground => None,
+        FrameOwner::Ground | FrameOwner::Node(_) => None,
         FrameOwner::Body(b) => owners.iter().find(|o| o.0 == b.0).map(|o| o.1),
     }
 }

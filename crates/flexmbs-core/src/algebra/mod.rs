@@ -60,6 +60,17 @@ impl LinearSolver {
     }
 }
 
+/// True if the sparse backend supports `model`: every body owns its nodes and every frame is
+/// owned by ground or a body (no shared nodes, no node-owned frames). Other models use the dense
+/// backend whatever the choice.
+pub fn sparse_supported(model: &Model) -> bool {
+    !model.shared_nodes
+        && model
+            .frames
+            .iter()
+            .all(|f| !matches!(f.owner, crate::model::FrameOwner::Node(_)))
+}
+
 /// Which matrix [`SystemMatrix`] holds after a build.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SaddleKind {
@@ -106,6 +117,9 @@ impl SystemMatrix {
         let sparse = match choice {
             LinearSolver::Dense => None,
             LinearSolver::Auto if dim < SPARSE_MIN_DIM => None,
+            // the sparse pattern is built from body-owned column blocks: models with shared
+            // nodes or node-owned frames keep the dense backend (documented in docs/engine.md)
+            _ if !sparse_supported(model) => None,
             _ => {
                 let lists = ColumnLists::of_model(model);
                 let pattern = SystemPattern::new(model.nu, &lists);

@@ -1,0 +1,334 @@
+//! Local finite-difference tangents of loads and constraint forces: per load (per joint), only
+//! the coordinates of the owners of its frames are perturbed and only its frames re-evaluated
+//! (`Element::frame_kinematics_only`), so the cost does not grow with the rest of the model.
+
+use super::add_one_load_force;
+use crate::element::FrameKinematics;
+use crate::ids::FrameId;
+use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
+use crate::load::Load;
+use crate::model::{FrameOwner, Model};
+use crate::state::SystemBuffers;
+use nalgebra::Vector3;
+
+/// The frames a load acts on (one for point loads, two for a spring-damper).
+fn load_frames(load: &Load) -> ([FrameId; 2], usize) {
+    match load {
+        Load::Force { frame, .. } | Load::Torque { frame, .. } => ([*frame, *frame], 1),
+        Load::SpringDamper {
+            frame_a, frame_b, ..
+        } => ([*frame_a, *frame_b], 2),
+    }
+}
+
+/// The distinct owners (bodies or nodes) of `frames` (ground frames have none), at most two.
+fn frame_owners(model: &Model, frames: &[FrameId]) -> ([FrameOwner; 2], usize) {
+    let mut owners = [FrameOwner::Ground; 2];
+    let mut n = 0;
+    for f in frames {
+        let o = model.frames[f.0].owner;
+        if o != FrameOwner::Ground && !owners[..n].contains(&o) {
+            owners[n] = o;
+            n += 1;
+        }
+    }
+    (owners, n)
+}
+
+/// Global `q` and `u` ranges of a frame owner (empty for ground).
+fn owner_ranges(
+    model: &Model,
+    owner: FrameOwner,
+) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
+    match owner {
+        FrameOwner::Ground => (0..0, 0..0),
+        FrameOwner::Body(b) => {
+            let b = &model.bodies[b.0];
+            (
+                b.q_offset..b.q_offset + b.element.nq(),
+                b.u_offset..b.u_offset + b.element.nu(),
+            )
+        }
+        FrameOwner::Node(n) => (model.nodes[n.0].q.clone(), model.nodes[n.0].u.clone()),
+    }
+}
+
+/// `q_new = q ⊕ dv` on the coordinates of `owner` (element-local `q`, `dv`, `q_new`).
+fn integrate_owner(model: &Model, owner: FrameOwner, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+    match owner {
+        FrameOwner::Ground => {}
+        FrameOwner::Body(b) => model.bodies[b.0].element.integrate_position(q, dv, q_new),
+        FrameOwner::Node(n) => model.nodes[n.0].kind.integrate(q, dv, q_new),
+    }
+}
+
+/// Re-evaluates the frames in `frames` (all of them with `all`, else those owned by `owner`) at
+/// `(q, u)` through the kinematics-only path ([`crate::Element::frame_kinematics_only`]).
+fn update_owned_frames(
+    model: &Model,
+    owner: FrameOwner,
+    all: bool,
+    frames: &[FrameId],
+    q: &[f64],
+    u: &[f64],
+    out: &mut [FrameKinematics],
+) {
+    for f in frames {
+        let frame = &model.frames[f.0];
+        if !(all || frame.owner == owner) {
+            continue;
+        }
+        let (rq, ru) = owner_ranges(model, frame.owner);
+        let (qo, uo) = (&q[rq], &u[ru]);
+        let k = &mut out[f.0];
+        match frame.owner {
+            FrameOwner::Ground => {}
+            FrameOwner::Body(b) => {
+                model.bodies[b.0]
+                    .element
+                    .frame_kinematics_only(qo, uo, &frame.local, k)
+            }
+            FrameOwner::Node(n) => model.nodes[n.0]
+                .kind
+                .frame_kinematics(qo, uo, &frame.local, k),
+        }
+    }
+}
+
+/// A generalized force of some frames (one load, or one joint's constraint forces) evaluated
+/// from the frame kinematics into the rows of the frames' owners.
+trait FrameForce {
+    /// Adds the force to `h` with `frames` evaluated at the current state.
+    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]);
+}
+
+/// A [`FrameForce`] to differentiate locally, with the owners of its frames.
+struct LocalTangent<'a> {
+    model: &'a Model,
+    q: &'a [f64],
+    u: &'a [f64],
+    frames: &'a [FrameId],
+    force: &'a dyn FrameForce,
+    /// `+1` adds the derivative, `-1` subtracts it.
+    sign: f64,
+    /// The distinct owners of `frames`.
+    owners: &'a [FrameOwner],
+    /// The owners share coordinates (bodies on a shared node, a node frame and a body on that
+    /// node): each global column / row once, and a perturbation moves every frame.
+    overlap: bool,
+}
+
+impl LocalTangent<'_> {
+    fn rows(&self, o: FrameOwner) -> std::ops::Range<usize> {
+        owner_ranges(self.model, o).1
+    }
+
+    /// Global index `i` belongs to an owner before the `k`-th (already differentiated).
+    fn covered(&self, k: usize, i: usize) -> bool {
+        self.owners[..k].iter().any(|&r| self.rows(r).contains(&i))
+    }
+
+    /// Adds `sign` times the central difference along coordinate `j` of `owner` (position along
+    /// `q ⊕ dv`, or velocity) to the column of `ws.dh_dq` / `ws.dh_du`, rows of all owners.
+    fn add_column(&self, owner: FrameOwner, j: usize, position: bool, ws: &mut SystemBuffers) {
+        let (model, q, u, frames) = (self.model, self.q, self.u, self.frames);
+        let (rq, ru) = owner_ranges(model, owner);
+        let (oq, o, nq, nu) = (rq.start, ru.start, rq.len(), ru.len());
+        let eps = if position {
+            1e-6
+        } else {
+            1e-6 * u[o + j].abs().max(1.0)
+        };
+        for plus in [true, false] {
+            let e = if plus { eps } else { -eps };
+            if position {
+                ws.dv_pert[o + j] = e;
+                let (qo, dv) = (&q[oq..oq + nq], &ws.dv_pert[o..o + nu]);
+                integrate_owner(model, owner, qo, dv, &mut ws.q_pert[oq..oq + nq]);
+                let qp = &ws.q_pert;
+                update_owned_frames(model, owner, self.overlap, frames, qp, u, &mut ws.frames);
+            } else {
+                ws.u_pert[o + j] = u[o + j] + e;
+                let up = &ws.u_pert;
+                update_owned_frames(model, owner, self.overlap, frames, q, up, &mut ws.frames);
+            }
+            let hh = if plus {
+                &mut ws.h_plus
+            } else {
+                &mut ws.h_minus
+            };
+            for &r in self.owners {
+                hh[self.rows(r)].fill(0.0);
+            }
+            self.force.add(&ws.frames, hh);
+        }
+        ws.dv_pert[o + j] = 0.0;
+        ws.u_pert[o + j] = u[o + j];
+        let m = if position {
+            &mut ws.dh_dq
+        } else {
+            &mut ws.dh_du
+        };
+        for (kr, &r) in self.owners.iter().enumerate() {
+            for i in self.rows(r).filter(|&i| !self.covered(kr, i)) {
+                m[(i, o + j)] += self.sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
+            }
+        }
+    }
+}
+
+/// Central differences of a [`FrameForce`] along `q ⊕ dv` (position columns) and `u` (velocity
+/// columns) of the owners of its frames only, re-evaluating only those frames: adds
+/// `sign * d(force)/dq` to `ws.dh_dq` and, with `velocity`, `sign * d(force)/du` to `ws.dh_du`
+/// (rows and columns of the owners). Expects `ws.frames` of `frames` at `(q, u)` and leaves them
+/// there. Steps: `1e-6` for positions, `1e-6 max(1, |u_j|)` for velocities.
+#[allow(clippy::too_many_arguments)]
+fn add_local_force_tangent(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    frames: &[FrameId],
+    force: &dyn FrameForce,
+    sign: f64,
+    velocity: bool,
+    ws: &mut SystemBuffers,
+) {
+    let (owners, n_owners) = frame_owners(model, frames);
+    let owners = &owners[..n_owners];
+    let rows = |o: FrameOwner| owner_ranges(model, o).1;
+    let overlap = n_owners == 2 && {
+        let (a, b) = (rows(owners[0]), rows(owners[1]));
+        a.start < b.end && b.start < a.end
+    };
+    let lt = LocalTangent {
+        model,
+        q,
+        u,
+        frames,
+        force,
+        sign,
+        owners,
+        overlap,
+    };
+    for (k, &ob) in owners.iter().enumerate() {
+        let (rq, ru) = owner_ranges(model, ob);
+        ws.q_pert[rq.clone()].copy_from_slice(&q[rq]);
+        ws.u_pert[ru.clone()].copy_from_slice(&u[ru.clone()]);
+        ws.dv_pert[ru.clone()].fill(0.0);
+        for j in 0..ru.len() {
+            if lt.covered(k, ru.start + j) {
+                continue;
+            }
+            lt.add_column(ob, j, true, ws);
+            if velocity {
+                lt.add_column(ob, j, false, ws);
+            }
+        }
+        update_owned_frames(model, ob, overlap, frames, q, u, &mut ws.frames);
+    }
+}
+
+/// One load as a [`FrameForce`].
+struct LoadForce<'a> {
+    model: &'a Model,
+    load: &'a Load,
+    t: f64,
+    load_factor: f64,
+}
+
+impl FrameForce for LoadForce<'_> {
+    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]) {
+        add_one_load_force(self.model, self.load, self.t, self.load_factor, frames, h);
+    }
+}
+
+/// Adds the load tangents `d(J^T w)/dq` and `d(J^T w)/du` of every load to `ws.dh_dq`, `ws.dh_du`
+/// by central differences ([`add_local_force_tangent`]): per load, only the coordinates of the
+/// owners of its frames are perturbed and only its frames re-evaluated, so the cost does not grow
+/// with the size of the rest of the model; velocity columns only for damped springs (point loads
+/// and undamped springs do not depend on `u`: their `dh_du` is exactly zero). Expects `ws.frames` at `(q, u)` and leaves them there.
+pub fn add_load_tangents(
+    model: &Model,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    load_factor: f64,
+    ws: &mut SystemBuffers,
+) {
+    for load in &model.loads {
+        let (frames, n) = load_frames(load);
+        let force = LoadForce {
+            model,
+            load,
+            t,
+            load_factor,
+        };
+        // point loads and undamped springs do not depend on u: no velocity columns
+        let velocity = matches!(load, Load::SpringDamper { damping, .. } if *damping != 0.0);
+        add_local_force_tangent(model, q, u, &frames[..n], &force, 1.0, velocity, ws);
+    }
+}
+
+/// The constraint forces `G_j^T lambda_j` of one joint as a [`FrameForce`].
+struct JointForce<'a> {
+    model: &'a Model,
+    joint: &'a crate::Joint,
+    t: f64,
+    lambda: &'a [f64],
+}
+
+impl FrameForce for JointForce<'_> {
+    fn add(&self, frames: &[FrameKinematics], h: &mut [f64]) {
+        let joint = self.joint;
+        let n = joint.num_rows();
+        let mut rows = [ConstraintRow::ZERO; MAX_JOINT_ROWS];
+        let (ka, kb) = (&frames[joint.frame_a.0], &frames[joint.frame_b.0]);
+        joint_rows(joint, self.t, ka, kb, &mut rows[..n]);
+        // G^T lambda = sum_rows lambda_i (J_T^T t + J_R^T r) per side: a wrench per frame
+        let mut sides = [(Vector3::zeros(), Vector3::zeros()); 2];
+        for (row, l) in rows[..n].iter().zip(self.lambda) {
+            sides[0].0 += row.t_a * *l;
+            sides[0].1 += row.r_a * *l;
+            sides[1].0 += row.t_b * *l;
+            sides[1].1 += row.r_b * *l;
+        }
+        for (frame, (f, m)) in [joint.frame_a, joint.frame_b].into_iter().zip(sides) {
+            if let Some(cols) = self.model.frame_cols(frame).as_range() {
+                let off = cols.start;
+                let k = &frames[frame.0];
+                for j in 0..k.jac_t.ncols() {
+                    let mut s = 0.0;
+                    for i in 0..3 {
+                        s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
+                    }
+                    h[off + j] += s;
+                }
+            }
+        }
+    }
+}
+
+/// Subtracts the geometric stiffness of the constraint forces, `d(G^T lambda)/dq` (along
+/// `q ⊕ dv`, central differences), from `sys.dh_dq`. Needed by statics, where the reduced
+/// stiffness of a mechanism comes from it. Per joint, only the coordinates of the owners of its
+/// two frames are perturbed and only those frames re-evaluated ([`add_local_force_tangent`]).
+/// Expects `sys.frames` at `(q, u)` and leaves them there; the constraint buffers are untouched.
+pub fn subtract_constraint_force_tangent(
+    model: &Model,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    lambda: &[f64],
+    sys: &mut SystemBuffers,
+) {
+    for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
+        let force = JointForce {
+            model,
+            joint,
+            t,
+            lambda: &lambda[r0..r0 + joint.num_rows()],
+        };
+        let frames = [joint.frame_a, joint.frame_b];
+        add_local_force_tangent(model, q, u, &frames, &force, -1.0, false, sys);
+    }
+}
