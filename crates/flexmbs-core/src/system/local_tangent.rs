@@ -113,19 +113,17 @@ struct LocalTangent<'a> {
     sign: f64,
     /// The distinct owners of `frames`.
     owners: &'a [FrameOwner],
+    /// Their velocity coordinates (rows and columns).
+    rows: [std::ops::Range<usize>; 2],
     /// The owners share coordinates (bodies on a shared node, a node frame and a body on that
     /// node): each global column / row once, and a perturbation moves every frame.
     overlap: bool,
 }
 
 impl LocalTangent<'_> {
-    fn rows(&self, o: FrameOwner) -> std::ops::Range<usize> {
-        owner_ranges(self.model, o).1
-    }
-
     /// Global index `i` belongs to an owner before the `k`-th (already differentiated).
     fn covered(&self, k: usize, i: usize) -> bool {
-        self.owners[..k].iter().any(|&r| self.rows(r).contains(&i))
+        self.overlap && self.rows[..k].iter().any(|r| r.contains(&i))
     }
 
     /// Adds `sign` times the central difference along coordinate `j` of `owner` (position along
@@ -157,8 +155,8 @@ impl LocalTangent<'_> {
             } else {
                 &mut ws.h_minus
             };
-            for &r in self.owners {
-                hh[self.rows(r)].fill(0.0);
+            for r in &self.rows[..self.owners.len()] {
+                hh[r.clone()].fill(0.0);
             }
             self.force.add(&ws.frames, hh);
         }
@@ -169,8 +167,8 @@ impl LocalTangent<'_> {
         } else {
             &mut ws.dh_du
         };
-        for (kr, &r) in self.owners.iter().enumerate() {
-            for i in self.rows(r).filter(|&i| !self.covered(kr, i)) {
+        for (kr, r) in self.rows[..self.owners.len()].iter().enumerate() {
+            for i in r.clone().filter(|&i| !self.covered(kr, i)) {
                 m[(i, o + j)] += self.sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
             }
         }
@@ -195,11 +193,8 @@ fn add_local_force_tangent(
 ) {
     let (owners, n_owners) = frame_owners(model, frames);
     let owners = &owners[..n_owners];
-    let rows = |o: FrameOwner| owner_ranges(model, o).1;
-    let overlap = n_owners == 2 && {
-        let (a, b) = (rows(owners[0]), rows(owners[1]));
-        a.start < b.end && b.start < a.end
-    };
+    let rows = [0, 1].map(|k| owners.get(k).map_or(0..0, |&o| owner_ranges(model, o).1));
+    let overlap = n_owners == 2 && rows[0].start < rows[1].end && rows[1].start < rows[0].end;
     let lt = LocalTangent {
         model,
         q,
@@ -208,6 +203,7 @@ fn add_local_force_tangent(
         force,
         sign,
         owners,
+        rows,
         overlap,
     };
     for (k, &ob) in owners.iter().enumerate() {
