@@ -12,6 +12,9 @@ use faer::MatMut;
 
 mod local_tangent;
 pub use local_tangent::{add_load_tangents, subtract_constraint_force_tangent};
+pub(crate) use local_tangent::{
+    add_one_load_tangent, subtract_one_constraint_force_tangent, TangentSink,
+};
 use nalgebra::Vector3;
 
 /// Energies of a state (seed 000 eq. (2.43) for the kinetic part).

@@ -136,8 +136,9 @@ fn steps_allocations(model: &Model, s0: &State, choice: LinearSolver, modified: 
 }
 
 /// Generalized-alpha steps of two rigid bodies sharing one pose node (accumulated element blocks,
-/// node-wise position update), hinged to ground, with a damped spring to a third body.
-fn shared_node_steps_allocations() -> usize {
+/// node-wise position update), hinged to ground, with a damped spring to a third body and a
+/// force on a node-owned frame, with the given backend.
+fn shared_node_steps_allocations(choice: LinearSolver) -> usize {
     let mut spec = ModelSpec::new();
     spec.set_gravity(Vector3::new(0.0, -9.81, 0.0));
     let node = spec.add_node("shared", NodeKind::PoseCardan);
@@ -149,6 +150,19 @@ fn shared_node_steps_allocations() -> usize {
     let fa = spec.add_frame("fa", a, Vector3::new(0.0, 0.5, 0.0), Matrix3::identity());
     let fc = spec.add_frame("fc", c, Vector3::zeros(), Matrix3::identity());
     spec.add_joint(Joint::revolute("hinge", g, fa));
+    // a follower force on a node-owned frame
+    let fnode = spec.add_node_owned_frame(
+        "fn",
+        node,
+        Vector3::new(0.0, -0.3, 0.0),
+        Matrix3::identity(),
+    );
+    spec.add_load(Load::Force {
+        frame: fnode,
+        vector: Vector3::x(),
+        time: TimeFunction::Constant(0.5),
+        coordinates: LoadCoordinates::Frame,
+    });
     spec.add_load(Load::SpringDamper {
         frame_a: fa,
         frame_b: fc,
@@ -160,7 +174,7 @@ fn shared_node_steps_allocations() -> usize {
     let mut s = model.initial_state();
     model.set_body_pose(&mut s, a, Vector3::new(0.0, -0.5, 0.0), Matrix3::identity());
     model.set_body_pose(&mut s, c, Vector3::new(0.3, -1.0, 0.0), Matrix3::identity());
-    let mut ws = Workspace::new(&model);
+    let mut ws = Workspace::with_linear_solver(&model, choice);
     let ga = GenAlpha::new(GenAlphaSettings::default()).unwrap();
     ga.initialize(&model, &mut s, &mut ws).unwrap();
     ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
@@ -237,12 +251,14 @@ fn steps_do_not_allocate() {
     let (chain, chain0) = chain::chain(4, chain::Link::Flexible, Some(LoadCoordinates::Frame));
     let n_sparse = steps_allocations(&chain, &chain0, LinearSolver::Sparse, false)
         + steps_allocations(&chain, &chain0, LinearSolver::Sparse, true);
-    let n_shared = shared_node_steps_allocations();
+    let n_shared = shared_node_steps_allocations(LinearSolver::Dense)
+        + shared_node_steps_allocations(LinearSolver::Sparse);
     assert_eq!(
         (n_ga, n_dp, n_ffr_full, n_ffr_mod, n_sparse, n_shared),
         (0, 0, 0, 0, 0, 0),
         "allocations in 20 generalized-alpha steps (dense and sparse backend) / a DOPRI5 run / \
          20 FFR steps (full, modified Newton) / 20 steps of a flexible chain with loads (sparse \
-         backend, full and modified Newton) / 20 steps of bodies sharing a node"
+         backend, full and modified Newton) / 20 steps of bodies sharing a node (dense and sparse \
+         backend)"
     );
 }

@@ -1,13 +1,15 @@
-//! The mass matrix alone, factored per element block by Cholesky: `M` is block diagonal (one
-//! block per element), so `M^-1 B` for `k` right-hand sides costs one triangular pair per
-//! block and column. A block is refactored only when its element's mass changed (compared
-//! bitwise with the factored one: a rigid body in body-fixed velocities factors once).
+//! The mass matrix alone, factored per diagonal block by Cholesky: `M` is block diagonal, one
+//! block per element, or, with shared nodes, per group of elements whose coordinates overlap (the
+//! union of their contiguous ranges, the elements' matrices added), so `M^-1 B` for `k`
+//! right-hand sides costs one triangular pair per block and column. A block is refactored only
+//! when its mass changed (compared bitwise with the factored one: a rigid body in body-fixed
+//! velocities factors once).
 
 use crate::linsolve::{cholesky_in_place, cholesky_solve_in_place};
 use crate::model::Model;
 use faer::Mat;
 
-/// Per-element Cholesky factors of the mass matrix (for explicit integration, consistent
+/// Per-block Cholesky factors of the mass matrix (for explicit integration, consistent
 /// accelerations and `M^-1 W` of a velocity-level stepper).
 #[derive(Debug)]
 pub struct BlockMass {
@@ -18,24 +20,56 @@ pub struct BlockMass {
 #[derive(Debug)]
 struct MassBlock {
     offset: usize,
+    /// The bodies of the block (one unless they share nodes), with their element mass scratch
+    /// (empty for a single body: its mass is evaluated into `current` directly).
+    bodies: Vec<(usize, Mat<f64>)>,
     /// The mass matrix that `factor` belongs to (NaN: none yet).
     factored: Mat<f64>,
     /// Lower Cholesky factor.
     factor: Mat<f64>,
-    /// The element's current mass matrix.
+    /// The block's current mass matrix.
     current: Mat<f64>,
+}
+
+/// The bodies grouped by overlapping velocity ranges (each body's range is contiguous; sorted
+/// by start, a group is a run of ranges each overlapping the union of those before):
+/// `(first column, columns, bodies)` per group.
+fn overlapping_groups(model: &Model) -> Vec<(usize, usize, Vec<usize>)> {
+    let mut order: Vec<usize> = (0..model.bodies.len()).collect();
+    order.sort_by_key(|&i| model.bodies[i].u_offset);
+    let mut groups: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    for i in order {
+        let b = &model.bodies[i];
+        let (o, n) = (b.u_offset, b.element.nu());
+        match groups.last_mut() {
+            Some((start, len, members)) if o < *start + *len => {
+                *len = (*len).max(o + n - *start);
+                members.push(i);
+            }
+            _ => groups.push((o, n, vec![i])),
+        }
+    }
+    groups
 }
 
 impl BlockMass {
     /// Buffers for `model` (nothing factored yet).
     pub fn new(model: &Model) -> Self {
-        let blocks = model
-            .bodies
-            .iter()
-            .map(|b| {
-                let n = b.element.nu();
+        let blocks = overlapping_groups(model)
+            .into_iter()
+            .map(|(offset, n, members)| {
+                let scratch = |b: usize| {
+                    let m = model.bodies[b].element.nu();
+                    Mat::zeros(m, m)
+                };
+                let bodies = if members.len() == 1 {
+                    vec![(members[0], Mat::zeros(0, 0))]
+                } else {
+                    members.iter().map(|&b| (b, scratch(b))).collect()
+                };
                 MassBlock {
-                    offset: b.u_offset,
+                    offset,
+                    bodies,
                     factored: Mat::from_fn(n, n, |_, _| f64::NAN),
                     factor: Mat::zeros(n, n),
                     current: Mat::zeros(n, n),
@@ -48,13 +82,12 @@ impl BlockMass {
         }
     }
 
-    /// Evaluates every element's mass matrix at `q` and refactors the blocks that changed.
-    /// `Err(body index)` if a block is not numerically positive definite.
+    /// Evaluates every block's mass matrix at `q` and refactors the blocks that changed.
+    /// `Err(body index)` (the block's first body) if a block is not numerically positive
+    /// definite.
     pub fn update(&mut self, model: &Model, q: &[f64]) -> Result<(), usize> {
-        for (i, (b, blk)) in model.bodies.iter().zip(&mut self.blocks).enumerate() {
-            let oq = b.q_offset;
-            b.element
-                .mass_matrix(&q[oq..oq + b.element.nq()], blk.current.as_mut());
+        for blk in &mut self.blocks {
+            blk.evaluate(model, q);
             let same = (0..blk.current.ncols()).all(|j| {
                 blk.current
                     .col_as_slice(j)
@@ -70,7 +103,7 @@ impl BlockMass {
             self.refactored += 1;
             if !cholesky_in_place(&mut blk.factor) {
                 blk.factored.fill(f64::NAN);
-                return Err(i);
+                return Err(blk.bodies[0].0);
             }
         }
         Ok(())
@@ -92,5 +125,30 @@ impl BlockMass {
     /// Block factorizations done so far (a statistic: constant-mass elements factor once).
     pub fn refactorizations(&self) -> usize {
         self.refactored
+    }
+}
+
+impl MassBlock {
+    /// `current` = the block's mass at `q`: one element's matrix, or the sum of its elements'.
+    fn evaluate(&mut self, model: &Model, q: &[f64]) {
+        if let [(b, _)] = self.bodies[..] {
+            let b = &model.bodies[b];
+            let oq = b.q_offset;
+            b.element
+                .mass_matrix(&q[oq..oq + b.element.nq()], self.current.as_mut());
+            return;
+        }
+        self.current.fill(0.0);
+        for (b, m) in &mut self.bodies {
+            let b = &model.bodies[*b];
+            let (oq, o) = (b.q_offset, b.u_offset - self.offset);
+            b.element
+                .mass_matrix(&q[oq..oq + b.element.nq()], m.as_mut());
+            for j in 0..m.ncols() {
+                for i in 0..m.nrows() {
+                    self.current[(o + i, o + j)] += m[(i, j)];
+                }
+            }
+        }
     }
 }

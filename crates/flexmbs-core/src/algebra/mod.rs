@@ -4,11 +4,14 @@
 //! path, for small models) and a **sparse** backend (faer sparse LU on a fixed pattern), and a
 //! block-Cholesky factorization of the mass matrix alone ([`BlockMass`]).
 //!
-//! The sparse backend never forms a dense `nu x nu` matrix: element blocks, the load coupling
-//! blocks (finite differences over the owners of each load's frames only) and the rows of `G`
-//! are written into the compressed-column values through slot maps computed once from the
-//! [`SystemPattern`]; the symbolic LU and one numeric factorization happen in
-//! [`SystemMatrix::new`], so refactorizations and solves do not allocate.
+//! The sparse backend never forms a dense `nu x nu` matrix: element blocks, the load and joint
+//! coupling blocks (the local finite-difference tangents of [`crate::system::add_load_tangents`],
+//! the same code as the dense backend, written through a slot sink) and the rows of `G` are
+//! written into the compressed-column values through slot maps computed once from the
+//! [`SystemPattern`] (built from the model's coordinate maps: bodies on shared nodes add into the
+//! same slots, node-owned frames couple their node's columns); the symbolic LU and one numeric
+//! factorization happen in [`SystemMatrix::new`], so refactorizations and solves do not
+//! allocate.
 
 mod blocks;
 mod dense;
@@ -60,17 +63,6 @@ impl LinearSolver {
     }
 }
 
-/// True if the sparse backend supports `model`: every body owns its nodes and every frame is
-/// owned by ground or a body (no shared nodes, no node-owned frames). Other models use the dense
-/// backend whatever the choice.
-pub fn sparse_supported(model: &Model) -> bool {
-    !model.shared_nodes
-        && model
-            .frames
-            .iter()
-            .all(|f| !matches!(f.owner, crate::model::FrameOwner::Node(_)))
-}
-
 /// Which matrix [`SystemMatrix`] holds after a build.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SaddleKind {
@@ -117,9 +109,6 @@ impl SystemMatrix {
         let sparse = match choice {
             LinearSolver::Dense => None,
             LinearSolver::Auto if dim < SPARSE_MIN_DIM => None,
-            // the sparse pattern is built from body-owned column blocks: models with shared
-            // nodes or node-owned frames keep the dense backend (documented in docs/engine.md)
-            _ if !sparse_supported(model) => None,
             _ => {
                 let lists = ColumnLists::of_model(model);
                 let pattern = SystemPattern::new(model.nu, &lists);

@@ -1,8 +1,8 @@
 //! Sparsity pattern of the saddle matrix `[A, G^T; G, 0]` (`A`: nu x nu, `G`: nc x nu) and the
 //! column lists it is built from.
 
-use crate::model::{FrameOwner, Model};
-use crate::{FrameId, Load};
+use crate::model::Model;
+use crate::{BodyId, FrameId, Load};
 
 /// Compressed-column pattern (sorted row indices per column) of the `(nu + nc)` square saddle
 /// matrix `[A, G^T; G, 0]`.
@@ -37,21 +37,19 @@ pub struct ColumnLists {
 }
 
 impl ColumnLists {
-    /// The lists of a compiled model: every body owns the contiguous columns
-    /// `u_offset..u_offset + nu` (the one place that maps owners to global columns).
+    /// The lists of a compiled model, from its coordinate maps: an element's columns are
+    /// [`Model::body_dofs`]`.u`, a load's or constraint row's the union of
+    /// [`Model::frame_cols`] of its frames (a body, a node, or nothing for ground). Bodies on a
+    /// shared node have overlapping lists: their blocks add into the same pattern slots.
     pub fn of_model(model: &Model) -> Self {
-        let elements: Vec<Vec<usize>> = model
-            .bodies
-            .iter()
-            .map(|b| (b.u_offset..b.u_offset + b.element.nu()).collect())
+        let elements: Vec<Vec<usize>> = (0..model.bodies.len())
+            .map(|b| model.body_dofs(BodyId(b)).u.iter().collect())
             .collect();
         let owners = |frames: &[FrameId]| -> Vec<usize> {
-            let mut cols: Vec<usize> = Vec::new();
-            for f in frames {
-                if let FrameOwner::Body(b) = model.frames[f.0].owner {
-                    cols.extend_from_slice(&elements[b.0]);
-                }
-            }
+            let mut cols: Vec<usize> = frames
+                .iter()
+                .flat_map(|f| model.frame_cols(*f).iter())
+                .collect();
             cols.sort_unstable();
             cols.dedup();
             cols
@@ -77,7 +75,7 @@ impl ColumnLists {
 }
 
 /// The frames a load acts on.
-pub(crate) fn load_frames(load: &Load) -> Vec<FrameId> {
+fn load_frames(load: &Load) -> Vec<FrameId> {
     match load {
         Load::Force { frame, .. } | Load::Torque { frame, .. } => vec![*frame],
         Load::SpringDamper {

@@ -3,11 +3,12 @@
 //! symmetric). Symbolic analysis and a first numeric factorization (which sizes faer's factor
 //! buffers) happen in [`SparseSystem::new`]; every block is written through slot maps.
 
-use super::blocks::{CouplingBlock, ElementBlock};
+use super::blocks::{CouplingSlots, ElementBlock};
 use super::pattern::{ColumnLists, SystemPattern};
 use super::SaddleKind;
 use crate::model::Model;
 use crate::state::SystemBuffers;
+use crate::system;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::lu::{
     factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
@@ -26,8 +27,8 @@ pub(super) struct SparseSystem {
     /// Solution of the singularity probe of [`Self::factor`].
     probe: Vec<f64>,
     elements: Vec<ElementBlock>,
-    loads: Vec<CouplingBlock>,
-    joints: Vec<CouplingBlock>,
+    loads: Vec<CouplingSlots>,
+    joints: Vec<CouplingSlots>,
     /// Per constraint row `r`, entries `g_ptr[r]..g_ptr[r + 1]` of `g_entries`.
     g_ptr: Vec<usize>,
     /// `(column c, slot of (nu + r, c), slot of (c, nu + r))`.
@@ -55,26 +56,13 @@ impl SparseSystem {
             .zip(&lists.elements)
             .map(|(b, cols)| ElementBlock::new(b, p.block_slots(cols)))
             .collect();
-        let loads = lists
-            .loads
+        let coupling = |cols: &Vec<usize>| CouplingSlots::new(cols.clone(), p.block_slots(cols));
+        let loads = lists.loads.iter().map(coupling).collect();
+        let joints = model
+            .joint_rows
             .iter()
-            .zip(&model.loads)
-            .map(|(cols, load)| {
-                let frames = super::pattern::load_frames(load);
-                CouplingBlock::new(model, cols, &frames, p.block_slots(cols))
-            })
+            .map(|&r0| coupling(lists.constraint_rows.get(r0).unwrap_or(&Vec::new())))
             .collect();
-        let mut joints = Vec::with_capacity(model.joints.len());
-        for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
-            let cols = &lists.constraint_rows.get(r0).cloned().unwrap_or_default();
-            let frames = [joint.frame_a, joint.frame_b];
-            joints.push(CouplingBlock::new(
-                model,
-                cols,
-                &frames,
-                p.block_slots(cols),
-            ));
-        }
         let mut g_ptr = vec![0];
         let mut g_entries = Vec::new();
         for (r, cols) in lists.constraint_rows.iter().enumerate() {
@@ -171,9 +159,9 @@ impl SparseSystem {
                     blk.compute_tangents(b, t, q, u, &g, scratch);
                     blk.scatter(v, |m, kq, ku| m - c_u * ku - c_q * kq);
                 }
-                for (load, blk) in model.loads.iter().zip(&mut self.loads) {
-                    blk.load_tangents(model, load, t, 1.0, q, u, sys);
-                    blk.scatter(v, |kq, ku| -c_u * ku - c_q * kq);
+                for (load, blk) in model.loads.iter().zip(&self.loads) {
+                    let mut sink = blk.sink(v, -c_q, -c_u);
+                    system::add_one_load_tangent(model, load, t, q, u, 1.0, sys, &mut sink);
                 }
             }
             SaddleKind::LeastSquares => {
@@ -192,19 +180,20 @@ impl SparseSystem {
                     blk.compute_tangents(b, t, q, u, &g, scratch);
                     blk.scatter(v, |_, kq, _| -kq);
                 }
-                for (load, blk) in model.loads.iter().zip(&mut self.loads) {
-                    blk.load_tangents(model, load, t, mu, q, u, sys);
-                    blk.scatter(v, |kq, _| -kq);
+                // A = -dh/dq + d(G^T lambda)/dq: the local tangents add `-d/dq` of the loads
+                // and `-d(G^T lambda)/dq`, both enter with the factor -1
+                for (load, blk) in model.loads.iter().zip(&self.loads) {
+                    let mut sink = blk.sink(v, -1.0, 0.0);
+                    system::add_one_load_tangent(model, load, t, q, u, mu, sys, &mut sink);
                 }
-                for ((joint, &r0), blk) in model
-                    .joints
-                    .iter()
-                    .zip(&model.joint_rows)
-                    .zip(&mut self.joints)
+                for ((joint, &r0), blk) in
+                    model.joints.iter().zip(&model.joint_rows).zip(&self.joints)
                 {
                     let lam = &lambda[r0..r0 + joint.num_rows()];
-                    blk.constraint_force_tangent(model, joint, t, lam, q, u, sys);
-                    blk.scatter(v, |kq, _| kq);
+                    let mut sink = blk.sink(v, -1.0, 0.0);
+                    system::subtract_one_constraint_force_tangent(
+                        model, joint, t, q, u, lam, sys, &mut sink,
+                    );
                 }
             }
         }
@@ -260,7 +249,8 @@ impl SparseSystem {
         );
     }
 
-    /// `out = M(q) v`, element by element (the element mass blocks are the scratch).
+    /// `out = M(q) v`, element by element, accumulated (bodies on a shared node overlap; the
+    /// element mass blocks are the scratch).
     pub(super) fn mass_times_vector(
         &mut self,
         model: &Model,
@@ -268,8 +258,9 @@ impl SparseSystem {
         v: &[f64],
         out: &mut [f64],
     ) {
+        out.fill(0.0);
         for (b, blk) in model.bodies.iter().zip(&mut self.elements) {
-            blk.mass_times_vector(b, q, v, out);
+            blk.add_mass_times_vector(b, q, v, out);
         }
     }
 

@@ -1,6 +1,10 @@
 //! Local finite-difference tangents of loads and constraint forces: per load (per joint), only
 //! the coordinates of the owners of its frames are perturbed and only its frames re-evaluated
 //! (`Element::frame_kinematics_only`), so the cost does not grow with the rest of the model.
+//!
+//! The one implementation for both algebra backends: the entries go to a [`TangentSink`], the
+//! dense `ws.dh_dq` / `ws.dh_du` ([`DenseTangents`]) or the compressed-column slots of the sparse
+//! backend (`crate::algebra`).
 
 use super::add_one_load_force;
 use crate::element::FrameKinematics;
@@ -95,6 +99,27 @@ fn update_owned_frames(
     }
 }
 
+/// Target of local tangent entries: `value` is entry `(row, col)` (global velocity indices) of
+/// `d(force)/dq` (along `q ⊕ dv`), or of `d(force)/du` with `velocity`, to be added.
+pub(crate) trait TangentSink {
+    /// Adds one entry (`ws` is the workspace the tangent is computed with).
+    fn add(&mut self, ws: &mut SystemBuffers, row: usize, col: usize, velocity: bool, value: f64);
+}
+
+/// The dense target: `ws.dh_dq` and `ws.dh_du`.
+pub(crate) struct DenseTangents;
+
+impl TangentSink for DenseTangents {
+    fn add(&mut self, ws: &mut SystemBuffers, row: usize, col: usize, velocity: bool, value: f64) {
+        let m = if velocity {
+            &mut ws.dh_du
+        } else {
+            &mut ws.dh_dq
+        };
+        m[(row, col)] += value;
+    }
+}
+
 /// A generalized force of some frames (one load, or one joint's constraint forces) evaluated
 /// from the frame kinematics into the rows of the frames' owners.
 trait FrameForce {
@@ -127,8 +152,15 @@ impl LocalTangent<'_> {
     }
 
     /// Adds `sign` times the central difference along coordinate `j` of `owner` (position along
-    /// `q ⊕ dv`, or velocity) to the column of `ws.dh_dq` / `ws.dh_du`, rows of all owners.
-    fn add_column(&self, owner: FrameOwner, j: usize, position: bool, ws: &mut SystemBuffers) {
+    /// `q ⊕ dv`, or velocity) to `sink` (column of `d/dq` / `d/du`, rows of all owners).
+    fn add_column(
+        &self,
+        owner: FrameOwner,
+        j: usize,
+        position: bool,
+        ws: &mut SystemBuffers,
+        sink: &mut impl TangentSink,
+    ) {
         let (model, q, u, frames) = (self.model, self.q, self.u, self.frames);
         let (rq, ru) = owner_ranges(model, owner);
         let (oq, o, nq, nu) = (rq.start, ru.start, rq.len(), ru.len());
@@ -162,14 +194,10 @@ impl LocalTangent<'_> {
         }
         ws.dv_pert[o + j] = 0.0;
         ws.u_pert[o + j] = u[o + j];
-        let m = if position {
-            &mut ws.dh_dq
-        } else {
-            &mut ws.dh_du
-        };
         for (kr, r) in self.rows[..self.owners.len()].iter().enumerate() {
             for i in r.clone().filter(|&i| !self.covered(kr, i)) {
-                m[(i, o + j)] += self.sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
+                let value = self.sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
+                sink.add(ws, i, o + j, !position, value);
             }
         }
     }
@@ -177,8 +205,8 @@ impl LocalTangent<'_> {
 
 /// Central differences of a [`FrameForce`] along `q ⊕ dv` (position columns) and `u` (velocity
 /// columns) of the owners of its frames only, re-evaluating only those frames: adds
-/// `sign * d(force)/dq` to `ws.dh_dq` and, with `velocity`, `sign * d(force)/du` to `ws.dh_du`
-/// (rows and columns of the owners). Expects `ws.frames` of `frames` at `(q, u)` and leaves them
+/// `sign * d(force)/dq` and, with `velocity`, `sign * d(force)/du` to `sink` (rows and columns
+/// of the owners, each global entry once). Expects `ws.frames` of `frames` at `(q, u)` and leaves them
 /// there. Steps: `1e-6` for positions, `1e-6 max(1, |u_j|)` for velocities.
 #[allow(clippy::too_many_arguments)]
 fn add_local_force_tangent(
@@ -190,6 +218,7 @@ fn add_local_force_tangent(
     sign: f64,
     velocity: bool,
     ws: &mut SystemBuffers,
+    sink: &mut impl TangentSink,
 ) {
     let (owners, n_owners) = frame_owners(model, frames);
     let owners = &owners[..n_owners];
@@ -215,9 +244,9 @@ fn add_local_force_tangent(
             if lt.covered(k, ru.start + j) {
                 continue;
             }
-            lt.add_column(ob, j, true, ws);
+            lt.add_column(ob, j, true, ws, sink);
             if velocity {
-                lt.add_column(ob, j, false, ws);
+                lt.add_column(ob, j, false, ws, sink);
             }
         }
         update_owned_frames(model, ob, overlap, frames, q, u, &mut ws.frames);
@@ -252,17 +281,33 @@ pub fn add_load_tangents(
     ws: &mut SystemBuffers,
 ) {
     for load in &model.loads {
-        let (frames, n) = load_frames(load);
-        let force = LoadForce {
-            model,
-            load,
-            t,
-            load_factor,
-        };
-        // point loads and undamped springs do not depend on u: no velocity columns
-        let velocity = matches!(load, Load::SpringDamper { damping, .. } if *damping != 0.0);
-        add_local_force_tangent(model, q, u, &frames[..n], &force, 1.0, velocity, ws);
+        add_one_load_tangent(model, load, t, q, u, load_factor, ws, &mut DenseTangents);
     }
+}
+
+/// The tangents `d(J^T w)/dq`, `d(J^T w)/du` of one load (load factor `load_factor`) into
+/// `sink`, as in [`add_load_tangents`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn add_one_load_tangent(
+    model: &Model,
+    load: &Load,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    load_factor: f64,
+    ws: &mut SystemBuffers,
+    sink: &mut impl TangentSink,
+) {
+    let (frames, n) = load_frames(load);
+    let force = LoadForce {
+        model,
+        load,
+        t,
+        load_factor,
+    };
+    // point loads and undamped springs do not depend on u: no velocity columns
+    let velocity = matches!(load, Load::SpringDamper { damping, .. } if *damping != 0.0);
+    add_local_force_tangent(model, q, u, &frames[..n], &force, 1.0, velocity, ws, sink);
 }
 
 /// The constraint forces `G_j^T lambda_j` of one joint as a [`FrameForce`].
@@ -318,13 +363,39 @@ pub fn subtract_constraint_force_tangent(
     sys: &mut SystemBuffers,
 ) {
     for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
-        let force = JointForce {
+        let lambda = &lambda[r0..r0 + joint.num_rows()];
+        subtract_one_constraint_force_tangent(
             model,
             joint,
             t,
-            lambda: &lambda[r0..r0 + joint.num_rows()],
-        };
-        let frames = [joint.frame_a, joint.frame_b];
-        add_local_force_tangent(model, q, u, &frames, &force, -1.0, false, sys);
+            q,
+            u,
+            lambda,
+            sys,
+            &mut DenseTangents,
+        );
     }
+}
+
+/// `-d(G_j^T lambda_j)/dq` of one joint (`lambda`: its rows) into `sink`, as in
+/// [`subtract_constraint_force_tangent`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn subtract_one_constraint_force_tangent(
+    model: &Model,
+    joint: &crate::Joint,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    lambda: &[f64],
+    ws: &mut SystemBuffers,
+    sink: &mut impl TangentSink,
+) {
+    let force = JointForce {
+        model,
+        joint,
+        t,
+        lambda,
+    };
+    let frames = [joint.frame_a, joint.frame_b];
+    add_local_force_tangent(model, q, u, &frames, &force, -1.0, false, ws, sink);
 }
