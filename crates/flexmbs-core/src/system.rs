@@ -237,17 +237,32 @@ fn add_one_load_force(
     let mut w: [FrameWrench; 2] = [(FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
     let n = load.wrenches(t, load_factor, frames, &mut w);
     for (frame, f, m) in &w[..n] {
-        if let Some(cols) = model.frame_cols(*frame).as_range() {
-            let off = cols.start;
-            let k = &frames[frame.0];
-            for j in 0..k.jac_t.ncols() {
-                let mut s = 0.0;
-                for i in 0..3 {
-                    s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
-                }
-                h[off + j] += s;
-            }
+        add_frame_wrench(model, *frame, f, m, frames, h);
+    }
+}
+
+/// Adds the generalized force `J_T^T f + J_R^T m` of a wrench (force `f`, moment `m`, global) at
+/// `frame` to `h`, in the columns of the frame's owner (nothing for a ground frame; seed 000
+/// (2.76)).
+pub(crate) fn add_frame_wrench(
+    model: &Model,
+    frame: FrameId,
+    f: &Vector3<f64>,
+    m: &Vector3<f64>,
+    frames: &[FrameKinematics],
+    h: &mut [f64],
+) {
+    let Some(cols) = model.frame_cols(frame).as_range() else {
+        return;
+    };
+    let off = cols.start;
+    let k = &frames[frame.0];
+    for j in 0..k.jac_t.ncols() {
+        let mut s = 0.0;
+        for i in 0..3 {
+            s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
         }
+        h[off + j] += s;
     }
 }
 

@@ -6,7 +6,7 @@
 //! dense `ws.dh_dq` / `ws.dh_du` ([`DenseTangents`]) or the compressed-column slots of the sparse
 //! backend (`crate::algebra`).
 
-use super::add_one_load_force;
+use super::{add_frame_wrench, add_one_load_force};
 use crate::element::FrameKinematics;
 use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
@@ -334,17 +334,7 @@ impl FrameForce for JointForce<'_> {
             sides[1].1 += row.r_b * *l;
         }
         for (frame, (f, m)) in [joint.frame_a, joint.frame_b].into_iter().zip(sides) {
-            if let Some(cols) = self.model.frame_cols(frame).as_range() {
-                let off = cols.start;
-                let k = &frames[frame.0];
-                for j in 0..k.jac_t.ncols() {
-                    let mut s = 0.0;
-                    for i in 0..3 {
-                        s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
-                    }
-                    h[off + j] += s;
-                }
-            }
+            add_frame_wrench(self.model, frame, &f, &m, frames, h);
         }
     }
 }
