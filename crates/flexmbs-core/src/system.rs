@@ -303,6 +303,20 @@ pub fn assemble_tangents(
     add_load_tangents(model, t, q, u, load_factor, ws);
 }
 
+/// [`assemble_constraints`] into the constraint buffers of `sys` (`g`, `G`, `g_t`, bias) from its
+/// frames, which must be up to date.
+pub fn update_constraints(model: &Model, t: f64, sys: &mut SystemBuffers) {
+    assemble_constraints(
+        model,
+        t,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
+}
+
 /// Constraint values `g`, Jacobian `G`, `g_t` and acceleration bias of all joints at `t`.
 /// `frames` must be up to date. The rows of `G` are written, not accumulated, over the columns
 /// of each joint's bodies only ([`write_joint_jacobian`]); `g_jac` must be zero elsewhere (as
@@ -513,15 +527,7 @@ pub fn check_assembly(
     }
     let sys = &mut ws.sys;
     update_frames(model, &s.q, &s.u, &mut sys.frames);
-    assemble_constraints(
-        model,
-        s.t,
-        &sys.frames,
-        &mut sys.g,
-        sys.g_jac.as_mut(),
-        &mut sys.g_t,
-        &mut sys.g_bias,
-    );
+    update_constraints(model, s.t, sys);
     let u_scale = s.u.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
     for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {
         for (k, row) in joint.row_names().enumerate() {

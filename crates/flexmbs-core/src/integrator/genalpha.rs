@@ -505,15 +505,7 @@ fn newton_residual(
         &mut sys.h,
         &mut sys.local,
     );
-    system::assemble_constraints(
-        model,
-        t1,
-        &sys.frames,
-        &mut sys.g,
-        sys.g_jac.as_mut(),
-        &mut sys.g_t,
-        &mut sys.g_bias,
-    );
+    system::update_constraints(model, t1, sys);
     let r_acc = &mut b.rhs[..nu];
     saddle.mass_times_vector(model, &b.q_new, &b.u_dot_new, sys, r_acc);
     let f_scale = super::max_abs(r_acc).max(super::max_abs(&sys.h));

@@ -138,15 +138,7 @@ pub fn consistent_accelerations(
         &mut sys.h,
         &mut sys.local,
     );
-    system::assemble_constraints(
-        model,
-        s.t,
-        &sys.frames,
-        &mut sys.g,
-        sys.g_jac.as_mut(),
-        &mut sys.g_t,
-        &mut sys.g_bias,
-    );
+    system::update_constraints(model, s.t, sys);
     let rhs = &mut ws.step.rhs;
     rhs[..nu].copy_from_slice(&sys.h);
     for r in 0..nc {
@@ -187,15 +179,7 @@ pub fn consistent_accelerations(
 pub fn monitor(model: &Model, s: &State, ws: &mut Workspace) -> (Energy, f64, f64) {
     let sys = &mut ws.sys;
     system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-    system::assemble_constraints(
-        model,
-        s.t,
-        &sys.frames,
-        &mut sys.g,
-        sys.g_jac.as_mut(),
-        &mut sys.g_t,
-        &mut sys.g_bias,
-    );
+    system::update_constraints(model, s.t, sys);
     let (g, gd) = ws.saddle.constraint_drift(sys, &s.u);
     (system::energy(model, &s.q, &s.u, &sys.frames), g, gd)
 }

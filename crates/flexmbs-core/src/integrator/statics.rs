@@ -213,15 +213,7 @@ impl Statics {
             &mut sys.h,
             &mut sys.local,
         );
-        system::assemble_constraints(
-            model,
-            t,
-            &sys.frames,
-            &mut sys.g,
-            sys.g_jac.as_mut(),
-            &mut sys.g_t,
-            &mut sys.g_bias,
-        );
+        system::update_constraints(model, t, sys);
         let saddle = &mut ws.saddle;
         saddle.build(SaddleKind::LeastSquares, model, &s.q, &s.u, &s.lambda, sys);
         if !saddle.factor() {
@@ -267,15 +259,7 @@ impl Statics {
                 &mut sys.h,
                 &mut sys.local,
             );
-            system::assemble_constraints(
-                model,
-                t,
-                &sys.frames,
-                &mut sys.g,
-                sys.g_jac.as_mut(),
-                &mut sys.g_t,
-                &mut sys.g_bias,
-            );
+            system::update_constraints(model, t, sys);
             let rhs = &mut ws.step.rhs;
             for (i, ri) in rhs[..nu].iter_mut().enumerate() {
                 *ri = sys.h[i]
