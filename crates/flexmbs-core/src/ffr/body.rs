@@ -92,9 +92,6 @@ pub struct FfrScratch {
     pub m: DMatrix<f64>,
     /// Force buffer for [`FfrBody::accelerations`], n_u.
     pub rhs: DVector<f64>,
-    /// Work buffer of length 9 n_f. No longer written by [`FfrBody::update`] (formerly
-    /// `P_kl - Ī_kl` in blocks `3 k + l`; the moments now land in [`FfrScratch::p`] directly).
-    pub p_flat: DVector<f64>,
 }
 
 impl FfrScratch {
@@ -113,7 +110,6 @@ impl FfrScratch {
             p: DMatrix::zeros(9, nf),
             m: DMatrix::zeros(6 + nf, 6 + nf),
             rhs: DVector::zeros(6 + nf),
-            p_flat: DVector::zeros(9 * nf),
         }
     }
 }
