@@ -5,9 +5,7 @@ mod chain;
 mod common;
 use chain::{chain, Link};
 use flexmbs_core::algebra::{BlockMass, LinearSolver, SaddleKind, SystemMatrix};
-use flexmbs_core::integrator::{
-    GenAlpha, GenAlphaSettings, NewtonSettings, Statics, StaticsSettings,
-};
+use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, Statics, StaticsSettings};
 use flexmbs_core::linsolve::DenseLu;
 use flexmbs_core::system;
 use flexmbs_core::*;
@@ -101,34 +99,6 @@ fn sparse_and_dense_backends_solve_the_same_systems() {
     }
 }
 
-/// Positions after `steps` generalized-alpha steps of size `h` with the given backend.
-fn trajectory(
-    model: &Model,
-    s0: &State,
-    choice: LinearSolver,
-    modified: bool,
-    h: f64,
-    steps: usize,
-) -> Vec<Vec<f64>> {
-    let settings = GenAlphaSettings {
-        newton: NewtonSettings {
-            modified,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let ga = GenAlpha::new(settings).unwrap();
-    let mut s = s0.clone();
-    let mut ws = Workspace::with_linear_solver(model, choice);
-    ga.initialize(model, &mut s, &mut ws).unwrap();
-    let mut out = Vec::new();
-    for _ in 0..steps {
-        ga.step(model, &mut s, &mut ws, h).unwrap();
-        out.push(s.q.clone());
-    }
-    out
-}
-
 /// Generalized-alpha with the sparse backend follows the dense trajectory to 1e-10 (relative to
 /// the largest coordinate) on every step: the flexible chain with loads (full and modified
 /// Newton), a rigid chain, and the physical pendulum of `tests/pendulum.rs` (Cardan and
@@ -165,8 +135,8 @@ fn sparse_trajectories_equal_dense_ones() {
         all.push(("pendulum", &p.model, p.state(0.5), false, 1e-3, 500));
     }
     for (name, model, s0, modified, h, steps) in all {
-        let d = trajectory(model, &s0, LinearSolver::Dense, modified, h, steps);
-        let sp = trajectory(model, &s0, LinearSolver::Sparse, modified, h, steps);
+        let d = common::genalpha_trajectory(model, &s0, LinearSolver::Dense, modified, h, steps);
+        let sp = common::genalpha_trajectory(model, &s0, LinearSolver::Sparse, modified, h, steps);
         let worst = d
             .iter()
             .zip(&sp)

@@ -3,10 +3,9 @@
 //! trajectories; the block mass solver groups bodies that share nodes (DOPRI5 of a free body
 //! split over two elements on one node matches free fall exactly).
 
+mod common;
 use flexmbs_core::algebra::{BlockMass, LinearSolver, SystemMatrix};
-use flexmbs_core::integrator::{
-    Dopri5, Dopri5Settings, GenAlpha, GenAlphaSettings, NewtonSettings,
-};
+use flexmbs_core::integrator::{Dopri5, Dopri5Settings};
 use flexmbs_core::linsolve::DenseLu;
 use flexmbs_core::system;
 use flexmbs_core::*;
@@ -92,33 +91,6 @@ fn node_chain(k: usize) -> (Model, State) {
     (model, s)
 }
 
-/// Positions after `steps` generalized-alpha steps of size `h` with the given backend.
-fn trajectory(
-    model: &Model,
-    s0: &State,
-    choice: LinearSolver,
-    modified: bool,
-    steps: usize,
-) -> Vec<Vec<f64>> {
-    let settings = GenAlphaSettings {
-        newton: NewtonSettings {
-            modified,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let ga = GenAlpha::new(settings).unwrap();
-    let mut s = s0.clone();
-    let mut ws = Workspace::with_linear_solver(model, choice);
-    ga.initialize(model, &mut s, &mut ws).unwrap();
-    (0..steps)
-        .map(|_| {
-            ga.step(model, &mut s, &mut ws, 1e-3).unwrap();
-            s.q.clone()
-        })
-        .collect()
-}
-
 /// Generalized-alpha with the sparse backend follows the dense trajectory of the shared-node
 /// chain to 1e-10 (relative to the largest coordinate) on every step, full and modified Newton;
 /// the chain swings (the check is not on a model at rest).
@@ -127,8 +99,9 @@ fn sparse_trajectory_with_shared_nodes_and_node_frames_equals_dense() {
     let (model, s0) = node_chain(4);
     assert!(SystemMatrix::new(&model, LinearSolver::Sparse).is_sparse());
     for modified in [false, true] {
-        let d = trajectory(&model, &s0, LinearSolver::Dense, modified, 300);
-        let sp = trajectory(&model, &s0, LinearSolver::Sparse, modified, 300);
+        let d = common::genalpha_trajectory(&model, &s0, LinearSolver::Dense, modified, 1e-3, 300);
+        let sp =
+            common::genalpha_trajectory(&model, &s0, LinearSolver::Sparse, modified, 1e-3, 300);
         let worst = d
             .iter()
             .zip(&sp)

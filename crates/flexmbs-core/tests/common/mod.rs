@@ -91,3 +91,33 @@ pub fn elliptic_k(k: f64) -> f64 {
     }
     std::f64::consts::PI / (2.0 * a)
 }
+
+/// Positions after each of `steps` generalized-alpha steps of size `h` (default settings, full or
+/// modified Newton) with the linear-solver backend `choice`, from `s0`.
+pub fn genalpha_trajectory(
+    model: &Model,
+    s0: &State,
+    choice: algebra::LinearSolver,
+    modified: bool,
+    h: f64,
+    steps: usize,
+) -> Vec<Vec<f64>> {
+    use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
+    let settings = GenAlphaSettings {
+        newton: NewtonSettings {
+            modified,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let ga = GenAlpha::new(settings).unwrap();
+    let mut s = s0.clone();
+    let mut ws = Workspace::with_linear_solver(model, choice);
+    ga.initialize(model, &mut s, &mut ws).unwrap();
+    (0..steps)
+        .map(|_| {
+            ga.step(model, &mut s, &mut ws, h).unwrap();
+            s.q.clone()
+        })
+        .collect()
+}
