@@ -69,13 +69,17 @@ pub fn run(out: &Path, reduced: &ReducedBody, quiet: bool) -> Result<()> {
     for (i, (t, q)) in samples.iter().enumerate() {
         let mut points = Vec::with_capacity(body.nodes.len());
         let mut disp = Vec::with_capacity(3 * body.nodes.len());
+        let mut eval = element.new_scratch();
+        element
+            .update_kinematics(q, &zero_u, &mut eval)
+            .map_err(|e| anyhow::anyhow!("demo body cannot be evaluated at t = {t}: {e}"))?;
         for (n, x0) in body.nodes.iter().enumerate() {
             let frame = LocalFrame {
                 position: Vector3::from(*x0),
                 rotation: Matrix3::identity(),
                 mesh_node: Some(n),
             };
-            element.frame_kinematics(q, &zero_u, &frame, &mut fk);
+            element.frame_kinematics(q, &zero_u, &mut eval, &frame, &mut fk);
             points.push([fk.position[0], fk.position[1], fk.position[2]]);
             disp.extend((0..3).map(|d| fk.position[d] - x0[d]));
         }

@@ -17,7 +17,7 @@
 
 use flexmbs_core::ffr::{diagonal_inertia, FfrBody, FfrElement};
 use flexmbs_core::integrator::{monitor, GenAlpha, GenAlphaSettings};
-use flexmbs_core::system::update_frames;
+use flexmbs_core::system::evaluate;
 use flexmbs_core::{BodyId, FrameId, Joint, Model, ModelSpec, RigidBody, State, Workspace};
 use flexmbs_fe::constraint::BoundaryConditions;
 use flexmbs_fe::eigen::EigenOptions;
@@ -304,7 +304,7 @@ fn simulate(
     // Body q = [R (3), Cardan x-y-z (3), q_f]: planar motion about z, so gamma is the swing angle.
     let q = model.body_q(body, &state.q);
     summary.final_angle = q[5];
-    update_frames(model, &state.q, &state.u, &mut ws.sys.frames);
+    evaluate(model, &state.q, &state.u, &mut ws.sys).unwrap();
     summary.final_tip = ws.sys.frames[tip.index()].position;
     Ok(summary)
 }

@@ -12,14 +12,99 @@
 //! element (joints, loads, springs) sees it only through the kinematics of its frames
 //! ([`Element::frame_kinematics`]).
 //!
+//! The evaluation stage: [`Element::update`] evaluates the element once at `(q, u)` into its
+//! [`ElementScratch`] (which lives in the [`crate::Workspace`], not in the element: the model stays
+//! immutable), and the queries (mass matrix, forces, tangents, frame kinematics, energies) read
+//! that evaluated state. A query is valid only for the `(q, u)` of the last `update` of the
+//! scratch it is given (the arguments `q`, `u` must be those). A state the element cannot
+//! evaluate (singular Cardan angles, a degenerate quaternion, a failed internal solve) is an
+//! [`ElementError`].
+//!
 //! Velocity-space perturbations: a position change is always described by a velocity-space
 //! increment `dv` (length `nu`) applied with [`Element::integrate_position`], `q ⊕ dv`. For
 //! vector-space coordinates (Cardan angles, modal coordinates) `q ⊕ dv = q + T(q) dv`; for
 //! quaternions it is the exponential map. Position tangents are taken along this map:
 //! `dh_dq[:, j] = d/de h(q ⊕ e e_j)` at `e = 0` (an `nu x nu` matrix).
 
+use crate::rotation::RotationError;
 use faer::{Mat, MatMut};
 use nalgebra::{Matrix3, Vector3};
+use std::any::Any;
+use thiserror::Error;
+
+/// Why an element cannot be evaluated at a state ([`Element::update`]).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ElementError {
+    /// The rotation coordinates are singular: Cardan angles at `beta = ±90°` or a quaternion of
+    /// (nearly) zero norm.
+    #[error(transparent)]
+    Rotation(#[from] RotationError),
+    /// An iterative solve inside the element did not converge.
+    #[error("{what} did not converge: residual {residual:e} after {iterations} iterations")]
+    InternalSolve {
+        /// What was solved.
+        what: &'static str,
+        /// Last residual.
+        residual: f64,
+        /// Iterations done.
+        iterations: usize,
+    },
+    /// A coordinate vector or buffer of the wrong length.
+    #[error("{what} has length {found}, expected {expected}")]
+    Dimension {
+        /// Which vector.
+        what: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Given length.
+        found: usize,
+    },
+    /// Any other reason, in words.
+    #[error("{reason}")]
+    Other {
+        /// What went wrong.
+        reason: String,
+    },
+}
+
+/// The evaluated state of one element and its work buffers: what [`Element::update`] writes and
+/// the queries read. Created once per element by [`Element::new_scratch`] (the
+/// [`crate::Workspace`] holds one per body, plus probes for perturbed evaluations); its content
+/// is private to the element type.
+pub struct ElementScratch(Box<dyn Any + Send + Sync>);
+
+impl ElementScratch {
+    /// Wraps an element's own state type.
+    pub fn new<T: Any + Send + Sync>(state: T) -> Self {
+        Self(Box::new(state))
+    }
+
+    /// A scratch for an element that keeps no evaluated state.
+    pub fn empty() -> Self {
+        Self::new(())
+    }
+
+    /// The element's state. Panics if the scratch was created by an element of another type:
+    /// a scratch belongs to the element that created it (the workspace keeps them in body order).
+    pub fn get_mut<T: Any>(&mut self) -> &mut T {
+        self.0
+            .downcast_mut::<T>()
+            .expect("element scratch created by another element type")
+    }
+
+    /// Read access to the element's state (see [`ElementScratch::get_mut`]).
+    pub fn get<T: Any>(&self) -> &T {
+        self.0
+            .downcast_ref::<T>()
+            .expect("element scratch created by another element type")
+    }
+}
+
+impl std::fmt::Debug for ElementScratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("ElementScratch")
+    }
+}
 
 /// A frame fixed on an element, described in the element's reference frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -86,7 +171,7 @@ impl FrameKinematics {
 
 /// Scratch vectors for [`finite_difference_tangents`], sized for one element
 /// (allocated once in the [`crate::Workspace`]).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct TangentScratch {
     /// Perturbed positions (nq).
     pub q: Vec<f64>,
@@ -98,17 +183,22 @@ pub struct TangentScratch {
     pub h_plus: Vec<f64>,
     /// Forces at the minus perturbation (nu).
     pub h_minus: Vec<f64>,
+    /// The element evaluated at the perturbed states (the evaluated state of the unperturbed one
+    /// is left alone).
+    pub probe: ElementScratch,
 }
 
 impl TangentScratch {
-    /// Scratch for an element with `nq` position and `nu` velocity coordinates.
-    pub fn new(nq: usize, nu: usize) -> Self {
+    /// Scratch for `element`.
+    pub fn new<E: Element + ?Sized>(element: &E) -> Self {
+        let (nq, nu) = (element.nq(), element.nu());
         Self {
             q: vec![0.0; nq],
             u: vec![0.0; nu],
             dv: vec![0.0; nu],
             h_plus: vec![0.0; nu],
             h_minus: vec![0.0; nu],
+            probe: element.new_scratch(),
         }
     }
 }
@@ -117,7 +207,8 @@ impl TangentScratch {
 ///
 /// Slices have the element's own lengths (`q`: nq, `u`, `h`: nu); matrices are `nu x nu`
 /// views into the global matrices. Implementations must not allocate in any method called
-/// during a time step (all methods except the pose setters).
+/// during a time step (all methods except the pose setters, [`Element::new_scratch`] and
+/// [`Element::evaluated`]).
 pub trait Element: std::fmt::Debug + Send + Sync {
     /// The kinds of the nodes the element's coordinates live on, in order: its local `q` (`u`)
     /// is the concatenation of their position (velocity) coordinates, so the kinds' `nq` (`nu`)
@@ -164,8 +255,37 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     }
     /// Projects the coordinates back onto their manifold (unit quaternion); default: nothing.
     fn normalize(&self, _q: &mut [f64]) {}
+    /// A scratch for this element's evaluated state ([`ElementScratch`]); called when the
+    /// workspace is built (may allocate). Default: an empty scratch (elements that evaluate
+    /// everything from `q`, `u` in the queries).
+    fn new_scratch(&self) -> ElementScratch {
+        ElementScratch::empty()
+    }
+    /// The evaluation stage: evaluates the element at `(q, u)` into `scratch`, once per state;
+    /// the queries below read it. Err: the state cannot be evaluated (the integrators report it
+    /// with the body, the time and the cause). Default: nothing to evaluate.
+    fn update(
+        &self,
+        _q: &[f64],
+        _u: &[f64],
+        _scratch: &mut ElementScratch,
+    ) -> Result<(), ElementError> {
+        Ok(())
+    }
+    /// [`Element::update`] for callers that query only [`Element::frame_kinematics`] (the load and
+    /// constraint-force tangents evaluate frames at many perturbed states): an element whose full
+    /// evaluation is expensive evaluates only what frames need (FFR bodies: O(n_f) instead of the
+    /// O(n_f^2) deformed moments). Default: [`Element::update`].
+    fn update_kinematics(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        scratch: &mut ElementScratch,
+    ) -> Result<(), ElementError> {
+        self.update(q, u, scratch)
+    }
     /// Mass matrix `M(q)` (nu x nu, symmetric positive definite), overwriting `m`.
-    fn mass_matrix(&self, q: &[f64], m: MatMut<'_, f64>);
+    fn mass_matrix(&self, q: &[f64], scratch: &mut ElementScratch, m: MatMut<'_, f64>);
     /// `out = M(q) v` (`v`, `out`: nu), for residuals that need only the product. Default:
     /// [`Element::mass_matrix`] into the scratch matrix `m_scratch` (nu x nu, left holding `M`),
     /// then the product column by column; elements with a cheaper product (FFR bodies) override
@@ -173,11 +293,12 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn mass_times_vector(
         &self,
         q: &[f64],
+        scratch: &mut ElementScratch,
         v: &[f64],
         mut m_scratch: MatMut<'_, f64>,
         out: &mut [f64],
     ) {
-        self.mass_matrix(q, m_scratch.as_mut());
+        self.mass_matrix(q, scratch, m_scratch.as_mut());
         out.fill(0.0);
         for (j, x) in v.iter().enumerate() {
             for (i, o) in out.iter_mut().enumerate() {
@@ -187,26 +308,30 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     }
     /// Generalized forces `h(t, q, u)`, overwriting `h`: minus quadratic velocity vector, minus
     /// elastic `K q` and damping `D u` forces, plus gravity `gravity` (global acceleration vector).
-    fn forces(&self, t: f64, q: &[f64], u: &[f64], gravity: &Vector3<f64>, h: &mut [f64]);
+    #[allow(clippy::too_many_arguments)]
+    fn forces(
+        &self,
+        t: f64,
+        q: &[f64],
+        u: &[f64],
+        gravity: &Vector3<f64>,
+        scratch: &mut ElementScratch,
+        h: &mut [f64],
+    );
     /// Kinematics of a local frame of this element (position, rotation, velocities,
-    /// Jacobians, bias accelerations), overwriting `out` (its Jacobians are 3 x nu).
-    fn frame_kinematics(&self, q: &[f64], u: &[f64], frame: &LocalFrame, out: &mut FrameKinematics);
-    /// [`Element::frame_kinematics`] for callers that need only the frame (the load and
-    /// constraint-force tangents evaluate frames at many perturbed states): same results, but an
-    /// element whose full evaluation is expensive computes only what the frame needs and leaves its
-    /// evaluated state for mass and forces untouched (FFR bodies: O(n_f) per frame instead of the
-    /// O(n_f^2) deformed moments). Default: [`Element::frame_kinematics`].
-    fn frame_kinematics_only(
+    /// Jacobians, bias accelerations), overwriting `out` (its Jacobians are 3 x nu). Needs
+    /// [`Element::update`] or [`Element::update_kinematics`] at `(q, u)`.
+    fn frame_kinematics(
         &self,
         q: &[f64],
         u: &[f64],
+        scratch: &mut ElementScratch,
         frame: &LocalFrame,
         out: &mut FrameKinematics,
-    ) {
-        self.frame_kinematics(q, u, frame, out);
-    }
+    );
     /// Tangents `dh_dq` (along `q ⊕ dv`) and `dh_du` (both nu x nu), overwriting them.
-    /// Default: central finite differences ([`finite_difference_tangents`]).
+    /// Default: central finite differences ([`finite_difference_tangents`]; the perturbed
+    /// states are evaluated in `fd.probe`, `scratch` stays at `(q, u)`).
     #[allow(clippy::too_many_arguments)]
     fn force_tangents(
         &self,
@@ -214,25 +339,40 @@ pub trait Element: std::fmt::Debug + Send + Sync {
         q: &[f64],
         u: &[f64],
         gravity: &Vector3<f64>,
+        _scratch: &mut ElementScratch,
         dh_dq: MatMut<'_, f64>,
         dh_du: MatMut<'_, f64>,
-        scratch: &mut TangentScratch,
+        fd: &mut TangentScratch,
     ) {
-        finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, scratch);
+        finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, fd);
     }
     /// Kinetic energy `1/2 u^T M u`.
-    fn kinetic_energy(&self, q: &[f64], u: &[f64]) -> f64;
+    fn kinetic_energy(&self, q: &[f64], u: &[f64], scratch: &mut ElementScratch) -> f64;
     /// Potential of gravity `-int rho g . r dV` (zero at the global origin).
-    fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64;
+    fn gravity_potential(
+        &self,
+        q: &[f64],
+        gravity: &Vector3<f64>,
+        scratch: &mut ElementScratch,
+    ) -> f64;
     /// Elastic strain energy `1/2 q_f^T K q_f`; default 0 (rigid).
     fn elastic_energy(&self, _q: &[f64]) -> f64 {
         0.0
+    }
+    /// A fresh scratch evaluated at `(q, u)`: for set-up code and tests outside a time step
+    /// (allocates). Time steps use the workspace's scratches.
+    fn evaluated(&self, q: &[f64], u: &[f64]) -> Result<ElementScratch, ElementError> {
+        let mut s = self.new_scratch();
+        self.update(q, u, &mut s)?;
+        Ok(s)
     }
 }
 
 /// Central finite-difference tangents of [`Element::forces`]: column `j` of `dh_dq` is
 /// `(h(q ⊕ e_j eps) - h(q ⊕ -e_j eps)) / (2 eps)`, likewise `dh_du` with `u ± eps e_j`,
 /// `eps = 1e-6 max(1, |x_j|)`. Truncation error `O(eps^2)`, round-off `O(1e-16 |h| / eps)`.
+/// Every perturbed state is evaluated ([`Element::update`]) in `s.probe`; one the element
+/// cannot evaluate gives NaN entries (reported by the integrators as a non-finite matrix).
 #[allow(clippy::too_many_arguments)]
 pub fn finite_difference_tangents<E: Element + ?Sized>(
     element: &E,
@@ -250,10 +390,10 @@ pub fn finite_difference_tangents<E: Element + ?Sized>(
         let eps = 1e-6;
         s.dv[j] = eps;
         element.integrate_position(q, &s.dv, &mut s.q);
-        element.forces(t, &s.q, u, gravity, &mut s.h_plus);
+        probe_forces(element, t, &s.q, u, gravity, &mut s.probe, &mut s.h_plus);
         s.dv[j] = -eps;
         element.integrate_position(q, &s.dv, &mut s.q);
-        element.forces(t, &s.q, u, gravity, &mut s.h_minus);
+        probe_forces(element, t, &s.q, u, gravity, &mut s.probe, &mut s.h_minus);
         s.dv[j] = 0.0;
         for i in 0..nu {
             dh_dq[(i, j)] = (s.h_plus[i] - s.h_minus[i]) / (2.0 * eps);
@@ -263,13 +403,29 @@ pub fn finite_difference_tangents<E: Element + ?Sized>(
     for j in 0..nu {
         let eps = 1e-6 * u[j].abs().max(1.0);
         s.u[j] = u[j] + eps;
-        element.forces(t, q, &s.u, gravity, &mut s.h_plus);
+        probe_forces(element, t, q, &s.u, gravity, &mut s.probe, &mut s.h_plus);
         s.u[j] = u[j] - eps;
-        element.forces(t, q, &s.u, gravity, &mut s.h_minus);
+        probe_forces(element, t, q, &s.u, gravity, &mut s.probe, &mut s.h_minus);
         s.u[j] = u[j];
         for i in 0..nu {
             dh_du[(i, j)] = (s.h_plus[i] - s.h_minus[i]) / (2.0 * eps);
         }
+    }
+}
+
+/// `h(t, q, u)` of `element` evaluated in `probe`; NaN if the state cannot be evaluated.
+fn probe_forces<E: Element + ?Sized>(
+    element: &E,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    gravity: &Vector3<f64>,
+    probe: &mut ElementScratch,
+    h: &mut [f64],
+) {
+    match element.update(q, u, probe) {
+        Ok(()) => element.forces(t, q, u, gravity, probe, h),
+        Err(_) => h.fill(f64::NAN),
     }
 }
 

@@ -1,6 +1,7 @@
 //! Error types of the engine: model building ([`ModelError`]) and time integration / statics
 //! ([`SolverError`]).
 
+use crate::element::ElementError;
 use crate::ids::{BodyId, FrameId, JointId, LoadId};
 use thiserror::Error;
 
@@ -85,6 +86,29 @@ pub enum ModelError {
     },
 }
 
+/// A body whose element cannot be evaluated at a state ([`crate::system::evaluate`]); the
+/// integrators turn it into [`SolverError::Element`] with the time and step.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("body `{body}`: {cause}")]
+pub struct EvaluationError {
+    /// Body name.
+    pub body: String,
+    /// Why its element cannot be evaluated.
+    pub cause: ElementError,
+}
+
+impl EvaluationError {
+    /// The solver error of a step from `t` of size `h` (load factor and increment for statics).
+    pub fn at(self, t: f64, h: f64) -> SolverError {
+        SolverError::Element {
+            body: self.body,
+            t,
+            h,
+            cause: Box::new(self.cause),
+        }
+    }
+}
+
 /// A failed time step or static solution.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SolverError {
@@ -113,6 +137,19 @@ pub enum SolverError {
         h: f64,
         /// Last finite residual norm (NaN if none).
         residual: f64,
+    },
+    /// A body's element cannot be evaluated at a state of the step (singular Cardan angles, a
+    /// degenerate quaternion, a failed internal solve).
+    #[error("body `{body}` cannot be evaluated at t = {t} (step {h}): {cause}")]
+    Element {
+        /// Body name.
+        body: String,
+        /// Time at the start of the step (or load factor for statics).
+        t: f64,
+        /// Step size (or load increment).
+        h: f64,
+        /// The element's reason.
+        cause: Box<ElementError>,
     },
     /// The iteration (or mass) matrix is singular.
     #[error("singular {what} matrix at t = {t} (step {h})")]

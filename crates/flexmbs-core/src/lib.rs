@@ -69,8 +69,10 @@ pub mod state;
 pub mod system;
 pub mod time_function;
 
-pub use element::{Element, FrameKinematics, LocalFrame, TangentScratch};
-pub use error::{ModelError, SolverError};
+pub use element::{
+    Element, ElementError, ElementScratch, FrameKinematics, LocalFrame, TangentScratch,
+};
+pub use error::{EvaluationError, ModelError, SolverError};
 pub use ids::{BodyId, FrameId, JointId, LoadId, NodeId};
 pub use joint::{Joint, PrescribedMotion};
 pub use load::{Load, LoadCoordinates};

@@ -651,8 +651,8 @@ impl Model {
 
     /// Position, orientation, velocities and Jacobians (columns of the frame's own body) of one
     /// frame in state `s`: for post-processing (it allocates; inside a step the integrators use
-    /// [`crate::system::update_frames`] on workspace buffers). `None` for a frame id of another
-    /// model or a state of the wrong size.
+    /// [`crate::system::evaluate`] on workspace buffers). `None` for a frame id of another
+    /// model, a state of the wrong size, or a state the frame's element cannot evaluate.
     pub fn frame_kinematics(&self, s: &State, frame: FrameId) -> Option<FrameKinematics> {
         let f = self.frames.get(frame.0)?;
         if s.q.len() != self.nq || s.u.len() != self.nu {
@@ -667,12 +667,11 @@ impl Model {
             }
             FrameOwner::Body(b) => {
                 let b = self.bodies.get(b.0)?;
-                b.element.frame_kinematics(
-                    &s.q[b.q_offset..b.q_offset + b.element.nq()],
-                    &s.u[b.u_offset..b.u_offset + b.element.nu()],
-                    &f.local,
-                    &mut k,
-                );
+                let q = &s.q[b.q_offset..b.q_offset + b.element.nq()];
+                let u = &s.u[b.u_offset..b.u_offset + b.element.nu()];
+                let mut e = b.element.new_scratch();
+                b.element.update_kinematics(q, u, &mut e).ok()?;
+                b.element.frame_kinematics(q, u, &mut e, &f.local, &mut k);
                 Some(k)
             }
             FrameOwner::Node(n) => {

@@ -8,7 +8,9 @@
 //!   `omega_bar` the angular velocity in body coordinates: `p_dot = 1/2 p * (0, omega_bar)`.
 //!   Positions are updated by the exponential map `p ⊕ dv = p * exp(dv_rot / 2)`.
 
-use crate::element::{skew, Element, FrameKinematics, LocalFrame, TangentScratch};
+use crate::element::{
+    skew, Element, ElementError, ElementScratch, FrameKinematics, LocalFrame, TangentScratch,
+};
 use crate::node::NodeKind;
 use crate::rotation::{cardan_g, cardan_g_dot_theta_dot};
 use faer::MatMut;
@@ -181,7 +183,26 @@ impl Element for RigidBody {
     fn normalize(&self, q: &mut [f64]) {
         self.node_kinds()[0].normalize(q);
     }
-    fn mass_matrix(&self, q: &[f64], mut m: MatMut<'_, f64>) {
+    /// Checks the rotation coordinates: Cardan angles away from `beta = ±90°` (where `G` is
+    /// singular), a quaternion of non-zero norm. Everything else is evaluated in the queries.
+    fn update(&self, q: &[f64], _u: &[f64], _s: &mut ElementScratch) -> Result<(), ElementError> {
+        match self.rotation {
+            RotationParam::Cardan => crate::rotation::check_cardan(
+                &Vector3::new(q[3], q[4], q[5]),
+                crate::rotation::CARDAN_SINGULARITY_TOLERANCE,
+            )?,
+            RotationParam::Quaternion => {
+                let norm = nalgebra::Vector4::new(q[3], q[4], q[5], q[6]).norm();
+                if !(norm.is_finite() && norm > 1e-12) {
+                    return Err(
+                        crate::rotation::RotationError::DegenerateQuaternion { norm }.into(),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+    fn mass_matrix(&self, q: &[f64], _s: &mut ElementScratch, mut m: MatMut<'_, f64>) {
         m.fill(0.0);
         for i in 0..3 {
             m[(i, i)] = self.mass;
@@ -200,7 +221,15 @@ impl Element for RigidBody {
             }
         }
     }
-    fn forces(&self, _t: f64, q: &[f64], u: &[f64], gravity: &Vector3<f64>, h: &mut [f64]) {
+    fn forces(
+        &self,
+        _t: f64,
+        q: &[f64],
+        u: &[f64],
+        gravity: &Vector3<f64>,
+        _s: &mut ElementScratch,
+        h: &mut [f64],
+    ) {
         let f = gravity * self.mass;
         h[..3].copy_from_slice(f.as_slice());
         let w = Vector3::new(u[3], u[4], u[5]);
@@ -222,6 +251,7 @@ impl Element for RigidBody {
         &self,
         q: &[f64],
         u: &[f64],
+        _s: &mut ElementScratch,
         frame: &LocalFrame,
         out: &mut FrameKinematics,
     ) {
@@ -233,6 +263,7 @@ impl Element for RigidBody {
         q: &[f64],
         u: &[f64],
         gravity: &Vector3<f64>,
+        _s: &mut ElementScratch,
         mut dh_dq: MatMut<'_, f64>,
         mut dh_du: MatMut<'_, f64>,
         scratch: &mut TangentScratch,
@@ -254,14 +285,14 @@ impl Element for RigidBody {
             }
         }
     }
-    fn kinetic_energy(&self, q: &[f64], u: &[f64]) -> f64 {
+    fn kinetic_energy(&self, q: &[f64], u: &[f64], _s: &mut ElementScratch) -> f64 {
         let v = Vector3::new(u[0], u[1], u[2]);
         let omega = self.angular_velocity(q, u);
         let a = self.rotation_matrix(q);
         0.5 * self.mass * v.norm_squared()
             + 0.5 * omega.dot(&(a * self.inertia * a.transpose() * omega))
     }
-    fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64 {
+    fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>, _s: &mut ElementScratch) -> f64 {
         -self.mass * gravity.dot(&Vector3::new(q[0], q[1], q[2]))
     }
 }
@@ -297,8 +328,9 @@ mod tests {
         let g = Vector3::new(0.0, -9.81, 0.0);
         let (mut kq, mut ku) = (Mat::<f64>::zeros(6, 6), Mat::<f64>::zeros(6, 6));
         let (mut fq, mut fu) = (Mat::<f64>::zeros(6, 6), Mat::<f64>::zeros(6, 6));
-        let mut s = TangentScratch::new(7, 6);
-        b.force_tangents(0.0, &q, &u, &g, kq.as_mut(), ku.as_mut(), &mut s);
+        let mut s = TangentScratch::new(&b);
+        let mut e = b.evaluated(&q, &u).unwrap();
+        b.force_tangents(0.0, &q, &u, &g, &mut e, kq.as_mut(), ku.as_mut(), &mut s);
         finite_difference_tangents(&b, 0.0, &q, &u, &g, fq.as_mut(), fu.as_mut(), &mut s);
         let mut worst: f64 = 0.0;
         for i in 0..6 {
@@ -326,13 +358,14 @@ mod tests {
             b.set_pose(&mut q, &Vector3::new(1.0, 2.0, 3.0), &r);
             b.set_velocity(&q, &mut u, &v, &w);
             let mut k = FrameKinematics::new(6);
-            b.frame_kinematics(&q, &u, &frame, &mut k);
+            let mut e = b.evaluated(&q, &u).unwrap();
+            b.frame_kinematics(&q, &u, &mut e, &frame, &mut k);
             let mut m = Mat::<f64>::zeros(6, 6);
-            b.mass_matrix(&q, m.as_mut());
+            b.mass_matrix(&q, &mut e, m.as_mut());
             let t_mass: f64 = (0..6)
                 .map(|i| (0..6).map(|j| 0.5 * u[i] * m[(i, j)] * u[j]).sum::<f64>())
                 .sum();
-            assert!((t_mass - b.kinetic_energy(&q, &u)).abs() < 1e-12);
+            assert!((t_mass - b.kinetic_energy(&q, &u, &mut e)).abs() < 1e-12);
             assert!((k.rotation - r).norm() < 1e-12);
             out.push((k.position, k.velocity, k.angular_velocity, t_mass));
         }

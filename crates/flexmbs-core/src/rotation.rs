@@ -29,6 +29,10 @@ pub enum RotationError {
     },
 }
 
+/// `|cos beta|` below which Cardan angles are singular ([`check_cardan`]): rigid and FFR bodies
+/// refuse to evaluate there.
+pub const CARDAN_SINGULARITY_TOLERANCE: f64 = 1e-8;
+
 /// Skew-symmetric cross-product matrix `skew(a) b = a x b` (seed 000 (2.29)).
 #[inline]
 pub fn skew(a: &Vector3<f64>) -> Matrix3<f64> {

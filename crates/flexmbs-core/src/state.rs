@@ -1,7 +1,7 @@
 //! The mutable [`State`] of a simulation and the preallocated [`Workspace`].
 
 use crate::algebra::{BlockMass, LinearSolver, SystemMatrix};
-use crate::element::{FrameKinematics, TangentScratch};
+use crate::element::{ElementScratch, FrameKinematics, TangentScratch};
 use crate::model::Model;
 use faer::Mat;
 
@@ -66,6 +66,12 @@ impl ElementBuffers {
 /// Buffers of the system-level evaluations ([`crate::system`]).
 #[derive(Debug)]
 pub struct SystemBuffers {
+    /// Evaluated state of every body's element at the last evaluated state
+    /// ([`crate::system::evaluate`]), in body order.
+    pub eval: Vec<ElementScratch>,
+    /// Per body, the element evaluated at perturbed states by the local load and
+    /// constraint-force tangents (kinematics only), so that `eval` stays at the iterate.
+    pub probe: Vec<ElementScratch>,
     /// Kinematics of every frame.
     pub frames: Vec<FrameKinematics>,
     /// Tangent scratch per body.
@@ -164,11 +170,20 @@ impl Workspace {
         let tangent_scratch = model
             .bodies
             .iter()
-            .map(|b| TangentScratch::new(b.element.nq(), b.element.nu()))
+            .map(|b| TangentScratch::new(b.element.as_ref()))
             .collect();
+        let scratches = || {
+            model
+                .bodies
+                .iter()
+                .map(|b| b.element.new_scratch())
+                .collect()
+        };
         let v = |n| vec![0.0; n];
         Self {
             sys: SystemBuffers {
+                eval: scratches(),
+                probe: scratches(),
                 frames,
                 tangent_scratch,
                 local: if model.shared_nodes {

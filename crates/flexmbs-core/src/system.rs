@@ -1,8 +1,8 @@
 //! System-level assembly: frame kinematics, mass matrix, forces, tangents, constraints and
 //! energies of a [`Model`] at given `(t, q, u)`, written into preallocated buffers.
 
-use crate::element::FrameKinematics;
-use crate::error::SolverError;
+use crate::element::{ElementScratch, FrameKinematics};
+use crate::error::{EvaluationError, SolverError};
 use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::{FrameWrench, Load};
@@ -37,20 +37,89 @@ impl Energy {
     }
 }
 
-/// Kinematics of every frame at `(q, u)`.
-pub fn update_frames(model: &Model, q: &[f64], u: &[f64], frames: &mut [FrameKinematics]) {
+/// The evaluation stage of one state: every body's element evaluated at `(q, u)` into
+/// `sys.eval` ([`crate::Element::update`]), then the kinematics of every frame into
+/// `sys.frames`. The assembly functions below read both, so call this first at each state.
+/// Err: the first body whose element cannot be evaluated, and why.
+pub fn evaluate(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    sys: &mut SystemBuffers,
+) -> Result<(), EvaluationError> {
+    evaluate_elements(model, q, u, &mut sys.eval)?;
+    update_frames(model, q, u, &mut sys.eval, &mut sys.frames);
+    Ok(())
+}
+
+/// Every body's element evaluated at `(q, u)` into `eval` (one scratch per body, body order).
+pub fn evaluate_elements(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    eval: &mut [ElementScratch],
+) -> Result<(), EvaluationError> {
+    for (b, e) in model.bodies.iter().zip(eval.iter_mut()) {
+        let (qb, ub) = body_slices(b, q, u);
+        b.element
+            .update(qb, ub, e)
+            .map_err(|cause| EvaluationError {
+                body: b.name.clone(),
+                cause,
+            })?;
+    }
+    Ok(())
+}
+
+/// [`evaluate_elements`] through the kinematics-only path ([`crate::Element::update_kinematics`]):
+/// enough for [`update_frames`] and [`update_selected_frames`], not for mass, forces or energies.
+pub fn evaluate_kinematics(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    eval: &mut [ElementScratch],
+) -> Result<(), EvaluationError> {
+    for (b, e) in model.bodies.iter().zip(eval.iter_mut()) {
+        let (qb, ub) = body_slices(b, q, u);
+        b.element
+            .update_kinematics(qb, ub, e)
+            .map_err(|cause| EvaluationError {
+                body: b.name.clone(),
+                cause,
+            })?;
+    }
+    Ok(())
+}
+
+/// The body's (contiguous) element-local `q` and `u`.
+fn body_slices<'a>(b: &crate::model::Body, q: &'a [f64], u: &'a [f64]) -> (&'a [f64], &'a [f64]) {
+    (
+        &q[b.q_offset..b.q_offset + b.element.nq()],
+        &u[b.u_offset..b.u_offset + b.element.nu()],
+    )
+}
+
+/// Kinematics of every frame at `(q, u)`; `eval` must hold the elements evaluated there.
+pub fn update_frames(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    eval: &mut [ElementScratch],
+    frames: &mut [FrameKinematics],
+) {
     for (i, k) in frames.iter_mut().enumerate().take(model.frames.len()) {
-        frame_kinematics_into(model, FrameId(i), q, u, k);
+        frame_kinematics_into(model, FrameId(i), q, u, eval, k);
     }
 }
 
 /// Kinematics of frame `id` at `(q, u)` into `k`, by its owner: ground (constant), a body's
-/// element, or a node.
+/// element (evaluated in `eval`), or a node.
 fn frame_kinematics_into(
     model: &Model,
     id: FrameId,
     q: &[f64],
     u: &[f64],
+    eval: &mut [ElementScratch],
     k: &mut FrameKinematics,
 ) {
     let f = &model.frames[id.index()];
@@ -60,12 +129,9 @@ fn frame_kinematics_into(
             k.rotation = f.local.rotation;
         }
         FrameOwner::Body(b) => {
-            let b = &model.bodies[b.0];
-            let (qb, ub) = (
-                &q[b.q_offset..b.q_offset + b.element.nq()],
-                &u[b.u_offset..b.u_offset + b.element.nu()],
-            );
-            b.element.frame_kinematics(qb, ub, &f.local, k);
+            let (body, e) = (&model.bodies[b.0], &mut eval[b.0]);
+            let (qb, ub) = body_slices(body, q, u);
+            body.element.frame_kinematics(qb, ub, e, &f.local, k);
         }
         FrameOwner::Node(n) => {
             let n = &model.nodes[n.0];
@@ -76,43 +142,52 @@ fn frame_kinematics_into(
 }
 
 /// Kinematics of the frames `ids` only at `(q, u)` (the other entries of `frames` are left as
-/// they are), as [`update_frames`] computes them. No allocation.
+/// they are), as [`update_frames`] computes them; `eval` must hold the elements evaluated at
+/// `(q, u)`. No allocation.
 pub fn update_selected_frames(
     model: &Model,
     q: &[f64],
     u: &[f64],
+    eval: &mut [ElementScratch],
     ids: &[FrameId],
     frames: &mut [FrameKinematics],
 ) {
     for id in ids {
-        frame_kinematics_into(model, *id, q, u, &mut frames[id.index()]);
+        frame_kinematics_into(model, *id, q, u, eval, &mut frames[id.index()]);
     }
 }
 
-/// Global mass matrix `M(q)`. Every element overwrites its diagonal block
-/// ([`crate::Element::mass_matrix`]); only the entries outside these blocks are zeroed. With
-/// shared nodes the blocks overlap: each is computed into `local` and added.
+/// Global mass matrix `M(q)` from the evaluated elements `eval`. Every element overwrites its
+/// diagonal block ([`crate::Element::mass_matrix`]); only the entries outside these blocks are
+/// zeroed. With shared nodes the blocks overlap: each is computed into `local` and added.
 pub fn assemble_mass(
     model: &Model,
     q: &[f64],
+    eval: &mut [ElementScratch],
     mut mass: MatMut<'_, f64>,
     local: &mut [ElementBuffers],
 ) {
     if model.shared_nodes {
         mass.fill(0.0);
-        for (b, l) in model.bodies.iter().zip(local.iter_mut()) {
+        for ((b, l), e) in model
+            .bodies
+            .iter()
+            .zip(local.iter_mut())
+            .zip(eval.iter_mut())
+        {
             let (nq, o) = (b.element.nq(), b.u_offset);
             b.element
-                .mass_matrix(&q[b.q_offset..b.q_offset + nq], l.mass.as_mut());
+                .mass_matrix(&q[b.q_offset..b.q_offset + nq], e, l.mass.as_mut());
             add_block(mass.as_mut(), o, &l.mass);
         }
         return;
     }
     zero_outside_diagonal_blocks(model, mass.as_mut());
-    for b in &model.bodies {
+    for (b, e) in model.bodies.iter().zip(eval.iter_mut()) {
         let (nq, nu) = (b.element.nq(), b.element.nu());
         b.element.mass_matrix(
             &q[b.q_offset..b.q_offset + nq],
+            e,
             mass.as_mut().submatrix_mut(b.u_offset, b.u_offset, nu, nu),
         );
     }
@@ -142,22 +217,31 @@ fn zero_outside_diagonal_blocks(model: &Model, mut m: MatMut<'_, f64>) {
 }
 
 /// `out = M(q) v` for the global (block-diagonal) mass matrix, body by body with
-/// [`crate::Element::mass_times_vector`]; `mass` (nu x nu) is scratch for elements without their
-/// own product: afterwards it is not a valid assembled `M` (use [`assemble_mass`] for that).
+/// [`crate::Element::mass_times_vector`] from the evaluated elements `eval`; `mass` (nu x nu) is
+/// scratch for elements without their own product: afterwards it is not a valid assembled `M`
+/// (use [`assemble_mass`] for that).
+#[allow(clippy::too_many_arguments)]
 pub fn mass_times_vector(
     model: &Model,
     q: &[f64],
     v: &[f64],
+    eval: &mut [ElementScratch],
     mut mass: MatMut<'_, f64>,
     out: &mut [f64],
     local: &mut [ElementBuffers],
 ) {
     if model.shared_nodes {
         out.fill(0.0);
-        for (b, l) in model.bodies.iter().zip(local.iter_mut()) {
+        for ((b, l), e) in model
+            .bodies
+            .iter()
+            .zip(local.iter_mut())
+            .zip(eval.iter_mut())
+        {
             let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
             b.element.mass_times_vector(
                 &q[b.q_offset..b.q_offset + nq],
+                e,
                 &v[o..o + nu],
                 l.mass.as_mut(),
                 &mut l.h,
@@ -168,10 +252,11 @@ pub fn mass_times_vector(
         }
         return;
     }
-    for b in &model.bodies {
+    for (b, e) in model.bodies.iter().zip(eval.iter_mut()) {
         let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
         b.element.mass_times_vector(
             &q[b.q_offset..b.q_offset + nq],
+            e,
             &v[o..o + nu],
             mass.as_mut().submatrix_mut(o, o, nu, nu),
             &mut out[o..o + nu],
@@ -179,37 +264,35 @@ pub fn mass_times_vector(
     }
 }
 
-/// Global forces `h(t, q, u)` of the elements (gravity scaled by `load_factor`) plus all
-/// loads. `frames` must be up to date ([`update_frames`]).
-#[allow(clippy::too_many_arguments)]
+/// Global forces `sys.h = h(t, q, u)` of the elements (gravity scaled by `load_factor`) plus
+/// all loads, from the evaluated state in `sys` ([`evaluate`] at `(q, u)`: elements and frames).
 pub fn assemble_forces(
     model: &Model,
     t: f64,
     q: &[f64],
     u: &[f64],
     load_factor: f64,
-    frames: &[FrameKinematics],
-    h: &mut [f64],
-    local: &mut [ElementBuffers],
+    sys: &mut SystemBuffers,
 ) {
     let g = model.gravity * load_factor;
+    let h = &mut sys.h;
     if model.shared_nodes {
         h.fill(0.0);
     }
-    for (i, b) in model.bodies.iter().enumerate() {
-        let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
-        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[o..o + nu]);
+    for (i, (b, e)) in model.bodies.iter().zip(sys.eval.iter_mut()).enumerate() {
+        let (nu, o) = (b.element.nu(), b.u_offset);
+        let (qb, ub) = body_slices(b, q, u);
         if model.shared_nodes {
-            let l = &mut local[i].h;
-            b.element.forces(t, qb, ub, &g, l);
+            let l = &mut sys.local[i].h;
+            b.element.forces(t, qb, ub, &g, e, l);
             for (x, y) in h[o..o + nu].iter_mut().zip(l.iter()) {
                 *x += y;
             }
         } else {
-            b.element.forces(t, qb, ub, &g, &mut h[o..o + nu]);
+            b.element.forces(t, qb, ub, &g, e, &mut h[o..o + nu]);
         }
     }
-    add_load_forces(model, t, load_factor, frames, h);
+    add_load_forces(model, t, load_factor, &sys.frames, h);
 }
 
 /// Adds the generalized forces `J_T^T f + J_R^T m` of all loads to `h`.
@@ -268,7 +351,7 @@ pub(crate) fn add_frame_wrench(
 
 /// Tangents `ws.dh_dq` (along `q ⊕ dv`) and `ws.dh_du` of the full `h`: element blocks via
 /// [`crate::Element::force_tangents`], load contributions by central differences
-/// ([`add_load_tangents`]). Leaves `ws.frames` at `(q, u)` (expects them there).
+/// ([`add_load_tangents`]). Expects `ws` evaluated at `(q, u)` ([`evaluate`]) and leaves it there.
 pub fn assemble_tangents(
     model: &Model,
     t: f64,
@@ -280,24 +363,20 @@ pub fn assemble_tangents(
     ws.dh_dq.fill(0.0);
     ws.dh_du.fill(0.0);
     let g = model.gravity * load_factor;
-    for (i, (b, scratch)) in model
-        .bodies
-        .iter()
-        .zip(ws.tangent_scratch.iter_mut())
-        .enumerate()
-    {
-        let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
-        let (qb, ub) = (&q[b.q_offset..b.q_offset + nq], &u[o..o + nu]);
+    let scratches = ws.tangent_scratch.iter_mut().zip(ws.eval.iter_mut());
+    for (i, (b, (fd, e))) in model.bodies.iter().zip(scratches).enumerate() {
+        let (nu, o) = (b.element.nu(), b.u_offset);
+        let (qb, ub) = body_slices(b, q, u);
         if model.shared_nodes {
             let l = &mut ws.local[i];
             let (dq, du) = (l.dh_dq.as_mut(), l.dh_du.as_mut());
-            b.element.force_tangents(t, qb, ub, &g, dq, du, scratch);
+            b.element.force_tangents(t, qb, ub, &g, e, dq, du, fd);
             add_block(ws.dh_dq.as_mut(), o, &l.dh_dq);
             add_block(ws.dh_du.as_mut(), o, &l.dh_du);
         } else {
             let dq = ws.dh_dq.as_mut().submatrix_mut(o, o, nu, nu);
             let du = ws.dh_du.as_mut().submatrix_mut(o, o, nu, nu);
-            b.element.force_tangents(t, qb, ub, &g, dq, du, scratch);
+            b.element.force_tangents(t, qb, ub, &g, e, dq, du, fd);
         }
     }
     add_load_tangents(model, t, q, u, load_factor, ws);
@@ -430,17 +509,20 @@ fn col_slice_mut(m: MatMut<'_, f64>, j: usize) -> &mut [f64] {
         .as_slice_mut()
 }
 
-/// Energies at `(q, u)`; `frames` must be up to date (for the springs).
-pub fn energy(model: &Model, q: &[f64], u: &[f64], frames: &[FrameKinematics]) -> Energy {
+/// Energies at `(q, u)` from the elements evaluated there (`eval`, [`evaluate_elements`]) and
+/// the frames (for the springs).
+pub fn energy(
+    model: &Model,
+    q: &[f64],
+    u: &[f64],
+    eval: &mut [ElementScratch],
+    frames: &[FrameKinematics],
+) -> Energy {
     let mut e = Energy::default();
-    for b in &model.bodies {
-        let (nq, nu) = (b.element.nq(), b.element.nu());
-        let (qb, ub) = (
-            &q[b.q_offset..b.q_offset + nq],
-            &u[b.u_offset..b.u_offset + nu],
-        );
-        e.kinetic += b.element.kinetic_energy(qb, ub);
-        e.gravity += b.element.gravity_potential(qb, &model.gravity);
+    for (b, s) in model.bodies.iter().zip(eval.iter_mut()) {
+        let (qb, ub) = body_slices(b, q, u);
+        e.kinetic += b.element.kinetic_energy(qb, ub, s);
+        e.gravity += b.element.gravity_potential(qb, &model.gravity, s);
         e.elastic += b.element.elastic_energy(qb);
     }
     e.springs = model.loads.iter().map(|l| l.potential_energy(frames)).sum();
@@ -526,7 +608,7 @@ pub fn check_assembly(
         return Ok(());
     }
     let sys = &mut ws.sys;
-    update_frames(model, &s.q, &s.u, &mut sys.frames);
+    evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(s.t, 0.0))?;
     update_constraints(model, s.t, sys);
     let u_scale = s.u.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
     for (joint, &r0) in model.joints.iter().zip(&model.joint_rows) {

@@ -40,7 +40,7 @@ fn moving_chain() -> (Model, State) {
 fn solve_with(model: &Model, s: &State, kind: SaddleKind, choice: LinearSolver) -> Vec<f64> {
     let mut ws = Workspace::with_linear_solver(model, choice);
     let sys = &mut ws.sys;
-    system::update_frames(model, &s.q, &s.u, &mut sys.frames);
+    system::evaluate(model, &s.q, &s.u, sys).unwrap();
     system::assemble_constraints(
         model,
         s.t,
@@ -190,9 +190,11 @@ fn block_cholesky_mass_solves_equal_dense_lu() {
     let (model, s) = moving_chain();
     let nu = model.nu;
     let mut bm = BlockMass::new(&model);
-    bm.update(&model, &s.q).unwrap();
+    let mut ws = Workspace::new(&model);
+    system::evaluate(&model, &s.q, &s.u, &mut ws.sys).unwrap();
+    bm.update(&model, &s.q, &mut ws.sys.eval).unwrap();
     let mut m = faer::Mat::zeros(nu, nu);
-    system::assemble_mass(&model, &s.q, m.as_mut(), &mut []);
+    system::assemble_mass(&model, &s.q, &mut ws.sys.eval, m.as_mut(), &mut []);
     let mut lu = DenseLu::new(nu);
     lu.a.copy_from(&m);
     assert!(lu.factor());
@@ -231,15 +233,19 @@ fn block_cholesky_mass_solves_equal_dense_lu() {
         // first modal coordinate (after position + quaternion)
         model.body_q_mut(flexmbs_core::BodyId(b), &mut q2)[7] += 1e-3;
     }
-    bm.update(&model, &q2).unwrap();
+    system::evaluate(&model, &q2, &s.u, &mut ws.sys).unwrap();
+    bm.update(&model, &q2, &mut ws.sys.eval).unwrap();
     assert_eq!(bm.refactorizations() - before, model.bodies.len());
     // rigid quaternion links: constant mass, factored once
     let (rigid, r0) = chain(5, Link::Rigid, None);
     let mut bm = BlockMass::new(&rigid);
-    bm.update(&rigid, &r0.q).unwrap();
+    let mut ws = Workspace::new(&rigid);
+    system::evaluate(&rigid, &r0.q, &r0.u, &mut ws.sys).unwrap();
+    bm.update(&rigid, &r0.q, &mut ws.sys.eval).unwrap();
     let mut q = r0.q.clone();
     q[0] += 0.3;
-    bm.update(&rigid, &q).unwrap();
+    system::evaluate(&rigid, &q, &r0.u, &mut ws.sys).unwrap();
+    bm.update(&rigid, &q, &mut ws.sys.eval).unwrap();
     assert_eq!(bm.refactorizations(), rigid.bodies.len());
 }
 

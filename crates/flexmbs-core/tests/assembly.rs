@@ -160,7 +160,7 @@ fn frame_kinematics_and_name_lookups() {
     );
     let k = model.frame_kinematics(&s, top).unwrap();
     let mut ws = Workspace::new(&model);
-    system::update_frames(&model, &s.q, &s.u, &mut ws.sys.frames);
+    system::evaluate(&model, &s.q, &s.u, &mut ws.sys).unwrap();
     let all = &ws.sys.frames[top.index()];
     assert_eq!(k.position, all.position);
     assert_eq!(k.velocity, all.velocity);

@@ -1,5 +1,5 @@
 //! Constraint Jacobian, g_t and acceleration bias vs finite differences along the motion.
-use flexmbs_core::system::{assemble_constraints, integrate_positions, update_frames};
+use flexmbs_core::system::{assemble_constraints, evaluate, integrate_positions};
 use flexmbs_core::*;
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
@@ -69,7 +69,7 @@ fn jacobian_and_bias_match_finite_differences() {
         let mut q = s.q.clone();
         integrate_positions(&model, &s.q, &dv, &mut q);
         let sys = &mut ws.sys;
-        update_frames(&model, &q, &s.u, &mut sys.frames);
+        evaluate(&model, &q, &s.u, sys).unwrap();
         assemble_constraints(
             &model,
             t + tau,

@@ -3,7 +3,7 @@
 
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::power::{external_power, has_external_work, WorkMeter};
-use flexmbs_core::system::{energy, update_frames};
+use flexmbs_core::system::{energy, evaluate};
 use flexmbs_core::{
     Joint, Load, LoadCoordinates, Model, ModelSpec, PrescribedMotion, RigidBody, RotationParam,
     State, TimeFunction, Workspace,
@@ -17,10 +17,10 @@ fn run(model: &Model, mut s: State, h: f64, t_end: f64) -> (f64, f64) {
     ga.initialize(model, &mut s, &mut ws).unwrap();
     let mut meter = WorkMeter::default();
     let measure = |s: &State, ws: &mut Workspace, meter: &mut WorkMeter| {
-        update_frames(model, &s.q, &s.u, &mut ws.sys.frames);
+        evaluate(model, &s.q, &s.u, &mut ws.sys).unwrap();
         let p = external_power(model, s.t, &ws.sys.frames, &s.lambda);
         meter.advance(s.t, p.total());
-        energy(model, &s.q, &s.u, &ws.sys.frames).total()
+        energy(model, &s.q, &s.u, &mut ws.sys.eval, &ws.sys.frames).total()
     };
     let e0 = measure(&s, &mut ws, &mut meter);
     for _ in 0..(t_end / h).round() as usize {

@@ -72,7 +72,8 @@ fn frame() -> LocalFrame {
 
 fn kin(e: &FfrElement, q: &[f64], u: &[f64]) -> FrameKinematics {
     let mut out = FrameKinematics::new(e.nu());
-    e.frame_kinematics(q, u, &frame(), &mut out);
+    let mut s = e.evaluated(q, u).unwrap();
+    e.frame_kinematics(q, u, &mut s, &frame(), &mut out);
     out
 }
 

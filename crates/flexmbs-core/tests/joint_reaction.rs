@@ -11,7 +11,7 @@ fn rz(phi: f64) -> Matrix3<f64> {
 }
 
 fn reaction(model: &Model, s: &State, ws: &mut Workspace) -> (Vector3<f64>, Vector3<f64>) {
-    system::update_frames(model, &s.q, &s.u, &mut ws.sys.frames);
+    system::evaluate(model, &s.q, &s.u, &mut ws.sys).unwrap();
     let j = &model.joints[0];
     let (ka, kb) = (&ws.sys.frames[j.frame_a.0], &ws.sys.frames[j.frame_b.0]);
     let r0 = model.joint_rows[0];

@@ -7,8 +7,8 @@
 use faer::Mat;
 use flexmbs_core::ffr::{FfrBody, FfrElement, FfrInvariants, RotationParam as FfrRot};
 use flexmbs_core::system::{
-    add_load_forces, add_load_tangents, assemble_constraints, integrate_positions,
-    subtract_constraint_force_tangent, update_frames,
+    add_load_forces, add_load_tangents, assemble_constraints, evaluate, integrate_positions,
+    subtract_constraint_force_tangent,
 };
 use flexmbs_core::{
     Joint, Load, LoadCoordinates, Model, ModelSpec, RigidBody, RotationParam, TimeFunction,
@@ -170,13 +170,13 @@ fn load_tangent_equals_global_finite_differences() {
     let model = model();
     let (q, u) = general_state(&model);
     let mut ws = Workspace::new(&model);
-    let mut frames = ws.sys.frames.clone();
+    let mut sys = Workspace::new(&model).sys;
     let (ref_q, ref_u) = global_fd(&model, &q, &u, &mut |q, u, h| {
-        update_frames(&model, q, u, &mut frames);
+        evaluate(&model, q, u, &mut sys).unwrap();
         h.fill(0.0);
-        add_load_forces(&model, 0.3, 1.0, &frames, h);
+        add_load_forces(&model, 0.3, 1.0, &sys.frames, h);
     });
-    update_frames(&model, &q, &u, &mut ws.sys.frames);
+    evaluate(&model, &q, &u, &mut ws.sys).unwrap();
     let before: Vec<_> = ws.sys.frames.iter().map(|k| k.position).collect();
     ws.sys.dh_dq.fill(0.0);
     ws.sys.dh_du.fill(0.0);
@@ -205,7 +205,7 @@ fn constraint_force_tangent_equals_global_finite_differences() {
     let mut ws = Workspace::new(&model);
     let mut sys = Workspace::new(&model).sys;
     let (ref_q, _) = global_fd(&model, &q, &u, &mut |q, u, h| {
-        update_frames(&model, q, u, &mut sys.frames);
+        evaluate(&model, q, u, &mut sys).unwrap();
         assemble_constraints(
             &model,
             0.3,
@@ -221,7 +221,7 @@ fn constraint_force_tangent_equals_global_finite_differences() {
                 .sum::<f64>();
         }
     });
-    update_frames(&model, &q, &u, &mut ws.sys.frames);
+    evaluate(&model, &q, &u, &mut ws.sys).unwrap();
     ws.sys.dh_dq.fill(0.0);
     subtract_constraint_force_tangent(&model, 0.3, &q, &u, &lambda, &mut ws.sys);
     assert_close("d(G^T lambda)/dq", &ws.sys.dh_dq, &ref_q, 1e-8);
@@ -234,7 +234,7 @@ fn load_tangent_touches_only_the_owners() {
     let model = model();
     let (q, u) = general_state(&model);
     let mut ws = Workspace::new(&model);
-    update_frames(&model, &q, &u, &mut ws.sys.frames);
+    evaluate(&model, &q, &u, &mut ws.sys).unwrap();
     ws.sys.dh_dq.fill(0.0);
     ws.sys.dh_du.fill(0.0);
     add_load_tangents(&model, 0.0, &q, &u, 1.0, &mut ws.sys);

@@ -5,7 +5,8 @@
 
 use faer::{Mat, MatMut};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
-use flexmbs_core::system::{integrate_positions, update_frames};
+use flexmbs_core::system::{evaluate, integrate_positions};
+use flexmbs_core::ElementScratch;
 use flexmbs_core::{
     Element, FrameKinematics, Joint, Load, LocalFrame, ModelSpec, NodeKind, State, Workspace,
 };
@@ -40,16 +41,32 @@ impl Element for PointMass {
     fn q_dot(&self, _q: &[f64], u: &[f64], q_dot: &mut [f64]) {
         q_dot.copy_from_slice(u);
     }
-    fn mass_matrix(&self, _q: &[f64], mut m: MatMut<'_, f64>) {
+    fn mass_matrix(&self, _q: &[f64], _s: &mut ElementScratch, mut m: MatMut<'_, f64>) {
         m.fill(0.0);
         for i in 0..3 {
             m[(i, i)] = self.mass;
         }
     }
-    fn forces(&self, _t: f64, _q: &[f64], _u: &[f64], g: &Vector3<f64>, h: &mut [f64]) {
+    #[allow(clippy::too_many_arguments)]
+    fn forces(
+        &self,
+        _t: f64,
+        _q: &[f64],
+        _u: &[f64],
+        g: &Vector3<f64>,
+        _s: &mut ElementScratch,
+        h: &mut [f64],
+    ) {
         h.copy_from_slice((g * self.mass).as_slice());
     }
-    fn frame_kinematics(&self, q: &[f64], u: &[f64], f: &LocalFrame, out: &mut FrameKinematics) {
+    fn frame_kinematics(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        _s: &mut ElementScratch,
+        f: &LocalFrame,
+        out: &mut FrameKinematics,
+    ) {
         out.position = Vector3::new(q[0], q[1], q[2]);
         out.rotation = f.rotation;
         out.velocity = Vector3::new(u[0], u[1], u[2]);
@@ -62,10 +79,10 @@ impl Element for PointMass {
             out.jac_t[(i, i)] = 1.0;
         }
     }
-    fn kinetic_energy(&self, _q: &[f64], u: &[f64]) -> f64 {
+    fn kinetic_energy(&self, _q: &[f64], u: &[f64], _s: &mut ElementScratch) -> f64 {
         0.5 * self.mass * u.iter().map(|x| x * x).sum::<f64>()
     }
-    fn gravity_potential(&self, q: &[f64], g: &Vector3<f64>) -> f64 {
+    fn gravity_potential(&self, q: &[f64], g: &Vector3<f64>, _s: &mut ElementScratch) -> f64 {
         -self.mass * g.dot(&Vector3::new(q[0], q[1], q[2]))
     }
 }
@@ -99,10 +116,19 @@ impl Element for Spring {
     fn q_dot(&self, _q: &[f64], u: &[f64], q_dot: &mut [f64]) {
         q_dot.copy_from_slice(u);
     }
-    fn mass_matrix(&self, _q: &[f64], mut m: MatMut<'_, f64>) {
+    fn mass_matrix(&self, _q: &[f64], _s: &mut ElementScratch, mut m: MatMut<'_, f64>) {
         m.fill(0.0);
     }
-    fn forces(&self, _t: f64, q: &[f64], u: &[f64], _g: &Vector3<f64>, h: &mut [f64]) {
+    #[allow(clippy::too_many_arguments)]
+    fn forces(
+        &self,
+        _t: f64,
+        q: &[f64],
+        u: &[f64],
+        _g: &Vector3<f64>,
+        _s: &mut ElementScratch,
+        h: &mut [f64],
+    ) {
         let d = Vector3::new(q[3] - q[0], q[4] - q[1], q[5] - q[2]);
         let l = d.norm();
         let n = if l > 0.0 { d / l } else { Vector3::zeros() };
@@ -113,7 +139,14 @@ impl Element for Spring {
             h[3 + i] = -n[i] * f;
         }
     }
-    fn frame_kinematics(&self, q: &[f64], u: &[f64], f: &LocalFrame, out: &mut FrameKinematics) {
+    fn frame_kinematics(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        _s: &mut ElementScratch,
+        f: &LocalFrame,
+        out: &mut FrameKinematics,
+    ) {
         let xi = f.position.x;
         out.position = Vector3::from_fn(|i, _| (1.0 - xi) * q[i] + xi * q[3 + i]);
         out.rotation = f.rotation;
@@ -128,10 +161,10 @@ impl Element for Spring {
             out.jac_t[(i, 3 + i)] = xi;
         }
     }
-    fn kinetic_energy(&self, _q: &[f64], _u: &[f64]) -> f64 {
+    fn kinetic_energy(&self, _q: &[f64], _u: &[f64], _s: &mut ElementScratch) -> f64 {
         0.0
     }
-    fn gravity_potential(&self, _q: &[f64], _g: &Vector3<f64>) -> f64 {
+    fn gravity_potential(&self, _q: &[f64], _g: &Vector3<f64>, _s: &mut ElementScratch) -> f64 {
         0.0
     }
     fn elastic_energy(&self, q: &[f64]) -> f64 {
@@ -185,7 +218,15 @@ fn two_point_masses_on_one_node_are_one_particle() {
         let mut ws = Workspace::new(&model);
         let ga = GenAlpha::new(tight()).unwrap();
         ga.initialize(&model, &mut s, &mut ws).unwrap();
-        flexmbs_core::system::assemble_mass(&model, &s.q, ws.sys.mass.as_mut(), &mut ws.sys.local);
+        let sys = &mut ws.sys;
+        flexmbs_core::system::evaluate(&model, &s.q, &s.u, sys).unwrap();
+        flexmbs_core::system::assemble_mass(
+            &model,
+            &s.q,
+            &mut sys.eval,
+            sys.mass.as_mut(),
+            &mut sys.local,
+        );
         let mut expected = Mat::<f64>::zeros(3, 3);
         for i in 0..3 {
             expected[(i, i)] = m1 + m2;
@@ -309,9 +350,9 @@ fn frame_spanning_two_nodes_matches_finite_differences() {
     assert_eq!(cols.iter().collect::<Vec<_>>(), (3..9).collect::<Vec<_>>());
     let q: Vec<f64> = (0..model.nq).map(|i| (i as f64 * 0.7).sin()).collect();
     let u = vec![0.0; model.nu];
-    let mut frames = model.frame_buffers();
-    update_frames(&model, &q, &u, &mut frames);
-    let jac = frames[f.index()].jac_t.clone();
+    let mut sys = Workspace::new(&model).sys;
+    evaluate(&model, &q, &u, &mut sys).unwrap();
+    let jac = sys.frames[f.index()].jac_t.clone();
     let (mut qp, eps) = (q.clone(), 1e-6);
     for j in 0..model.nu {
         let mut dv = vec![0.0; model.nu];
@@ -319,8 +360,8 @@ fn frame_spanning_two_nodes_matches_finite_differences() {
         for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
             dv[j] = sign * eps;
             integrate_positions(&model, &q, &dv, &mut qp);
-            update_frames(&model, &qp, &u, &mut frames);
-            pos[k] = frames[f.index()].position;
+            evaluate(&model, &qp, &u, &mut sys).unwrap();
+            pos[k] = sys.frames[f.index()].position;
         }
         let fd = (pos[0] - pos[1]) / (2.0 * eps);
         let analytic = match (0..6).find(|&c| cols.global(c) == j) {
@@ -436,7 +477,7 @@ fn constraint_jacobian_with_shared_owners_matches_finite_differences() {
     let u = vec![0.0; model.nu];
     let mut sys = Workspace::new(&model).sys;
     let eval = |q: &[f64], sys: &mut flexmbs_core::state::SystemBuffers| {
-        update_frames(&model, q, &u, &mut sys.frames);
+        evaluate(&model, q, &u, sys).unwrap();
         assemble_constraints(
             &model,
             0.0,

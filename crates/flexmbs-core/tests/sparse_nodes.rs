@@ -122,10 +122,12 @@ fn block_mass_with_shared_nodes_equals_dense_lu() {
     let (model, s) = node_chain(3);
     let nu = model.nu;
     let mut bm = BlockMass::new(&model);
-    bm.update(&model, &s.q).unwrap();
     let mut ws = Workspace::new(&model);
+    system::evaluate(&model, &s.q, &s.u, &mut ws.sys).unwrap();
+    bm.update(&model, &s.q, &mut ws.sys.eval).unwrap();
     let mut lu = DenseLu::new(nu);
-    system::assemble_mass(&model, &s.q, lu.a.as_mut(), &mut ws.sys.local);
+    let sys = &mut ws.sys;
+    system::assemble_mass(&model, &s.q, &mut sys.eval, lu.a.as_mut(), &mut sys.local);
     assert!(lu.factor());
     let b: Vec<f64> = (0..nu).map(|i| (0.7 * i as f64).cos()).collect();
     let (mut x, mut y) = (b.clone(), b);

@@ -17,7 +17,9 @@ pub(crate) fn spring_free_lengths_from_initial_state(
         return;
     }
     let mut ws = Workspace::new(model);
-    system::update_frames(model, &initial.q, &initial.u, &mut ws.sys.frames);
+    if system::evaluate(model, &initial.q, &initial.u, &mut ws.sys).is_err() {
+        return; // the initial state cannot be evaluated: the run's initialization reports it
+    }
     for &i in loads {
         if let Load::SpringDamper {
             frame_a,

@@ -15,7 +15,8 @@ use flexmbs_core::power::{
     external_power, has_external_work, power_frames, stiffening_power, WorkMeter,
 };
 use flexmbs_core::{
-    system, FrameId, FrameKinematics, LocalFrame, Model, SolverError, State, Workspace,
+    system, ElementScratch, FrameId, FrameKinematics, LocalFrame, Model, SolverError, State,
+    Workspace,
 };
 use flexmbs_io::results::{
     plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
@@ -140,7 +141,7 @@ fn error_point(e: &SolverError) -> (f64, f64, f64) {
     match *e {
         SolverError::NewtonFailed { t, h, residual, .. }
         | SolverError::NonFinite { t, h, residual, .. } => (t, h, residual),
-        SolverError::Singular { t, h, .. } => (t, h, f64::NAN),
+        SolverError::Singular { t, h, .. } | SolverError::Element { t, h, .. } => (t, h, f64::NAN),
         SolverError::StepTooSmall { t, h, error, .. } => (t, h, error),
         SolverError::ConstraintsUnsupported { .. }
         | SolverError::InvalidSetting { .. }
@@ -156,6 +157,8 @@ struct Recorder<'a> {
     writer: Option<ResultsWriter>,
     anim: Option<AnimationWriter>,
     frames: Vec<FrameKinematics>,
+    /// Every body's element evaluated at the recorded state.
+    eval: Vec<ElementScratch>,
     body_fk: Vec<FrameKinematics>,
     signals: Vec<f64>,
     positions: Vec<Vec<[f64; 3]>>,
@@ -188,7 +191,7 @@ impl<'a> Recorder<'a> {
     /// [`Recorder::record`] with the row's time column `t` given (statics: the load factor).
     fn record_at(&mut self, s: &State, t: f64, st: &StepStats) -> Result<(), ResultsError> {
         let m = &self.cm.model;
-        system::update_frames(m, &s.q, &s.u, &mut self.frames);
+        self.evaluate(s);
         evaluate_signals(
             &self.cm.signals,
             m,
@@ -199,7 +202,7 @@ impl<'a> Recorder<'a> {
         );
         // energies of the output row from the state itself (the integrator computes none per
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
-        let e = system::energy(m, &s.q, &s.u, &self.frames);
+        let e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);
         let total = e.total();
         if self.energy0.is_none() {
             self.meter_work(s);
@@ -225,12 +228,27 @@ impl<'a> Recorder<'a> {
         let rows = w.rows();
         if let Some(anim) = self.anim.as_mut() {
             if (rows - 1) % self.cm.output.animation_every == 0 {
-                body_points(m, self.cm, s, &mut self.body_fk, &mut self.positions);
+                let (fk, pos) = (&mut self.body_fk, &mut self.positions);
+                body_points(m, self.cm, s, &mut self.eval, fk, pos);
                 let refs: Vec<&[[f64; 3]]> = self.positions.iter().map(|p| p.as_slice()).collect();
                 anim.write_frame(t, &refs)?;
             }
         }
         Ok(())
+    }
+
+    /// Evaluates the elements and all frames at `s` (an accepted state: the integrator evaluated
+    /// it; should it fail anyway, the frames become NaN and so do the written values).
+    fn evaluate(&mut self, s: &State) {
+        let m = &self.cm.model;
+        if system::evaluate_elements(m, &s.q, &s.u, &mut self.eval).is_err() {
+            for k in &mut self.frames {
+                k.position.fill(f64::NAN);
+                k.velocity.fill(f64::NAN);
+            }
+            return;
+        }
+        system::update_frames(m, &s.q, &s.u, &mut self.eval, &mut self.frames);
     }
 
     /// Adds the step to `s.t` to the external work (with frames updated to `s`), if tracked.
@@ -239,7 +257,13 @@ impl<'a> Recorder<'a> {
             return;
         };
         let m = &self.cm.model;
-        system::update_selected_frames(m, &s.q, &s.u, &self.power_frames, &mut self.frames);
+        // only frames: the kinematics-only evaluation (O(n_f) per FFR body)
+        if system::evaluate_kinematics(m, &s.q, &s.u, &mut self.eval).is_err() {
+            meter.advance(s.t, f64::NAN);
+            return;
+        }
+        let (ids, eval) = (&self.power_frames, &mut self.eval);
+        system::update_selected_frames(m, &s.q, &s.u, eval, ids, &mut self.frames);
         let mut power = external_power(m, s.t, &self.frames, &s.lambda).total();
         for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
             let (q, u) = (m.body_q(*id, &s.q), m.body_u(*id, &s.u));
@@ -307,6 +331,7 @@ fn body_points(
     m: &Model,
     cm: &CompiledModel,
     s: &State,
+    eval: &mut [ElementScratch],
     fk: &mut [FrameKinematics],
     out: &mut [Vec<[f64; 3]>],
 ) {
@@ -320,7 +345,8 @@ fn body_points(
                 rotation: Matrix3::identity(),
                 mesh_node: info.geometry.fe_nodes.then_some(n),
             };
-            b.element.frame_kinematics(q, u, &lf, k);
+            b.element
+                .frame_kinematics(q, u, &mut eval[info.id.0], &lf, k);
             pts.push([k.position.x, k.position.y, k.position.z]);
         }
     }
@@ -399,6 +425,7 @@ pub fn run_model(
         writer: Some(writer),
         anim,
         frames: m.frame_buffers(),
+        eval: m.bodies.iter().map(|b| b.element.new_scratch()).collect(),
         body_fk: cm
             .bodies
             .iter()

@@ -127,13 +127,17 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
     let rb = &model.bodies[rod_id.0];
     let mut fk = FrameKinematics::for_body(&model, rod_id);
     let mid = ELEMENTS / 2;
+    let mut e = rb.element.new_scratch();
     let mut node_pos = |q: &[f64], u: &[f64], n: usize| {
         let f = LocalFrame {
             position: Vector3::from(body.nodes[n]),
             rotation: i3,
             mesh_node: Some(n),
         };
-        rb.element.frame_kinematics(q, u, &f, &mut fk);
+        if rb.element.update_kinematics(q, u, &mut e).is_err() {
+            return Vector3::from_element(f64::NAN);
+        }
+        rb.element.frame_kinematics(q, u, &mut e, &f, &mut fk);
         fk.position
     };
     let mut out = Vec::new();

@@ -4,7 +4,7 @@
 //! load's or joint's frames, a [`TangentSink`] for the local tangents of
 //! `crate::system::local_tangent`, the one finite-difference implementation).
 
-use crate::element::TangentScratch;
+use crate::element::{ElementScratch, TangentScratch};
 use crate::model::Body;
 use crate::state::SystemBuffers;
 use crate::system::TangentSink;
@@ -36,14 +36,16 @@ impl ElementBlock {
         }
     }
 
-    /// Element mass matrix at `q`.
-    pub(super) fn compute_mass(&mut self, body: &Body, q: &[f64]) {
+    /// Element mass matrix at `q` (the element evaluated there in `eval`).
+    pub(super) fn compute_mass(&mut self, body: &Body, q: &[f64], eval: &mut ElementScratch) {
         let oq = body.q_offset;
         body.element
-            .mass_matrix(&q[oq..oq + body.element.nq()], self.mass.as_mut());
+            .mass_matrix(&q[oq..oq + body.element.nq()], eval, self.mass.as_mut());
     }
 
-    /// Element force tangents at `(t, q, u)` with gravity `g`.
+    /// Element force tangents at `(t, q, u)` with gravity `g` (the element evaluated there in
+    /// `eval`).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn compute_tangents(
         &mut self,
         body: &Body,
@@ -51,6 +53,7 @@ impl ElementBlock {
         q: &[f64],
         u: &[f64],
         g: &Vector3<f64>,
+        eval: &mut ElementScratch,
         scratch: &mut TangentScratch,
     ) {
         let (oq, n) = (body.q_offset, body.element.nu());
@@ -61,6 +64,7 @@ impl ElementBlock {
             &q[oq..oq + body.element.nq()],
             &u[self.offset..self.offset + n],
             g,
+            eval,
             self.dh_dq.as_mut(),
             self.dh_du.as_mut(),
             scratch,
@@ -88,12 +92,14 @@ impl ElementBlock {
         &mut self,
         body: &Body,
         q: &[f64],
+        eval: &mut ElementScratch,
         v: &[f64],
         out: &mut [f64],
     ) {
         let (oq, o, n) = (body.q_offset, self.offset, body.element.nu());
         body.element.mass_times_vector(
             &q[oq..oq + body.element.nq()],
+            eval,
             &v[o..o + n],
             self.mass.as_mut(),
             &mut self.h,

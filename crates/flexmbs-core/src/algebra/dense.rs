@@ -38,7 +38,7 @@ impl DenseSystem {
         let nu = model.nu;
         match kind {
             SaddleKind::AugmentedMass => {
-                system::assemble_mass(model, q, sys.mass.as_mut(), &mut sys.local);
+                system::assemble_mass(model, q, &mut sys.eval, sys.mass.as_mut(), &mut sys.local);
                 for j in 0..nu {
                     for i in 0..nu {
                         a[(i, j)] = sys.mass[(i, j)];
@@ -46,7 +46,7 @@ impl DenseSystem {
                 }
             }
             SaddleKind::Iteration { t, c_u, c_q } => {
-                system::assemble_mass(model, q, sys.mass.as_mut(), &mut sys.local);
+                system::assemble_mass(model, q, &mut sys.eval, sys.mass.as_mut(), &mut sys.local);
                 system::assemble_tangents(model, t, q, u, 1.0, sys);
                 for j in 0..nu {
                     for i in 0..nu {

@@ -5,6 +5,7 @@
 //! when its mass changed (compared bitwise with the factored one: a rigid body in body-fixed
 //! velocities factors once).
 
+use crate::element::ElementScratch;
 use crate::linsolve::{cholesky_in_place, cholesky_solve_in_place};
 use crate::model::Model;
 use faer::Mat;
@@ -82,12 +83,18 @@ impl BlockMass {
         }
     }
 
-    /// Evaluates every block's mass matrix at `q` and refactors the blocks that changed.
+    /// Evaluates every block's mass matrix at `q` (the elements evaluated there in `eval`, one
+    /// scratch per body) and refactors the blocks that changed.
     /// `Err(body index)` (the block's first body) if a block is not numerically positive
     /// definite.
-    pub fn update(&mut self, model: &Model, q: &[f64]) -> Result<(), usize> {
+    pub fn update(
+        &mut self,
+        model: &Model,
+        q: &[f64],
+        eval: &mut [ElementScratch],
+    ) -> Result<(), usize> {
         for blk in &mut self.blocks {
-            blk.evaluate(model, q);
+            blk.evaluate(model, q, eval);
             let same = (0..blk.current.ncols()).all(|j| {
                 blk.current
                     .col_as_slice(j)
@@ -130,20 +137,20 @@ impl BlockMass {
 
 impl MassBlock {
     /// `current` = the block's mass at `q`: one element's matrix, or the sum of its elements'.
-    fn evaluate(&mut self, model: &Model, q: &[f64]) {
-        if let [(b, _)] = self.bodies[..] {
-            let b = &model.bodies[b];
+    fn evaluate(&mut self, model: &Model, q: &[f64], eval: &mut [ElementScratch]) {
+        if let [(i, _)] = self.bodies[..] {
+            let b = &model.bodies[i];
             let oq = b.q_offset;
-            b.element
-                .mass_matrix(&q[oq..oq + b.element.nq()], self.current.as_mut());
+            let (qb, e) = (&q[oq..oq + b.element.nq()], &mut eval[i]);
+            b.element.mass_matrix(qb, e, self.current.as_mut());
             return;
         }
         self.current.fill(0.0);
-        for (b, m) in &mut self.bodies {
-            let b = &model.bodies[*b];
+        for (i, m) in &mut self.bodies {
+            let b = &model.bodies[*i];
             let (oq, o) = (b.q_offset, b.u_offset - self.offset);
-            b.element
-                .mass_matrix(&q[oq..oq + b.element.nq()], m.as_mut());
+            let (qb, e) = (&q[oq..oq + b.element.nq()], &mut eval[*i]);
+            b.element.mass_matrix(qb, e, m.as_mut());
             for j in 0..m.ncols() {
                 for i in 0..m.nrows() {
                     self.current[(o + i, o + j)] += m[(i, j)];

@@ -171,7 +171,8 @@ impl SystemMatrix {
         }
     }
 
-    /// `out = M(q) v` (global block-diagonal mass), element by element.
+    /// `out = M(q) v` (global block-diagonal mass), element by element, from the elements
+    /// evaluated at `q` in `sys` ([`crate::system::evaluate`]).
     pub fn mass_times_vector(
         &mut self,
         model: &Model,
@@ -185,11 +186,12 @@ impl SystemMatrix {
                 model,
                 q,
                 v,
+                &mut sys.eval,
                 sys.mass.as_mut(),
                 out,
                 &mut sys.local,
             ),
-            Backend::Sparse(s) => s.mass_times_vector(model, q, v, out),
+            Backend::Sparse(s) => s.mass_times_vector(model, q, v, &mut sys.eval, out),
         }
     }
 

@@ -6,6 +6,7 @@
 use super::blocks::{CouplingSlots, ElementBlock};
 use super::pattern::{ColumnLists, SystemPattern};
 use super::SaddleKind;
+use crate::element::ElementScratch;
 use crate::model::Model;
 use crate::state::SystemBuffers;
 use crate::system;
@@ -142,21 +143,19 @@ impl SparseSystem {
         let v = &mut self.values;
         match kind {
             SaddleKind::AugmentedMass => {
-                for (b, blk) in model.bodies.iter().zip(&mut self.elements) {
-                    blk.compute_mass(b, q);
+                let blocks = model.bodies.iter().zip(&mut self.elements);
+                for ((b, blk), e) in blocks.zip(&mut sys.eval) {
+                    blk.compute_mass(b, q, e);
                     blk.scatter(v, |m, _, _| m);
                 }
             }
             SaddleKind::Iteration { t, c_u, c_q } => {
                 let g = model.gravity;
-                for ((b, blk), scratch) in model
-                    .bodies
-                    .iter()
-                    .zip(&mut self.elements)
-                    .zip(&mut sys.tangent_scratch)
-                {
-                    blk.compute_mass(b, q);
-                    blk.compute_tangents(b, t, q, u, &g, scratch);
+                let scratches = sys.tangent_scratch.iter_mut().zip(&mut sys.eval);
+                let blocks = model.bodies.iter().zip(&mut self.elements);
+                for ((b, blk), (scratch, e)) in blocks.zip(scratches) {
+                    blk.compute_mass(b, q, e);
+                    blk.compute_tangents(b, t, q, u, &g, e, scratch);
                     blk.scatter(v, |m, kq, ku| m - c_u * ku - c_q * kq);
                 }
                 for (load, blk) in model.loads.iter().zip(&self.loads) {
@@ -171,13 +170,10 @@ impl SparseSystem {
             }
             SaddleKind::StaticTangent { t, mu } => {
                 let g = model.gravity * mu;
-                for ((b, blk), scratch) in model
-                    .bodies
-                    .iter()
-                    .zip(&mut self.elements)
-                    .zip(&mut sys.tangent_scratch)
-                {
-                    blk.compute_tangents(b, t, q, u, &g, scratch);
+                let scratches = sys.tangent_scratch.iter_mut().zip(&mut sys.eval);
+                let blocks = model.bodies.iter().zip(&mut self.elements);
+                for ((b, blk), (scratch, e)) in blocks.zip(scratches) {
+                    blk.compute_tangents(b, t, q, u, &g, e, scratch);
                     blk.scatter(v, |_, kq, _| -kq);
                 }
                 // A = -dh/dq + d(G^T lambda)/dq: the local tangents add `-d/dq` of the loads
@@ -256,11 +252,13 @@ impl SparseSystem {
         model: &Model,
         q: &[f64],
         v: &[f64],
+        eval: &mut [ElementScratch],
         out: &mut [f64],
     ) {
         out.fill(0.0);
-        for (b, blk) in model.bodies.iter().zip(&mut self.elements) {
-            blk.add_mass_times_vector(b, q, v, out);
+        let blocks = model.bodies.iter().zip(&mut self.elements);
+        for ((b, blk), e) in blocks.zip(eval.iter_mut()) {
+            blk.add_mass_times_vector(b, q, e, v, out);
         }
     }
 

@@ -11,8 +11,7 @@ use faer::MatMut;
 use flexmbs_fe::reduction::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector4};
 
-/// Threshold on |cos beta| below which Cardan coordinates are reported singular.
-pub const CARDAN_SINGULARITY_TOLERANCE: f64 = 1e-8;
+pub use crate::rotation::CARDAN_SINGULARITY_TOLERANCE;
 
 /// Rotation coordinates of the floating frame: the same choice as for rigid bodies (Cardan
 /// angles x-y-z, seed 000 (2.22), with `theta_dot` (2.26); or a unit quaternion `[w, x, y, z]`

@@ -1,46 +1,43 @@
 //! The FFR body as an [`Element`] of the multibody engine: the adapter between the engine's
 //! element contract and the FFR mathematics of [`FfrBody`] (seed 000 (2.73)).
 
-use super::{FfrBody, FfrScratch, FfrTangentScratch, MomentCache, RotationParam};
+use super::{FfrBody, FfrScratch, FfrTangentScratch, RotationParam};
 use crate::element::{
-    finite_difference_tangents, Element, FrameKinematics, LocalFrame, TangentScratch,
+    finite_difference_tangents, Element, ElementError, ElementScratch, FrameKinematics, LocalFrame,
+    TangentScratch,
 };
 use crate::node::NodeKind;
 use crate::rotation::{cardan_from_matrix, cardan_g_bar, quaternion_from_matrix, skew};
 use faer::MatMut;
 use nalgebra::{Matrix3, Vector3};
-use std::sync::Mutex;
 
-/// An FFR body in a multibody model. The evaluated state lives in a scratch buffer behind a mutex
-/// (uncontended: one element is evaluated by one thread at a time), so the `&self` methods of the
-/// element contract allocate nothing.
+/// An FFR body in a multibody model: the body's constant data only. Its evaluated state at a
+/// `(q, u)` is an [`FfrEval`] in the workspace ([`Element::update`]).
 #[derive(Debug)]
 pub struct FfrElement {
     body: FfrBody,
-    scratch: Mutex<FfrScratch>,
-    zero_u: Vec<f64>,
-    tangent: Mutex<FfrTangentScratch>,
     analytic_tangent: bool,
-    moments: Mutex<MomentCache>,
-    /// Kinematic state only (rotation state, `q_f`, `q_f_dot`; no moments) for
-    /// [`Element::frame_kinematics_only`].
-    kinematics: Mutex<FfrScratch>,
     /// Floating-frame pose node and modal `Vector(n_f)` node.
     node_kinds: [NodeKind; 2],
+}
+
+/// The evaluated state of an [`FfrElement`] (its [`ElementScratch`]): rotation state, modal
+/// coordinates and rates, and, after a full [`Element::update`], the deformed moments
+/// (2.55)-(2.68); plus the work buffers of the analytic tangent.
+#[derive(Debug, Clone)]
+pub struct FfrEval {
+    /// The evaluated state.
+    pub state: FfrScratch,
+    /// Work buffers of [`FfrBody::force_tangents`].
+    pub tangent: FfrTangentScratch,
 }
 
 impl FfrElement {
     /// Wraps an FFR body.
     pub fn new(body: FfrBody) -> Self {
         let nf = body.nf();
-        let nu = body.nu();
         Self {
-            scratch: Mutex::new(FfrScratch::new(nf)),
-            zero_u: vec![0.0; nu],
-            tangent: Mutex::new(FfrTangentScratch::new(nf)),
             analytic_tangent: true,
-            moments: Mutex::new(MomentCache::new(nf)),
-            kinematics: Mutex::new(FfrScratch::new(nf)),
             node_kinds: [
                 match body.rotation {
                     RotationParam::Cardan => NodeKind::PoseCardan,
@@ -63,49 +60,11 @@ impl FfrElement {
     pub fn body(&self) -> &FfrBody {
         &self.body
     }
+}
 
-    /// Evaluates the state into the scratch buffer and runs `f` on it; `None` if the state is
-    /// invalid (singular Cardan angles, non-finite values): callers then write NaN, which the
-    /// integrators report as a diverging step with time and step size.
-    fn with_state<R>(
-        &self,
-        q: &[f64],
-        u: &[f64],
-        f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R,
-    ) -> Option<R> {
-        self.with_state_parts(q, u, true, f)
-    }
-
-    /// [`Self::with_state`] for functions that need only the `q`-dependent part of the state
-    /// (`A`, `H`, moments; see [`FfrBody::update_cached_parts`]); `u` should then be zero.
-    fn with_q_state<R>(
-        &self,
-        q: &[f64],
-        f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R,
-    ) -> Option<R> {
-        self.with_state_parts(q, &self.zero_u, false, f)
-    }
-
-    fn with_state_parts<R>(
-        &self,
-        q: &[f64],
-        u: &[f64],
-        velocity: bool,
-        f: impl FnOnce(&FfrBody, &mut FfrScratch) -> R,
-    ) -> Option<R> {
-        let mut s = match self.scratch.lock() {
-            Ok(s) => s,
-            Err(poisoned) => poisoned.into_inner(),
-        };
-        let mut cache = match self.moments.lock() {
-            Ok(c) => c,
-            Err(poisoned) => poisoned.into_inner(),
-        };
-        self.body
-            .update_cached_parts(q, u, velocity, &mut s, &mut cache)
-            .ok()?;
-        Some(f(&self.body, &mut s))
-    }
+/// The evaluated FFR state in a scratch.
+fn eval(s: &mut ElementScratch) -> &mut FfrEval {
+    s.get_mut::<FfrEval>()
 }
 
 fn fill_nan(x: &mut [f64]) {
@@ -182,11 +141,13 @@ impl Element for FfrElement {
         omega: &Vector3<f64>,
     ) {
         u[..3].copy_from_slice(velocity.as_slice());
-        let ok = self.with_q_state(q, |_, s| s.a.transpose() * omega);
-        let Some(omega_bar) = ok else {
+        let mut s = self.new_scratch();
+        let zero = vec![0.0; self.nu()];
+        let Ok(()) = self.update_kinematics(q, &zero, &mut s) else {
             u[3..6].fill(f64::NAN);
             return;
         };
+        let omega_bar = eval(&mut s).state.a.transpose() * omega;
         match self.body.rotation {
             RotationParam::Cardan => {
                 let th = Vector3::new(q[3], q[4], q[5]);
@@ -220,17 +181,50 @@ impl Element for FfrElement {
         }
     }
 
-    fn mass_matrix(&self, q: &[f64], mut m: MatMut<'_, f64>) {
-        let done = self.with_q_state(q, |b, s| b.mass_matrix(s, m.as_mut()));
-        if done.is_none() {
-            m.fill(f64::NAN);
-        }
+    fn new_scratch(&self) -> ElementScratch {
+        let nf = self.body.nf();
+        ElementScratch::new(FfrEval {
+            state: FfrScratch::new(nf),
+            tangent: FfrTangentScratch::new(nf),
+        })
     }
 
-    fn mass_times_vector(&self, q: &[f64], v: &[f64], mut m: MatMut<'_, f64>, out: &mut [f64]) {
+    /// [`FfrBody::update`]: rotation state, `q_f`, `q_f_dot` and the deformed moments.
+    fn update(&self, q: &[f64], u: &[f64], s: &mut ElementScratch) -> Result<(), ElementError> {
+        Ok(self.body.update(q, u, &mut eval(s).state)?)
+    }
+
+    /// Rotation state, `q_f`, `q_f_dot` only (bitwise the values of a full update), without the
+    /// O(n_f^2) moments: enough for frame kinematics.
+    fn update_kinematics(
+        &self,
+        q: &[f64],
+        u: &[f64],
+        s: &mut ElementScratch,
+    ) -> Result<(), ElementError> {
+        Ok(update_kinematic_state(
+            &self.body,
+            q,
+            u,
+            &mut eval(s).state,
+        )?)
+    }
+
+    fn mass_matrix(&self, _q: &[f64], s: &mut ElementScratch, m: MatMut<'_, f64>) {
+        self.body.mass_matrix(&eval(s).state, m);
+    }
+
+    fn mass_times_vector(
+        &self,
+        q: &[f64],
+        s: &mut ElementScratch,
+        v: &[f64],
+        mut m: MatMut<'_, f64>,
+        out: &mut [f64],
+    ) {
         // the product covers the translational terms; with node rotary inertia assemble M
         if self.body.rotary.is_some() {
-            self.mass_matrix(q, m.as_mut());
+            self.mass_matrix(q, s, m.as_mut());
             out.fill(0.0);
             for (j, x) in v.iter().enumerate() {
                 for (i, o) in out.iter_mut().enumerate() {
@@ -239,21 +233,22 @@ impl Element for FfrElement {
             }
             return;
         }
-        let done = self.with_q_state(q, |b, s| b.mass_times_vector(s, v, out));
-        if done.is_none() {
-            fill_nan(out);
-        }
+        self.body.mass_times_vector(&eval(s).state, v, out);
     }
 
-    fn forces(&self, _t: f64, q: &[f64], u: &[f64], gravity: &Vector3<f64>, h: &mut [f64]) {
-        let done = self.with_state(q, u, |b, s| {
-            b.quadratic_velocity(s, h);
-            b.add_internal_forces(s, h);
-            b.add_gravity_force(s, gravity, h);
-        });
-        if done.is_none() {
-            fill_nan(h);
-        }
+    fn forces(
+        &self,
+        _t: f64,
+        _q: &[f64],
+        _u: &[f64],
+        gravity: &Vector3<f64>,
+        s: &mut ElementScratch,
+        h: &mut [f64],
+    ) {
+        let (b, st) = (&self.body, &eval(s).state);
+        b.quadratic_velocity(st, h);
+        b.add_internal_forces(st, h);
+        b.add_gravity_force(st, gravity, h);
     }
 
     fn force_tangents(
@@ -262,23 +257,26 @@ impl Element for FfrElement {
         q: &[f64],
         u: &[f64],
         gravity: &Vector3<f64>,
+        s: &mut ElementScratch,
         mut dh_dq: MatMut<'_, f64>,
         mut dh_du: MatMut<'_, f64>,
-        scratch: &mut TangentScratch,
+        fd: &mut TangentScratch,
     ) {
         if !self.analytic_tangent {
-            finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, scratch);
+            finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, fd);
             return;
         }
-        let mut ts = match self.tangent.lock() {
-            Ok(ts) => ts,
-            Err(poisoned) => poisoned.into_inner(),
-        };
-        let done = self.with_state(q, u, |b, s| {
-            b.force_tangents(q, u, gravity, s, &mut ts, dh_dq.as_mut(), dh_du.as_mut())
-                .is_ok()
-        });
-        if done != Some(true) {
+        let e = eval(s);
+        let done = self.body.force_tangents(
+            q,
+            u,
+            gravity,
+            &mut e.state,
+            &mut e.tangent,
+            dh_dq.as_mut(),
+            dh_du.as_mut(),
+        );
+        if done.is_err() {
             dh_dq.fill(f64::NAN);
             dh_du.fill(f64::NAN);
         }
@@ -288,48 +286,25 @@ impl Element for FfrElement {
         &self,
         q: &[f64],
         u: &[f64],
+        s: &mut ElementScratch,
         frame: &LocalFrame,
         out: &mut FrameKinematics,
     ) {
-        let done = self.with_state(q, u, |b, s| frame_from_state(b, q, u, s, frame, out));
-        if done.flatten().is_none() {
+        if frame_from_state(&self.body, q, u, &eval(s).state, frame, out).is_none() {
             out.position.fill(f64::NAN);
             out.velocity.fill(f64::NAN);
         }
     }
 
-    fn frame_kinematics_only(
-        &self,
-        q: &[f64],
-        u: &[f64],
-        frame: &LocalFrame,
-        out: &mut FrameKinematics,
-    ) {
-        let mut s = match self.kinematics.lock() {
-            Ok(s) => s,
-            Err(poisoned) => poisoned.into_inner(),
-        };
-        let done = update_kinematic_state(&self.body, q, u, &mut s)
-            .ok()
-            .and_then(|_| frame_from_state(&self.body, q, u, &s, frame, out));
-        if done.is_none() {
-            out.position.fill(f64::NAN);
-            out.velocity.fill(f64::NAN);
-        }
+    fn kinetic_energy(&self, _q: &[f64], u: &[f64], s: &mut ElementScratch) -> f64 {
+        self.body.kinetic_energy(&mut eval(s).state, u)
     }
 
-    fn kinetic_energy(&self, q: &[f64], u: &[f64]) -> f64 {
-        self.with_state(q, u, |b, s| b.kinetic_energy(s, u))
-            .unwrap_or(f64::NAN)
-    }
-
-    fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>) -> f64 {
+    fn gravity_potential(&self, q: &[f64], gravity: &Vector3<f64>, s: &mut ElementScratch) -> f64 {
         // V = -sum_j m_j g . r_j = -g . (I1 R + A S_t), S_t = sum_j m_j u_bar_j (deformed)
-        self.with_q_state(q, |b, s| {
-            let r = Vector3::new(q[0], q[1], q[2]);
-            -gravity.dot(&(b.invariants.i1 * r + s.a * s.s_t))
-        })
-        .unwrap_or(f64::NAN)
+        let st = &eval(s).state;
+        let r = Vector3::new(q[0], q[1], q[2]);
+        -gravity.dot(&(self.body.invariants.i1 * r + st.a * st.s_t))
     }
 
     fn elastic_energy(&self, q: &[f64]) -> f64 {

@@ -12,7 +12,6 @@
 //! `docs/notation-ffr.md` for the derivation and the corrected quadratic velocity vector (2.79).
 
 mod body;
-mod cached;
 mod consistent;
 mod element;
 mod invariants;
@@ -35,9 +34,8 @@ mod tests_stiffening;
 mod tests_tangent;
 
 pub use body::{FfrBody, FfrScratch, RigidProperties, RotationParam};
-pub use cached::MomentCache;
 pub use consistent::consistent_mass_to_si;
-pub use element::FfrElement;
+pub use element::{FfrElement, FfrEval};
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
 pub use rotary::{diagonal_inertia, RotaryInertia};
@@ -129,4 +127,24 @@ pub enum FfrError {
     /// Rotation parametrization error (Cardan singularity, zero quaternion).
     #[error(transparent)]
     Rotation(#[from] RotationError),
+}
+
+impl From<FfrError> for crate::element::ElementError {
+    fn from(e: FfrError) -> Self {
+        match e {
+            FfrError::Rotation(r) => Self::Rotation(r),
+            FfrError::DimensionMismatch {
+                what,
+                expected,
+                found,
+            } => Self::Dimension {
+                what,
+                expected,
+                found,
+            },
+            other => Self::Other {
+                reason: other.to_string(),
+            },
+        }
+    }
 }

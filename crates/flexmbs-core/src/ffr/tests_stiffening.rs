@@ -27,7 +27,7 @@ fn fd_tangents(e: &FfrElement, q: &[f64], u: &[f64]) -> (DMatrix<f64>, DMatrix<f
     let nu = e.nu();
     let mut dq = DMatrix::zeros(nu, nu);
     let mut du = DMatrix::zeros(nu, nu);
-    let mut s = TangentScratch::new(e.nq(), nu);
+    let mut s = TangentScratch::new(e);
     finite_difference_tangents(
         e,
         0.0,
@@ -183,12 +183,14 @@ fn analytic_element_tangent_includes_stiffening() {
         let nu = e.nu();
         let mut aq = DMatrix::zeros(nu, nu);
         let mut au = DMatrix::zeros(nu, nu);
-        let mut ts = TangentScratch::new(e.nq(), nu);
+        let mut ts = TangentScratch::new(&e);
+        let mut ev = e.evaluated(&q, &u).unwrap();
         e.force_tangents(
             0.0,
             &q,
             &u,
             &Vector3::new(0.0, 0.0, -9.81),
+            &mut ev,
             body::faer_view_mut(&mut aq),
             body::faer_view_mut(&mut au),
             &mut ts,

@@ -104,9 +104,9 @@ fn derivative(
     let (q, u) = y.split_at(nq);
     let (dq, du) = dy.split_at_mut(nq);
     system::q_dot(model, q, u, dq);
-    system::update_frames(model, q, u, &mut sys.frames);
-    system::assemble_forces(model, t, q, u, 1.0, &sys.frames, &mut sys.h, &mut sys.local);
-    if mass.update(model, q).is_err() {
+    system::evaluate(model, q, u, sys).map_err(|e| e.at(t, 0.0))?;
+    system::assemble_forces(model, t, q, u, 1.0, sys);
+    if mass.update(model, q, &mut sys.eval).is_err() {
         return Err(SolverError::Singular {
             what: "mass",
             t,

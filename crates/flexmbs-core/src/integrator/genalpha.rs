@@ -232,7 +232,7 @@ impl GenAlpha {
                 &mut ws.saddle
             };
             let it = newton_residual(model, t1, &mut ws.step, &mut ws.sys, saddle)
-                .map_err(|what| nonfinite(what, s.t, h, residual))?;
+                .map_err(|e| e.at(s.t, h, residual))?;
             residual = it.r_max;
             let b = &ws.step;
             let conv = judge_convergence(nt, &it, b, (du, dl), prev, beta_p);
@@ -472,6 +472,24 @@ fn nonfinite(what: &'static str, t: f64, h: f64, residual: f64) -> SolverError {
     }
 }
 
+/// Why an iterate cannot be judged.
+enum IterateError {
+    /// A body cannot be evaluated there.
+    Element(crate::error::EvaluationError),
+    /// The named quantity is not finite.
+    NonFinite(&'static str),
+}
+
+impl IterateError {
+    /// The solver error of the step `(t, h)` (last finite residual `residual`).
+    fn at(self, t: f64, h: f64, residual: f64) -> SolverError {
+        match self {
+            IterateError::Element(e) => e.at(t, h),
+            IterateError::NonFinite(what) => nonfinite(what, t, h, residual),
+        }
+    }
+}
+
 /// Residual measures of one Newton iterate.
 struct IterateResidual {
     /// `max |r|`, `r = M u_dot - h + G^T lambda`.
@@ -485,26 +503,18 @@ struct IterateResidual {
 
 /// Evaluates the model at the iterate in `b` (frames, forces, constraints into `sys`) and writes
 /// `-r` into `b.rhs[..nu]`, `r = M(q) u_dot - h(t, q, u) + G^T lambda` (the product `M u_dot`
-/// from the elements; no assembled `M`). Err: the name of a non-finite quantity.
+/// from the elements; no assembled `M`). Err: a body that cannot be evaluated, or a non-finite
+/// quantity.
 fn newton_residual(
     model: &Model,
     t1: f64,
     b: &mut StepBuffers,
     sys: &mut SystemBuffers,
     saddle: &mut SystemMatrix,
-) -> Result<IterateResidual, &'static str> {
+) -> Result<IterateResidual, IterateError> {
     let nu = model.nu;
-    system::update_frames(model, &b.q_new, &b.u_new, &mut sys.frames);
-    system::assemble_forces(
-        model,
-        t1,
-        &b.q_new,
-        &b.u_new,
-        1.0,
-        &sys.frames,
-        &mut sys.h,
-        &mut sys.local,
-    );
+    system::evaluate(model, &b.q_new, &b.u_new, sys).map_err(IterateError::Element)?;
+    system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, sys);
     system::update_constraints(model, t1, sys);
     let r_acc = &mut b.rhs[..nu];
     saddle.mass_times_vector(model, &b.q_new, &b.u_dot_new, sys, r_acc);
@@ -517,7 +527,7 @@ fn newton_residual(
     let mut r_max = 0.0_f64;
     for r in r_acc.iter_mut() {
         if !r.is_finite() {
-            return Err("force residual");
+            return Err(IterateError::NonFinite("force residual"));
         }
         r_max = r_max.max(r.abs());
         *r = -*r;
@@ -525,7 +535,7 @@ fn newton_residual(
     let mut g_max = 0.0_f64;
     for gk in &sys.g {
         if !gk.is_finite() {
-            return Err("constraint");
+            return Err(IterateError::NonFinite("constraint"));
         }
         g_max = g_max.max(gk.abs());
     }
@@ -625,19 +635,19 @@ fn apply_newton_increment(
 }
 
 /// [`super::monitor`] right after a converged [`GenAlpha::solve_step`] and [`commit`]: the last
-/// Newton evaluation was at the committed `(t, q, u)`, so the frames and constraint buffers in
-/// `ws.sys` are current and are reused (bitwise the same values as a fresh evaluation). Energies
+/// Newton evaluation was at the committed `(t, q, u)`, so the evaluated elements, frames and
+/// constraint buffers in `ws.sys` are current and are reused (bitwise the same values as a fresh evaluation). Energies
 /// only if `with_energy`, else zero.
 fn monitor_converged(
     model: &Model,
     s: &State,
-    ws: &Workspace,
+    ws: &mut Workspace,
     with_energy: bool,
 ) -> (system::Energy, f64, f64) {
-    let sys = &ws.sys;
+    let sys = &mut ws.sys;
     let (g, gd) = ws.saddle.constraint_drift(sys, &s.u);
     let energy = if with_energy {
-        system::energy(model, &s.q, &s.u, &sys.frames)
+        system::energy(model, &s.q, &s.u, &mut sys.eval, &sys.frames)
     } else {
         system::Energy::default()
     };

@@ -127,17 +127,8 @@ pub fn consistent_accelerations(
 ) -> Result<(), SolverError> {
     let (nu, nc) = (model.nu, model.nc);
     let sys = &mut ws.sys;
-    system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-    system::assemble_forces(
-        model,
-        s.t,
-        &s.q,
-        &s.u,
-        1.0,
-        &sys.frames,
-        &mut sys.h,
-        &mut sys.local,
-    );
+    system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(s.t, 0.0))?;
+    system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, sys);
     system::update_constraints(model, s.t, sys);
     let rhs = &mut ws.step.rhs;
     rhs[..nu].copy_from_slice(&sys.h);
@@ -151,7 +142,9 @@ pub fn consistent_accelerations(
     };
     if nc == 0 && ws.saddle.is_sparse() {
         // M u_dot = h by the block Cholesky of the mass matrix alone
-        ws.mass_blocks.update(model, &s.q).map_err(|_| singular)?;
+        ws.mass_blocks
+            .update(model, &s.q, &mut sys.eval)
+            .map_err(|_| singular)?;
         ws.mass_blocks.solve_in_place(rhs, 1);
     } else {
         let saddle = &mut ws.saddle;
@@ -175,13 +168,26 @@ pub fn consistent_accelerations(
     Ok(())
 }
 
-/// Energy and constraint drift of a state (updates `ws.sys` frames and constraints).
+/// Energy and constraint drift of a state (evaluates `ws.sys` there: elements, frames and
+/// constraints). A state the elements cannot evaluate gives NaN.
 pub fn monitor(model: &Model, s: &State, ws: &mut Workspace) -> (Energy, f64, f64) {
     let sys = &mut ws.sys;
-    system::update_frames(model, &s.q, &s.u, &mut sys.frames);
+    if system::evaluate(model, &s.q, &s.u, sys).is_err() {
+        let nan = Energy {
+            kinetic: f64::NAN,
+            gravity: f64::NAN,
+            elastic: f64::NAN,
+            springs: f64::NAN,
+        };
+        return (nan, f64::NAN, f64::NAN);
+    }
     system::update_constraints(model, s.t, sys);
     let (g, gd) = ws.saddle.constraint_drift(sys, &s.u);
-    (system::energy(model, &s.q, &s.u, &sys.frames), g, gd)
+    (
+        system::energy(model, &s.q, &s.u, &mut sys.eval, &sys.frames),
+        g,
+        gd,
+    )
 }
 
 /// Max norm.

@@ -139,18 +139,9 @@ impl Statics {
         }
         s.u.fill(0.0);
         s.u_dot.fill(0.0);
-        system::update_frames(model, &s.q, &s.u, &mut ws.sys.frames);
         let sys = &mut ws.sys;
-        system::assemble_forces(
-            model,
-            s.t,
-            &s.q,
-            &s.u,
-            1.0,
-            &sys.frames,
-            &mut sys.h,
-            &mut sys.local,
-        );
+        system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(0.0, 0.0))?;
+        system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, sys);
         Ok(cfg.force_tol * super::max_abs(&ws.sys.h).max(1.0))
     }
 
@@ -202,17 +193,8 @@ impl Statics {
         mu: f64,
     ) -> Result<(), SolverError> {
         let (nu, t, sys) = (model.nu, s.t, &mut ws.sys);
-        system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-        system::assemble_forces(
-            model,
-            t,
-            &s.q,
-            &s.u,
-            mu,
-            &sys.frames,
-            &mut sys.h,
-            &mut sys.local,
-        );
+        system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(mu, mu))?;
+        system::assemble_forces(model, t, &s.q, &s.u, mu, sys);
         system::update_constraints(model, t, sys);
         let saddle = &mut ws.saddle;
         saddle.build(SaddleKind::LeastSquares, model, &s.q, &s.u, &s.lambda, sys);
@@ -248,17 +230,8 @@ impl Statics {
         }
         for iter in 0..=nt.max_iterations {
             let sys = &mut ws.sys;
-            system::update_frames(model, &s.q, &s.u, &mut sys.frames);
-            system::assemble_forces(
-                model,
-                t,
-                &s.q,
-                &s.u,
-                mu,
-                &sys.frames,
-                &mut sys.h,
-                &mut sys.local,
-            );
+            system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(mu, mu))?;
+            system::assemble_forces(model, t, &s.q, &s.u, mu, sys);
             system::update_constraints(model, t, sys);
             let rhs = &mut ws.step.rhs;
             for (i, ri) in rhs[..nu].iter_mut().enumerate() {

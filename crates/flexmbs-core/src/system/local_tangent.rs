@@ -1,13 +1,13 @@
 //! Local finite-difference tangents of loads and constraint forces: per load (per joint), only
 //! the coordinates of the owners of its frames are perturbed and only its frames re-evaluated
-//! (`Element::frame_kinematics_only`), so the cost does not grow with the rest of the model.
+//! (`Element::update_kinematics`), so the cost does not grow with the rest of the model.
 //!
 //! The one implementation for both algebra backends: the entries go to a [`TangentSink`], the
 //! dense `ws.dh_dq` / `ws.dh_du` ([`DenseTangents`]) or the compressed-column slots of the sparse
 //! backend (`crate::algebra`).
 
 use super::{add_frame_wrench, add_one_load_force};
-use crate::element::FrameKinematics;
+use crate::element::{ElementScratch, FrameKinematics};
 use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::Load;
@@ -67,7 +67,10 @@ fn integrate_owner(model: &Model, owner: FrameOwner, q: &[f64], dv: &[f64], q_ne
 }
 
 /// Re-evaluates the frames in `frames` (all of them with `all`, else those owned by `owner`) at
-/// `(q, u)` through the kinematics-only path ([`crate::Element::frame_kinematics_only`]).
+/// `(q, u)` through the kinematics-only path ([`crate::Element::update_kinematics`] into the
+/// body's `probe` scratch, so the evaluated state of the iterate is left alone). A perturbed
+/// state the element cannot evaluate gives NaN frames (a non-finite tangent).
+#[allow(clippy::too_many_arguments)]
 fn update_owned_frames(
     model: &Model,
     owner: FrameOwner,
@@ -75,6 +78,7 @@ fn update_owned_frames(
     frames: &[FrameId],
     q: &[f64],
     u: &[f64],
+    probe: &mut [ElementScratch],
     out: &mut [FrameKinematics],
 ) {
     for f in frames {
@@ -88,9 +92,14 @@ fn update_owned_frames(
         match frame.owner {
             FrameOwner::Ground => {}
             FrameOwner::Body(b) => {
-                model.bodies[b.0]
-                    .element
-                    .frame_kinematics_only(qo, uo, &frame.local, k)
+                let (element, p) = (&model.bodies[b.0].element, &mut probe[b.0]);
+                match element.update_kinematics(qo, uo, p) {
+                    Ok(()) => element.frame_kinematics(qo, uo, p, &frame.local, k),
+                    Err(_) => {
+                        k.position.fill(f64::NAN);
+                        k.velocity.fill(f64::NAN);
+                    }
+                }
             }
             FrameOwner::Node(n) => model.nodes[n.0]
                 .kind
@@ -176,11 +185,13 @@ impl LocalTangent<'_> {
                 let (qo, dv) = (&q[oq..oq + nq], &ws.dv_pert[o..o + nu]);
                 integrate_owner(model, owner, qo, dv, &mut ws.q_pert[oq..oq + nq]);
                 let qp = &ws.q_pert;
-                update_owned_frames(model, owner, self.overlap, frames, qp, u, &mut ws.frames);
+                let (pr, fr) = (&mut ws.probe, &mut ws.frames);
+                update_owned_frames(model, owner, self.overlap, frames, qp, u, pr, fr);
             } else {
                 ws.u_pert[o + j] = u[o + j] + e;
                 let up = &ws.u_pert;
-                update_owned_frames(model, owner, self.overlap, frames, q, up, &mut ws.frames);
+                let (pr, fr) = (&mut ws.probe, &mut ws.frames);
+                update_owned_frames(model, owner, self.overlap, frames, q, up, pr, fr);
             }
             let hh = if plus {
                 &mut ws.h_plus
@@ -249,7 +260,16 @@ fn add_local_force_tangent(
                 lt.add_column(ob, j, false, ws, sink);
             }
         }
-        update_owned_frames(model, ob, overlap, frames, q, u, &mut ws.frames);
+        update_owned_frames(
+            model,
+            ob,
+            overlap,
+            frames,
+            q,
+            u,
+            &mut ws.probe,
+            &mut ws.frames,
+        );
     }
 }
 
