@@ -12,7 +12,7 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum RotationError {
     /// The Cardan angle beta is (close to) +-pi/2 where `G_bar` (2.31) is singular.
-    #[error("Cardan angles singular: beta = {beta} (|cos beta| = {cos_beta:e} < {tolerance:e})")]
+    #[error("Cardan angles singular: beta = {beta} (|cos beta| = {cos_beta:e} < {tolerance:e}); quaternion rotation coordinates have no such singularity")]
     CardanSingular {
         /// The second Cardan angle.
         beta: f64,

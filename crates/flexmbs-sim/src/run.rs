@@ -121,7 +121,7 @@ pub enum RunError {
     },
     /// The solver failed; the results file holds everything up to the last accepted step and has
     /// status `failed`.
-    #[error("simulation failed at t = {t} s (step {h:e} s, residual {residual:e}): {source}; results so far in {}", results.display())]
+    #[error("simulation failed: {source}; results so far in {}", results.display())]
     Solver {
         /// Time at the start of the failed step.
         t: f64,
@@ -489,7 +489,8 @@ pub fn run_model(
         }
         Err(source) => {
             let (t, h, residual) = error_point(&source);
-            let message = format!("{source} (t = {t} s, step {h:e} s, residual {residual:e})");
+            // every solver error that happens in a step names its time and step itself
+            let message = source.to_string();
             if let Some(a) = rec.anim.as_mut() {
                 a.flush()?;
             }
