@@ -346,6 +346,23 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     ) {
         finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, fd);
     }
+    /// The load tangent `d(J_T^T f)/dq` (along `q ⊕ dv`; nu x nu, overwriting `out`) of a force at
+    /// `frame` for the state evaluated in `scratch`: `force` global (a dead load) or, with
+    /// `follower`, in the axes of the frame (turning with it). `false`: not provided, the caller
+    /// differentiates numerically (the default).
+    #[allow(clippy::too_many_arguments)]
+    fn force_load_tangent(
+        &self,
+        _q: &[f64],
+        _u: &[f64],
+        _scratch: &mut ElementScratch,
+        _frame: &LocalFrame,
+        _force: &Vector3<f64>,
+        _follower: bool,
+        _out: MatMut<'_, f64>,
+    ) -> bool {
+        false
+    }
     /// Kinetic energy `1/2 u^T M u`.
     fn kinetic_energy(&self, q: &[f64], u: &[f64], scratch: &mut ElementScratch) -> f64;
     /// Potential of gravity `-int rho g . r dV` (zero at the global origin).

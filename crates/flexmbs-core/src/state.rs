@@ -74,6 +74,9 @@ pub struct SystemBuffers {
     pub probe: Vec<ElementScratch>,
     /// Kinematics of every frame.
     pub frames: Vec<FrameKinematics>,
+    /// One element's analytic load tangent (largest element nu, square;
+    /// [`crate::Element::force_load_tangent`]).
+    pub load_block: Mat<f64>,
     /// Tangent scratch per body.
     pub tangent_scratch: Vec<TangentScratch>,
     /// Element-local results per body, only for models whose bodies share nodes.
@@ -184,6 +187,10 @@ impl Workspace {
             sys: SystemBuffers {
                 eval: scratches(),
                 probe: scratches(),
+                load_block: {
+                    let n = model.bodies.iter().map(|b| b.element.nu()).max();
+                    Mat::zeros(n.unwrap_or(0), n.unwrap_or(0))
+                },
                 frames,
                 tangent_scratch,
                 local: if model.shared_nodes {

@@ -296,6 +296,23 @@ impl Element for FfrElement {
         }
     }
 
+    /// Analytic, O(n_f) ([`FfrBody::force_load_tangent`]).
+    fn force_load_tangent(
+        &self,
+        q: &[f64],
+        _u: &[f64],
+        s: &mut ElementScratch,
+        frame: &LocalFrame,
+        force: &Vector3<f64>,
+        follower: bool,
+        out: MatMut<'_, f64>,
+    ) -> bool {
+        let st = &eval(s).state;
+        self.body
+            .force_load_tangent(q, frame, force, follower, st, out)
+            .is_some()
+    }
+
     fn kinetic_energy(&self, _q: &[f64], u: &[f64], s: &mut ElementScratch) -> f64 {
         self.body.kinetic_energy(&mut eval(s).state, u)
     }

@@ -16,6 +16,7 @@ mod consistent;
 mod element;
 mod invariants;
 mod kinematics;
+mod load_tangent;
 mod mass_product;
 mod moments;
 mod rotary;

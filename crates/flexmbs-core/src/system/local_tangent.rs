@@ -318,6 +318,9 @@ pub(crate) fn add_one_load_tangent(
     ws: &mut SystemBuffers,
     sink: &mut impl TangentSink,
 ) {
+    if add_analytic_force_tangent(model, load, t, q, u, load_factor, ws, sink) {
+        return;
+    }
     let (frames, n) = load_frames(load);
     let force = LoadForce {
         model,
@@ -328,6 +331,53 @@ pub(crate) fn add_one_load_tangent(
     // point loads and undamped springs do not depend on u: no velocity columns
     let velocity = matches!(load, Load::SpringDamper { damping, .. } if *damping != 0.0);
     add_local_force_tangent(model, q, u, &frames[..n], &force, 1.0, velocity, ws, sink);
+}
+
+/// The tangent of a point force on a body whose element provides it analytically
+/// ([`crate::Element::force_load_tangent`]) into `sink` (the body's rows and columns); `false`
+/// for any other load (the caller differentiates it numerically).
+#[allow(clippy::too_many_arguments)]
+fn add_analytic_force_tangent(
+    model: &Model,
+    load: &Load,
+    t: f64,
+    q: &[f64],
+    u: &[f64],
+    load_factor: f64,
+    ws: &mut SystemBuffers,
+    sink: &mut impl TangentSink,
+) -> bool {
+    let Load::Force {
+        frame,
+        vector,
+        time,
+        coordinates,
+    } = load
+    else {
+        return false;
+    };
+    let f = &model.frames[frame.0];
+    let FrameOwner::Body(b) = f.owner else {
+        return false;
+    };
+    let (rq, ru) = owner_ranges(model, f.owner);
+    let n = ru.len();
+    let force = vector * (time.value(t) * load_factor);
+    let follower = *coordinates == crate::load::LoadCoordinates::Frame;
+    let element = &model.bodies[b.0].element;
+    let (e, block) = (&mut ws.eval[b.0], ws.load_block.as_mut().submatrix_mut(0, 0, n, n));
+    if !element.force_load_tangent(&q[rq], &u[ru.clone()], e, &f.local, &force, follower, block) {
+        return false;
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let value = ws.load_block[(i, j)];
+            if value != 0.0 {
+                sink.add(ws, ru.start + i, ru.start + j, false, value);
+            }
+        }
+    }
+    true
 }
 
 /// The constraint forces `G_j^T lambda_j` of one joint as a [`FrameForce`].
