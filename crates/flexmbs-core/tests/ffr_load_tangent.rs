@@ -86,7 +86,15 @@ fn force_load_tangent_equals_finite_differences() {
                 for follower in [false, true] {
                     let mut s = e.evaluated(&q, &u).unwrap();
                     let mut an = Mat::<f64>::zeros(nu, nu);
-                    assert!(e.force_load_tangent(&q, &u, &mut s, frame, &force, follower, an.as_mut()));
+                    assert!(e.force_load_tangent(
+                        &q,
+                        &u,
+                        &mut s,
+                        frame,
+                        &force,
+                        follower,
+                        an.as_mut()
+                    ));
                     let mut fd = Mat::<f64>::zeros(nu, nu);
                     let (mut dv, mut qp) = (vec![0.0; nu], q.clone());
                     let eps = 1e-6;
@@ -104,9 +112,15 @@ fn force_load_tangent_equals_finite_differences() {
                     }
                     let scale = fd.norm_max();
                     let diff = (&an - &fd).norm_max();
-                    let case = format!("{rot:?} rot. modes {rotational_modes} node {:?} follower {follower}", frame.mesh_node);
+                    let case = format!(
+                        "{rot:?} rot. modes {rotational_modes} node {:?} follower {follower}",
+                        frame.mesh_node
+                    );
                     assert!(scale > 0.1, "{case}: trivial tangent");
-                    assert!(diff <= 1e-7 * scale, "{case}: difference {diff:e}, scale {scale:e}\n{an:?}\n{fd:?}");
+                    assert!(
+                        diff <= 1e-7 * scale,
+                        "{case}: difference {diff:e}, scale {scale:e}\n{an:?}\n{fd:?}"
+                    );
                     worst = worst.max(diff / scale);
                 }
             }

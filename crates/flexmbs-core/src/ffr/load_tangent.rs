@@ -46,14 +46,16 @@ impl FfrBody {
             Some(_) => return None,
             None => None,
         };
-        let rows = |m: &DMatrix<f64>, k: usize, a: usize| node.map_or(0.0, |n| m[(3 * n + k, a)]);
-        let mut u_bar = node.map_or(frame.position, |n| self.u0[n]);
-        let mut th_e = Vector3::zeros();
-        for a in 0..nf {
-            for k in 0..3 {
-                u_bar[k] += rows(&self.modes_t, k, a) * s.qf[a];
+        let (mut u_bar, mut th_e) = (frame.position, Vector3::zeros());
+        if let Some(n) = node {
+            u_bar = self.u0[n];
+            for (a, x) in s.qf.iter().enumerate() {
+                u_bar += Vector3::from_column_slice(
+                    &self.modes_t.column(a).as_slice()[3 * n..3 * n + 3],
+                ) * *x;
                 if let Some(mr) = &self.modes_r {
-                    th_e[k] += rows(mr, k, a) * s.qf[a];
+                    th_e +=
+                        Vector3::from_column_slice(&mr.column(a).as_slice()[3 * n..3 * n + 3]) * *x;
                 }
             }
         }
@@ -92,13 +94,16 @@ impl FfrBody {
         // modal columns: d f̄ / d q_f = -f̄~ J_l Φ_r (follower at a node with rotational modes)
         let ht = h.transpose();
         let ux = skew(&u_bar);
+        let node_rows = |m: &DMatrix<f64>, c: usize| match node {
+            Some(n) => Vector3::from_column_slice(&m.column(c).as_slice()[3 * n..3 * n + 3]),
+            None => Vector3::zeros(),
+        };
         for c in 0..nf {
-            let phi = Vector3::from_fn(|k, _| rows(&self.modes_t, k, c));
-            let psi = match (&self.modes_r, has_rot_modes) {
-                (Some(mr), true) => jl * Vector3::from_fn(|k, _| rows(mr, k, c)),
+            let phi = node_rows(&self.modes_t, c);
+            let df = match (&self.modes_r, has_rot_modes) {
+                (Some(mr), true) => -fx * (jl * node_rows(mr, c)),
                 _ => Vector3::zeros(),
             };
-            let df = -fx * psi;
             if follower {
                 let d_qr = a * df;
                 for i in 0..3 {
@@ -109,17 +114,18 @@ impl FfrBody {
             for i in 0..3 {
                 out[(3 + i, 6 + c)] = d_qth[i];
             }
-            for r in 0..nf {
-                let phi_r = Vector3::from_fn(|k, _| rows(&self.modes_t, k, r));
-                out[(6 + r, 6 + c)] = phi_r.dot(&df);
+            if has_rot_modes {
+                // Q_f = Φ_tᵀ f̄: the dense (rank-3) modal block Φ_tᵀ δf̄
+                for r in 0..nf {
+                    out[(6 + r, 6 + c)] = node_rows(&self.modes_t, r).dot(&df);
+                }
             }
         }
         // modal rows, rotation columns (dead force only): Φ_tᵀ f̄~ H
         if !follower {
             let fh = fx * h;
             for r in 0..nf {
-                let phi_r = Vector3::from_fn(|k, _| rows(&self.modes_t, k, r));
-                let row = phi_r.transpose() * fh;
+                let row = node_rows(&self.modes_t, r).transpose() * fh;
                 for j in 0..3 {
                     out[(6 + r, 3 + j)] = row[j];
                 }

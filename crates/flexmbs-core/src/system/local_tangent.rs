@@ -365,7 +365,10 @@ fn add_analytic_force_tangent(
     let force = vector * (time.value(t) * load_factor);
     let follower = *coordinates == crate::load::LoadCoordinates::Frame;
     let element = &model.bodies[b.0].element;
-    let (e, block) = (&mut ws.eval[b.0], ws.load_block.as_mut().submatrix_mut(0, 0, n, n));
+    let (e, block) = (
+        &mut ws.eval[b.0],
+        ws.load_block.as_mut().submatrix_mut(0, 0, n, n),
+    );
     if !element.force_load_tangent(&q[rq], &u[ru.clone()], e, &f.local, &force, follower, block) {
         return false;
     }
