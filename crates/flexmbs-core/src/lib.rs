@@ -65,6 +65,7 @@ pub mod node;
 pub mod power;
 pub mod rigid;
 pub mod rotation;
+mod spec_initial;
 pub mod state;
 pub mod system;
 pub mod time_function;

@@ -67,6 +67,8 @@ pub struct ModelSpec {
     frames: Vec<Frame>,
     joints: Vec<Joint>,
     loads: Vec<Load>,
+    /// The initial state, resolved in [`ModelSpec::compile`] (`spec_initial.rs`).
+    pub(crate) initial: crate::spec_initial::InitialSpec,
 }
 
 impl Default for ModelSpec {
@@ -85,6 +87,7 @@ impl ModelSpec {
             frames: Vec::new(),
             joints: Vec::new(),
             loads: Vec::new(),
+            initial: Default::default(),
         }
     }
 
@@ -247,7 +250,8 @@ impl ModelSpec {
     }
 
     /// Validates the description and builds the immutable model.
-    pub fn compile(self) -> Result<Model, ModelError> {
+    pub fn compile(mut self) -> Result<Model, ModelError> {
+        let initial = std::mem::take(&mut self.initial);
         let (nodes, nq, nu) = layout_nodes(&self.nodes);
         let mut users = vec![0usize; nodes.len()];
         let mut bodies = Vec::with_capacity(self.bodies.len());
@@ -411,7 +415,7 @@ impl ModelSpec {
                 FrameOwner::Node(n) => DofMap::Contiguous(nodes[n.0].u.clone()),
             })
             .collect();
-        Ok(Model {
+        let mut model = Model {
             gravity: self.gravity,
             nodes,
             shared_nodes,
@@ -424,7 +428,10 @@ impl ModelSpec {
             nq,
             nu,
             nc,
-        })
+            initial: State::zeros(nq, nu, nc),
+        };
+        initial.resolve(&mut model)?;
+        Ok(model)
     }
 }
 
@@ -525,11 +532,20 @@ pub struct Model {
     pub nu: usize,
     /// Total constraint rows (Lagrange multipliers).
     pub nc: usize,
+    /// The initial state (reference coordinates, then the spec's initial poses and velocities).
+    pub(crate) initial: State,
 }
 
 impl Model {
-    /// State at `t = 0` with every element in its reference configuration, at rest.
+    /// The initial state: every element in its reference configuration, at rest, then the poses
+    /// and velocities set with [`ModelSpec::set_initial_pose`] and
+    /// [`ModelSpec::set_initial_velocity`].
     pub fn initial_state(&self) -> State {
+        self.initial.clone()
+    }
+
+    /// State at `t = 0` with every element in its reference configuration, at rest.
+    pub fn reference_state(&self) -> State {
         let mut s = State::zeros(self.nq, self.nu, self.nc);
         for b in &self.bodies {
             let (nq, nu) = (b.element.nq(), b.element.nu());

@@ -534,23 +534,9 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         };
         let id = spec.add_load(load);
         if matches!(l.kind, LoadType::SpringDamper) && l.free_length.is_none() {
-            free_length_from_initial.push(id.0);
+            free_length_from_initial.push(id);
         }
     }
-    let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
-    let mut model = spec.compile().map_err(|source| {
-        if let ModelError::SameOwner { item } = &source {
-            let joint = mf.joint.iter().position(|j| &j.name == item);
-            if let Some(i) = joint {
-                return ctx.err(&format!("joint[{i}].b"), format!("joint `{item}`: frames `a` and `b` belong to the same body (or both to ground); a joint connects two different bodies"));
-            }
-        }
-        SimError::Engine {
-            file: file.to_path_buf(),
-            source,
-        }
-    })?;
-    let mut initial = model.initial_state();
     for (i, (b, info)) in mf.body.iter().zip(&bodies).enumerate() {
         let p = format!("body[{i}]");
         let pos = opt_vec(
@@ -563,7 +549,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             Some(o) => orientation(&ctx, o, &format!("{p}.orientation"))?,
             None => i3,
         };
-        model.set_body_pose(&mut initial, info.id, pos, rot);
+        spec.set_initial_pose(info.id, pos, rot);
         let v = opt_vec(
             &ctx,
             &b.velocity,
@@ -576,17 +562,34 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             Dimension::AngularVelocity,
             &format!("{p}.angular_velocity"),
         )?;
-        model.set_body_velocity(&mut initial, info.id, v, w);
-        if initial.q.iter().chain(&initial.u).any(|x| !x.is_finite()) {
-            return Err(ctx.err(&format!("{p}.orientation"), "this orientation is singular for Cardan angles (beta = +-90 deg): use rotation = \"quaternion\""));
+        spec.set_initial_velocity(info.id, v, w);
+    }
+    for id in free_length_from_initial {
+        spec.set_spring_unstressed_initially(id);
+    }
+    let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
+    let model = spec.compile().map_err(|source| {
+        if let ModelError::SameOwner { item } = &source {
+            let joint = mf.joint.iter().position(|j| &j.name == item);
+            if let Some(i) = joint {
+                return ctx.err(&format!("joint[{i}].b"), format!("joint `{item}`: frames `a` and `b` belong to the same body (or both to ground); a joint connects two different bodies"));
+            }
+        }
+        SimError::Engine {
+            file: file.to_path_buf(),
+            source,
+        }
+    })?;
+    let initial = model.initial_state();
+    for (i, info) in bodies.iter().enumerate() {
+        let (q, u) = (
+            model.body_q(info.id, &initial.q),
+            model.body_u(info.id, &initial.u),
+        );
+        if q.iter().chain(u).any(|x| !x.is_finite()) {
+            return Err(ctx.err(&format!("body[{i}].orientation"), "this orientation is singular for Cardan angles (beta = +-90 deg): use rotation = \"quaternion\""));
         }
     }
-    crate::initial::spring_free_lengths_from_initial_state(
-        &mut model,
-        &initial,
-        &free_length_from_initial,
-    );
-    let model = model;
     // statics solves g = 0 itself (and sets u = 0): a roughly placed start is legitimate there
     if !matches!(solver, SolverConfig::Statics { .. }) {
         crate::initial::check_initial_assembly(&ctx, &model, &initial)?;

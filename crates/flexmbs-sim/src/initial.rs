@@ -1,38 +1,9 @@
-//! Checks and completions that need the compiled model and its initial state: joints assembled
-//! and velocities consistent at `t = 0`, spring free lengths from the initial configuration.
+//! Checks that need the compiled model and its initial state: joints assembled
+//! and velocities consistent at `t = 0`.
 
 use crate::compile::Ctx;
 use crate::error::SimError;
-use flexmbs_core::{system, Load, Model, SolverError, State, Workspace};
-
-/// Spring-dampers given without `free_length` are unstressed in the initial state: their free
-/// length is the initial distance of their frames. Part of compiling the model file (the model
-/// is not handed out before), since the distance needs the compiled frames and initial poses.
-pub(crate) fn spring_free_lengths_from_initial_state(
-    model: &mut Model,
-    initial: &State,
-    loads: &[usize],
-) {
-    if loads.is_empty() {
-        return;
-    }
-    let mut ws = Workspace::new(model);
-    if system::evaluate(model, &initial.q, &initial.u, &mut ws.sys).is_err() {
-        return; // the initial state cannot be evaluated: the run's initialization reports it
-    }
-    for &i in loads {
-        if let Load::SpringDamper {
-            frame_a,
-            frame_b,
-            free_length,
-            ..
-        } = &mut model.loads[i]
-        {
-            let f = &ws.sys.frames;
-            *free_length = (f[frame_b.0].position - f[frame_a.0].position).norm();
-        }
-    }
-}
+use flexmbs_core::{system, Model, SolverError, State, Workspace};
 
 /// The initial state must satisfy the joints ([`flexmbs_core::system::check_assembly`],
 /// tolerance [`flexmbs_core::system::ASSEMBLY_TOL`]): otherwise the index-3 integrator would snap
