@@ -7,7 +7,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor;
-use faer::{Mat, Par};
+use faer::{Mat, MatMut, Par};
 
 /// Dense square matrix with an in-place LU factorization.
 pub struct DenseLu {
@@ -121,7 +121,16 @@ impl DenseLu {
 /// strict upper triangle is not read and not written). Returns `false` if a pivot is not
 /// positive or not finite (the matrix is not numerically positive definite).
 pub fn cholesky_in_place(a: &mut Mat<f64>) -> bool {
+    cholesky_factor(a.as_mut(), 0.0).is_ok()
+}
+
+/// The one dense Cholesky factorization of the engine (element mass blocks, the free FFR body's
+/// accelerations): the lower triangle of the square view `a` becomes `L` with `A = L L^T`.
+/// `Err((pivot, value))` if a pivot is not finite or not above `min_pivot_rel` times the largest
+/// diagonal entry of `A` (0: just positive). No allocation.
+pub fn cholesky_factor(mut a: MatMut<'_, f64>, min_pivot_rel: f64) -> Result<(), (usize, f64)> {
     let n = a.nrows();
+    let floor = min_pivot_rel * (0..n).map(|i| a[(i, i)].abs()).fold(0.0, f64::max);
     for j in 0..n {
         // column j: a_jj - sum_k l_jk^2, then the entries below
         for k in 0..j {
@@ -134,8 +143,8 @@ pub fn cholesky_in_place(a: &mut Mat<f64>) -> bool {
             }
         }
         let d = a[(j, j)];
-        if !(d > 0.0 && d.is_finite()) {
-            return false;
+        if !(d > floor && d > 0.0 && d.is_finite()) {
+            return Err((j, d));
         }
         let d = d.sqrt();
         a[(j, j)] = d;
@@ -143,15 +152,27 @@ pub fn cholesky_in_place(a: &mut Mat<f64>) -> bool {
             a[(i, j)] /= d;
         }
     }
-    true
+    Ok(())
 }
 
 /// Solves `L L^T x = b` with the factor of [`cholesky_in_place`]; `b` is overwritten by `x`.
 pub fn cholesky_solve_in_place(l: &Mat<f64>, b: &mut [f64]) {
+    cholesky_solve(l.as_ref(), b);
+}
+
+/// Solves `L L^T x = b` with the factor of [`cholesky_factor`] in the view `l` (columns
+/// contiguous); `b` is overwritten by `x`.
+pub fn cholesky_solve(l: faer::MatRef<'_, f64>, b: &mut [f64]) {
     let n = l.nrows();
     debug_assert_eq!(b.len(), n, "right-hand side length");
+    let col_of = |j: usize| {
+        l.col(j)
+            .try_as_col_major()
+            .expect("column-major factor")
+            .as_slice()
+    };
     for j in 0..n {
-        let col = l.col_as_slice(j);
+        let col = col_of(j);
         let xj = b[j] / col[j];
         b[j] = xj;
         if xj != 0.0 {
@@ -161,7 +182,7 @@ pub fn cholesky_solve_in_place(l: &Mat<f64>, b: &mut [f64]) {
         }
     }
     for j in (0..n).rev() {
-        let col = l.col_as_slice(j);
+        let col = col_of(j);
         let mut s = b[j];
         for (bi, lij) in b[j + 1..].iter().zip(&col[j + 1..]) {
             s -= lij * bi;

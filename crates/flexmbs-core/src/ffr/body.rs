@@ -562,7 +562,9 @@ impl FfrBody {
         self.quadratic_velocity(s, udot);
         self.add_internal_forces(s, udot);
         self.add_gravity_force(s, g, udot);
-        let res = cholesky_solve_in_place(&mut m, udot);
+        let res = crate::linsolve::cholesky_factor(faer_view_mut(&mut m), 1e-14)
+            .map(|()| crate::linsolve::cholesky_solve(faer_view_mut(&mut m).as_ref(), udot))
+            .map_err(|(pivot, value)| FfrError::NotPositiveDefinite { pivot, value });
         s.m = m;
         res
     }
@@ -581,44 +583,4 @@ pub(crate) fn mat_vec(a: &DMatrix<f64>, x: &[f64], y: &mut [f64]) {
 pub(crate) fn faer_view_mut(m: &mut DMatrix<f64>) -> MatMut<'_, f64> {
     let (r, c) = m.shape();
     faer::MatMut::from_column_major_slice_mut(m.as_mut_slice(), r, c)
-}
-
-/// Overwrites the lower triangle of the SPD matrix `m` with its Cholesky factor and `b` with
-/// `m^{-1} b`. Errors on a non-positive pivot.
-pub(crate) fn cholesky_solve_in_place(m: &mut DMatrix<f64>, b: &mut [f64]) -> Result<(), FfrError> {
-    let n = m.nrows();
-    let scale = (0..n).map(|i| m[(i, i)].abs()).fold(0.0, f64::max);
-    for j in 0..n {
-        let mut d = m[(j, j)];
-        for k in 0..j {
-            d -= m[(j, k)] * m[(j, k)];
-        }
-        if d.is_nan() || d <= 1e-14 * scale {
-            return Err(FfrError::NotPositiveDefinite { pivot: j, value: d });
-        }
-        let d = d.sqrt();
-        m[(j, j)] = d;
-        for i in j + 1..n {
-            let mut v = m[(i, j)];
-            for k in 0..j {
-                v -= m[(i, k)] * m[(j, k)];
-            }
-            m[(i, j)] = v / d;
-        }
-    }
-    for i in 0..n {
-        let mut v = b[i];
-        for k in 0..i {
-            v -= m[(i, k)] * b[k];
-        }
-        b[i] = v / m[(i, i)];
-    }
-    for i in (0..n).rev() {
-        let mut v = b[i];
-        for k in i + 1..n {
-            v -= m[(k, i)] * b[k];
-        }
-        b[i] = v / m[(i, i)];
-    }
-    Ok(())
 }
