@@ -3,7 +3,7 @@
 //! solve of a test element, and a rigid body whose Cardan angles reach beta = 90 deg.
 
 use faer::MatMut;
-use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
+use flexmbs_core::integrator::{AdaptiveSettings, GenAlpha, GenAlphaSettings};
 use flexmbs_core::rotation::RotationError;
 use flexmbs_core::{
     Element, ElementError, ElementScratch, FrameKinematics, LocalFrame, ModelSpec, NodeKind,
@@ -147,6 +147,63 @@ fn failed_internal_solve_names_body_time_and_cause() {
     );
     assert!(x_max > 0.9 && x_max <= 1.0, "last accepted x = {x_max}");
     assert!(msg.contains("bead") && msg.contains("t = ") && msg.contains("did not converge"));
+}
+
+/// With adaptive steps an iterate beyond the arm's reach is retried with smaller steps (the bead
+/// gets within 1e-3 of the end, the fixed 1 ms step of the test above stops at 0.9); the run
+/// still ends at the end of the arm (the spring force diverges there), with the cause of the last
+/// rejection rather than "step size below minimum".
+#[test]
+fn adaptive_run_retries_then_names_the_element_cause() {
+    let mut spec = ModelSpec::new();
+    let bead = ArmBead {
+        mass: 1.0,
+        stiffness: 1.0,
+        length: 1.0,
+    };
+    spec.add_body("bead", bead);
+    spec.set_gravity(Vector3::new(10.0, 0.0, 0.0));
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    let mut ws = Workspace::new(&model);
+    let ga = GenAlpha::new(GenAlphaSettings {
+        rho_inf: 0.8,
+        ..GenAlphaSettings::default()
+    })
+    .unwrap();
+    ga.initialize(&model, &mut s, &mut ws).unwrap();
+    let ctl = AdaptiveSettings {
+        h_init: 1e-3,
+        h_min: 1e-9,
+        ..AdaptiveSettings::default()
+    };
+    let mut x_max: f64 = 0.0;
+    let err = ga
+        .integrate_adaptive(&model, &mut s, &mut ws, &ctl, 2.0, |st, _| {
+            x_max = x_max.max(st.q[0])
+        })
+        .unwrap_err();
+    eprintln!("{err}");
+    // at the end of the arm the spring force and its tangent diverge: the last halved step fails
+    // on an iterate beyond the arm (the element), in Newton, or on a singular iteration matrix;
+    // whichever it is, with its cause
+    match &err {
+        SolverError::Element { body, t, h, cause } => {
+            assert_eq!(body, "bead");
+            assert!(*h < 2e-9, "gave up at step {h}");
+            assert!((0.3..0.7).contains(t), "failure at t = {t}");
+            assert!(
+                matches!(**cause, ElementError::InternalSolve { .. }),
+                "{cause:?}"
+            );
+        }
+        SolverError::NewtonFailed { t, h, .. } | SolverError::Singular { t, h, .. } => {
+            assert!(*h < 2e-9, "gave up at step {h}");
+            assert!((0.3..0.7).contains(t), "failure at t = {t}");
+        }
+        other => panic!("expected the cause of the last rejection, got {other}"),
+    }
+    assert!(x_max > 0.999 && x_max <= 1.0, "last accepted x = {x_max}");
 }
 
 /// A rigid body with Cardan angles spinning about the global y axis at 15.708 rad/s: beta grows

@@ -369,8 +369,9 @@ impl GenAlpha {
     }
 
     /// One adaptive step attempt of size `h` (see [`AdaptiveSettings`]): accepted (state
-    /// advanced) if the error estimate is <= 1; a Newton failure or singular iteration matrix is
-    /// a rejection with half the step. `ws.error_scales` must hold the velocity scales.
+    /// advanced) if the error estimate is <= 1; a Newton failure, a singular iteration matrix or
+    /// an iterate an element cannot evaluate is a rejection with half the step (that error is
+    /// returned once half the step would fall below `h_min`). `ws.error_scales` must hold the velocity scales.
     pub(super) fn attempt_adaptive(
         &self,
         model: &Model,
@@ -382,8 +383,18 @@ impl GenAlpha {
         let err_coeff = (self.params.beta - 1.0 / 6.0).abs();
         let mut stats = match self.solve_step(model, s, ws, h) {
             Ok(stats) => stats,
-            Err(SolverError::NewtonFailed { .. }) | Err(SolverError::Singular { .. }) => {
-                return Ok(StepAttempt::rejected(f64::NAN, 0.5 * h))
+            // Newton failure, singular matrix, or an iterate outside an element's valid region
+            // (overshoot): a smaller step, unless that falls below h_min; then this cause, not a
+            // bare "step too small"
+            Err(
+                e @ (SolverError::NewtonFailed { .. }
+                | SolverError::Singular { .. }
+                | SolverError::Element { .. }),
+            ) => {
+                if 0.5 * h < ctl.h_min {
+                    return Err(e);
+                }
+                return Ok(StepAttempt::rejected(f64::NAN, 0.5 * h));
             }
             Err(e) => return Err(e),
         };
