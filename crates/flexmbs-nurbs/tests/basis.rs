@@ -353,3 +353,29 @@ fn bad_input_gives_typed_errors() {
         "{e}"
     );
 }
+
+/// One-sided evaluation really picks the span on the left: at the double knots of the circle
+/// the parametric second derivative jumps (the curve is only C^1 in its parameter there).
+#[test]
+fn left_limits_differ_where_the_curve_is_not_c2() {
+    let c = unit_circle();
+    let mut s = c.scratch();
+    let (l, r) = (
+        c.derivatives_left(0.25, &mut s),
+        c.derivatives(0.25, &mut s),
+    );
+    assert!((l.c - r.c).norm() < 1e-15);
+    assert!(
+        (l.d2 - r.d2).norm() > 1.0,
+        "left {:?} right {:?}",
+        l.d2,
+        r.d2
+    );
+    let (lm, rm) = (
+        c.derivatives(0.25 - 1e-9, &mut s),
+        c.derivatives(0.25 + 1e-9, &mut s),
+    );
+    assert!(
+        (l.d2 - lm.d2).norm() < 1e-6 * l.d2.norm() && (r.d2 - rm.d2).norm() < 1e-6 * r.d2.norm()
+    );
+}
