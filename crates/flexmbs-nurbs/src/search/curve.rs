@@ -100,15 +100,20 @@ impl CurveSearch {
         x: &Vector3<f64>,
     ) -> Option<CurveProjection> {
         self.full_searches += 1;
-        for (gi, &u) in self.g.iter_mut().zip(&self.nodes) {
+        let (mut nearest, mut nearest_distance) = (0, f64::INFINITY);
+        for (i, (gi, &u)) in self.g.iter_mut().zip(&self.nodes).enumerate() {
             let d = curve.curve_derivatives(u, scratch);
             *gi = d.d1.dot(&(x - d.c));
+            if (x - d.c).norm() < nearest_distance {
+                (nearest, nearest_distance) = (i, (x - d.c).norm());
+            }
         }
         let n = self.nodes.len();
         let mut best: Option<CurveProjection> = None;
         for c in 0..n_cells(&self.nodes, self.range) {
             let (fa, fb) = (self.g[c], self.g[(c + 1) % n]);
-            if fa * fb > 0.0 {
+            // the intervals next to the nearest node are always searched (as in the 2D search)
+            if fa * fb > 0.0 && nearest != c && nearest != (c + 1) % n {
                 continue;
             }
             let (a, b) = cell(&self.nodes, self.range, c);

@@ -123,18 +123,22 @@ impl SurfaceSearch {
     ) -> Option<SurfaceProjection> {
         self.full_searches += 1;
         let nx = self.xi_nodes.len();
+        let (mut nearest, mut nearest_distance) = ([0, 0], f64::INFINITY);
         for (m, &eta) in self.eta_nodes.iter().enumerate() {
             for (n, &xi) in self.xi_nodes.iter().enumerate() {
                 let d = surface.surface_derivatives(eta, xi, scratch);
                 let g = x - d.s;
                 self.g_eta[m * nx + n] = d.s_u.dot(&g); // (3.31)
                 self.g_xi[m * nx + n] = d.s_v.dot(&g); // (3.32)
+                if g.norm() < nearest_distance {
+                    (nearest, nearest_distance) = ([m, n], g.norm());
+                }
             }
         }
         let mut best: Option<SurfaceProjection> = None;
         for ce in 0..n_cells(&self.eta_nodes, self.ranges[0]) {
             for cx in 0..n_cells(&self.xi_nodes, self.ranges[1]) {
-                if !self.is_potential_cell(ce, cx) {
+                if !self.is_potential_cell(ce, cx) && !self.touches(ce, cx, nearest) {
                     continue;
                 }
                 let (e0, e1) = cell(&self.eta_nodes, self.ranges[0], ce);
@@ -150,6 +154,14 @@ impl SurfaceSearch {
         }
         self.last = best.map(|p| [p.eta, p.xi]);
         best
+    }
+
+    /// Cell `(ce, cx)` has the grid node `node` as a corner (the cells around the nearest node
+    /// are always searched: a projection close to the node can hide from the corner signs when
+    /// the zero line of a tangent projection enters and leaves the cell through one edge).
+    fn touches(&self, ce: usize, cx: usize, node: [usize; 2]) -> bool {
+        let (ne, nx) = (self.eta_nodes.len(), self.xi_nodes.len());
+        (node[0] == ce || node[0] == (ce + 1) % ne) && (node[1] == cx || node[1] == (cx + 1) % nx)
     }
 
     /// Both tangent projections change sign (or vanish) on the corners of cell `(ce, cx)`.
