@@ -4,7 +4,7 @@
 use crate::basis::{BasisScratch, KnotVector};
 use crate::curve::NurbsCurve;
 use crate::error::NurbsError;
-use crate::lu::DenseLu;
+use crate::lu::BandedLu;
 use crate::params::{
     averaged_knots, curve_parameters, periodic_knots, surface_parameters, ParamMethod,
 };
@@ -28,7 +28,7 @@ impl<T: Copy + SubAssign + DivAssign<f64> + Mul<f64, Output = T>> Interpolant fo
 pub struct CurveInterpolator {
     knots: KnotVector,
     params: Vec<f64>,
-    lu: DenseLu,
+    lu: BandedLu,
 }
 
 impl CurveInterpolator {
@@ -60,7 +60,7 @@ impl CurveInterpolator {
                 n[i * k + (span - degree + j) % k] += scratch.der(0, j);
             }
         }
-        let lu = DenseLu::factor(n, k)?;
+        let lu = BandedLu::factor(n, k)?;
         Ok(Self {
             knots,
             params: params.to_vec(),
@@ -108,6 +108,11 @@ impl CurveInterpolator {
         ctrl[..k].copy_from_slice(values);
         self.solve_line(ctrl, 0, 1);
         Ok(())
+    }
+
+    #[cfg(test)]
+    pub(crate) fn lu(&self) -> &BandedLu {
+        &self.lu
     }
 
     /// Solves in place on `k` strided entries and writes the `p` wrapped ones (closed).
