@@ -75,27 +75,6 @@ fn main() {
         }
     }) / reps as f64;
     ip.update_surface(&g1, &mut surf).unwrap();
-    let mut search = SurfaceSearch::new(
-        &surf,
-        [SearchGrid::EqualSpacing(49), SearchGrid::EqualSpacing(4)],
-        SearchSettings::default(),
-    )
-    .unwrap();
-    let m = 10_000;
-    let path: Vec<Vector3<f64>> = (0..m)
-        .map(|i| Vector3::new(0.05 + 0.9 * i as f64 / m as f64, 0.1, 0.05))
-        .collect();
-    let warm = best_of_5(|| {
-        search.reset();
-        for x in &path {
-            black_box(search.search(&surf, &mut s, x));
-        }
-    }) / m as f64;
-    let full = best_of_5(|| {
-        for x in path.iter().step_by(10) {
-            black_box(search.full_search(&surf, &mut s, x));
-        }
-    }) / (m / 10) as f64;
     println!("bicubic 50 x 5 surface (open x open), one thread:");
     println!(
         "  set-up (parameters, knots, two LU factorizations): {:.1} us",
@@ -115,6 +94,33 @@ fn main() {
         "  re-interpolation of the 50 x 5 grid (update_surface): {:.2} us",
         reinterp * 1e6
     );
+    bench_search(&surf);
+}
+
+/// Warm-started search of a point sliding along the beam, and full searches.
+fn bench_search(surf: &NurbsSurface) {
+    let mut s = surf.scratch();
+    let mut search = SurfaceSearch::new(
+        surf,
+        [SearchGrid::EqualSpacing(49), SearchGrid::EqualSpacing(4)],
+        SearchSettings::default(),
+    )
+    .unwrap();
+    let m = 10_000;
+    let path: Vec<Vector3<f64>> = (0..m)
+        .map(|i| Vector3::new(0.05 + 0.9 * i as f64 / m as f64, 0.1, 0.05))
+        .collect();
+    let warm = best_of_5(|| {
+        search.reset();
+        for x in &path {
+            black_box(search.search(surf, &mut s, x));
+        }
+    }) / m as f64;
+    let full = best_of_5(|| {
+        for x in path.iter().step_by(10) {
+            black_box(search.full_search(surf, &mut s, x));
+        }
+    }) / (m / 10) as f64;
     println!(
         "  contact search, warm start (point sliding along the beam): {:.2} us",
         warm * 1e6

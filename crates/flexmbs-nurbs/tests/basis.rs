@@ -233,7 +233,7 @@ fn rational_sphere_points_on_radius_and_derivatives_equal_finite_differences() {
 }
 
 #[test]
-fn bad_input_gives_typed_errors() {
+fn bad_curve_input_gives_typed_errors() {
     let pts = vec![Vector3::zeros(); 4];
     let w = vec![1.0; 4];
     let e = NurbsCurve::new(3, vec![0., 0., 0., 0., 0.5, 1., 1., 0.9], &pts, &w).unwrap_err();
@@ -310,6 +310,11 @@ fn bad_input_gives_typed_errors() {
         ),
         "{e}"
     );
+}
+
+#[test]
+fn bad_interpolation_input_gives_typed_errors() {
+    let pts = [Vector3::<f64>::zeros(); 4];
     let e =
         CurveInterpolator::from_points(&pts[..3], ParamMethod::ChordLength, 3, false).unwrap_err();
     assert!(
