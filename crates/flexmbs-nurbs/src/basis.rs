@@ -42,6 +42,11 @@ impl BasisScratch {
         }
     }
 
+    /// The degree the scratch was made for.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
     /// The `k`-th derivative of the `j`-th nonzero basis function `N_{span-p+j,p}` of the last
     /// evaluation (`k <= 2`, `j <= p`).
     #[inline]

@@ -15,7 +15,7 @@ pub struct NurbsCurve {
 /// Scratch of curve evaluation; create once per curve with [`NurbsCurve::scratch`].
 #[derive(Debug, Clone)]
 pub struct CurveScratch {
-    basis: BasisScratch,
+    pub(crate) basis: BasisScratch,
 }
 
 /// Point and first two derivatives of a curve at one parameter.

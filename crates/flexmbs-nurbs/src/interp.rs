@@ -10,12 +10,15 @@ use crate::params::{
 };
 use crate::surface::NurbsSurface;
 use nalgebra::{Vector3, Vector4};
-use std::ops::{DivAssign, Mul, SubAssign};
+use std::ops::{AddAssign, DivAssign, Mul, SubAssign};
 
 /// A value that can be interpolated (the map points -> control points is linear): `f64`,
 /// `Vector3<f64>` (positions, velocities, mode shape columns), `Vector4<f64>` (homogeneous).
-pub trait Interpolant: Copy + SubAssign + DivAssign<f64> + Mul<f64, Output = Self> {}
-impl<T: Copy + SubAssign + DivAssign<f64> + Mul<f64, Output = T>> Interpolant for T {}
+pub trait Interpolant:
+    Copy + AddAssign + SubAssign + DivAssign<f64> + Mul<f64, Output = Self>
+{
+}
+impl<T: Copy + AddAssign + SubAssign + DivAssign<f64> + Mul<f64, Output = T>> Interpolant for T {}
 
 /// Interpolation along one direction: parameters and knots fixed at set-up (from the undeformed
 /// geometry, seed §3.2.2), the collocation matrix `N_ij = N_{j,p}(u_i)` (3.18) LU-factorized once;

@@ -16,6 +16,7 @@
 pub mod basis;
 pub mod curve;
 pub mod error;
+mod field;
 pub mod interp;
 mod lu;
 pub mod params;

@@ -18,9 +18,20 @@ pub struct NurbsSurface {
 /// Scratch of surface evaluation; create once per surface with [`NurbsSurface::scratch`].
 #[derive(Debug, Clone)]
 pub struct SurfaceScratch {
-    eta: BasisScratch,
-    xi: BasisScratch,
+    pub(crate) eta: BasisScratch,
+    pub(crate) xi: BasisScratch,
     temp: Vec<Vector4<f64>>,
+}
+
+impl SurfaceScratch {
+    /// Scratch for degrees `[p, q]`.
+    pub(crate) fn new(p: usize, q: usize) -> Self {
+        Self {
+            eta: BasisScratch::new(p),
+            xi: BasisScratch::new(q),
+            temp: vec![Vector4::zeros(); q + 1],
+        }
+    }
 }
 
 /// Point and partial derivatives up to order two of a surface at one parameter pair.
@@ -113,13 +124,10 @@ impl NurbsSurface {
     pub(crate) fn control_points_w_mut(&mut self) -> &mut [Vector4<f64>] {
         &mut self.ctrl_w
     }
-    /// Scratch for evaluation (allocates; create once).
+    /// Scratch for evaluation (allocates; create once). Evaluation with the scratch of a
+    /// surface of other degrees panics.
     pub fn scratch(&self) -> SurfaceScratch {
-        SurfaceScratch {
-            eta: BasisScratch::new(self.eta.degree()),
-            xi: BasisScratch::new(self.xi.degree()),
-            temp: vec![Vector4::zeros(); self.xi.degree() + 1],
-        }
+        SurfaceScratch::new(self.eta.degree(), self.xi.degree())
     }
 
     /// Replaces the Cartesian control points (row-major), keeping the weights; allocation-free.

@@ -90,6 +90,8 @@ fn evaluation_reinterpolation_and_search_do_not_allocate() {
     .unwrap();
     let mut cctrl = vec![Vector3::zeros(); cip.n_ctrl()];
     let mut acc = 0.0;
+    let mut fs = sip.scratch();
+    let mut cfs = cip.scratch();
     let n = counted(|| {
         for step in 0..50 {
             let x = Vector3::new(
@@ -117,6 +119,8 @@ fn evaluation_reinterpolation_and_search_do_not_allocate() {
             cip.control_points_into(&line, &mut cctrl).unwrap();
             cip.update_curve(&line, &mut curve).unwrap();
             acc += curve.derivatives(0.7, &mut cs).d2.norm();
+            acc += sip.field_derivatives(&ctrl, 0.2, 0.3, &mut fs).unwrap()[4].norm();
+            acc += cip.field_derivatives(&cctrl, 0.2, &mut cfs).unwrap()[2].norm();
             acc += csearch
                 .search(&curve, &mut cs, &x)
                 .map_or(0.0, |p| p.distance);
