@@ -22,8 +22,10 @@ pub struct BasisScratch {
     degree: usize,
     left: Vec<f64>,
     right: Vec<f64>,
+    /// `ndu[q * (p + 1) + j] = N_{span-q+j,q}(u)`: the nonzero functions of every degree `q <= p`.
     ndu: Vec<f64>,
-    a: Vec<f64>,
+    /// `N'_{span-q+j,q}` of degree `q = p - 1` (for the second derivatives).
+    d1_lower: Vec<f64>,
     /// `ders[k * (p + 1) + j]`: k-th derivative of `N_{span-p+j,p}`.
     ders: Vec<f64>,
 }
@@ -37,7 +39,7 @@ impl BasisScratch {
             left: vec![0.0; p1],
             right: vec![0.0; p1],
             ndu: vec![0.0; p1 * p1],
-            a: vec![0.0; 2 * p1],
+            d1_lower: vec![0.0; p1],
             ders: vec![0.0; (MAX_DERIVATIVE + 1) * p1],
         }
     }
@@ -181,7 +183,7 @@ impl KnotVector {
         }
         let span = self.find_span(u, left);
         fill_ndu(&self.knots, self.degree, span, u, s);
-        fill_derivatives(self.degree, nd.min(MAX_DERIVATIVE), s);
+        fill_derivatives(&self.knots, self.degree, span, nd.min(MAX_DERIVATIVE), s);
         span
     }
 }
@@ -246,76 +248,60 @@ fn validate_knots(degree: usize, knots: &[f64], n_ctrl: usize) -> Result<(), Nur
     Ok(())
 }
 
-/// Triangular table of basis functions and knot differences (first part of NURBS Book A2.3).
+/// Nonzero basis functions of all degrees `q = 0..p` at `u` in span `span` (recursion
+/// (3.11)-(3.13) in the triangular form of NURBS Book A2.2), row `q` of `s.ndu`.
 fn fill_ndu(knots: &[f64], p: usize, span: usize, u: f64, s: &mut BasisScratch) {
     let p1 = p + 1;
     s.ndu[0] = 1.0;
     for j in 1..=p {
         s.left[j] = u - knots[span + 1 - j];
         s.right[j] = knots[span + j] - u;
+        let (prev, cur) = s.ndu.split_at_mut(j * p1);
+        let prev = &prev[(j - 1) * p1..(j - 1) * p1 + j];
         let mut saved = 0.0;
         for r in 0..j {
-            // lower triangle: knot differences
-            s.ndu[j * p1 + r] = s.right[r + 1] + s.left[j - r];
-            let temp = s.ndu[r * p1 + j - 1] / s.ndu[j * p1 + r];
-            // upper triangle: basis functions
-            s.ndu[r * p1 + j] = saved + s.right[r + 1] * temp;
+            let temp = prev[r] / (s.right[r + 1] + s.left[j - r]);
+            cur[r] = saved + s.right[r + 1] * temp;
             saved = s.left[j - r] * temp;
         }
-        s.ndu[j * p1 + j] = saved;
+        cur[j] = saved;
     }
 }
 
-/// Derivatives of the basis functions from the `ndu` table (second part of NURBS Book A2.3).
-fn fill_derivatives(p: usize, nd: usize, s: &mut BasisScratch) {
+/// Derivatives of degree `q` basis functions from the functions (or derivatives) `lower` of
+/// degree `q - 1` (NURBS Book (2.7)): with `c_j = q lower_j / (U_{span+j+1} - U_{span-q+1+j})`,
+/// `N^(k)_{span-q+j,q} = c_{j-1} - c_j` (`c_{-1} = c_q = 0`). Writes `q + 1` values to `out`.
+fn derivative_from_lower(knots: &[f64], q: usize, span: usize, lower: &[f64], out: &mut [f64]) {
+    let mut prev = 0.0;
+    for j in 0..q {
+        let c = q as f64 * lower[j] / (knots[span + j + 1] - knots[span + 1 + j - q]);
+        out[j] = prev - c;
+        prev = c;
+    }
+    out[q] = prev;
+}
+
+/// First and second derivatives of the degree `p` functions (zero above the degree).
+fn fill_derivatives(knots: &[f64], p: usize, span: usize, nd: usize, s: &mut BasisScratch) {
     let p1 = p + 1;
-    for j in 0..=p {
-        s.ders[j] = s.ndu[j * p1 + p];
+    s.ders[..p1].copy_from_slice(&s.ndu[p * p1..p * p1 + p1]);
+    s.ders[p1..].iter_mut().for_each(|d| *d = 0.0);
+    if nd >= 1 {
+        let (lower, ders) = (
+            &s.ndu[(p - 1) * p1..(p - 1) * p1 + p],
+            &mut s.ders[p1..2 * p1],
+        );
+        derivative_from_lower(knots, p, span, lower, ders);
     }
-    for k in 1..=MAX_DERIVATIVE {
-        for j in 0..=p {
-            s.ders[k * p1 + j] = 0.0;
-        }
-    }
-    let nd = nd.min(p);
-    for r in 0..=p {
-        let (mut s1, mut s2) = (0usize, 1usize);
-        s.a[0] = 1.0;
-        for k in 1..=nd {
-            let mut d = 0.0;
-            let rk = r as isize - k as isize;
-            let pk = p - k;
-            if r >= k {
-                let v = s.a[s1 * p1] / s.ndu[(pk + 1) * p1 + rk as usize];
-                s.a[s2 * p1] = v;
-                d = v * s.ndu[rk as usize * p1 + pk];
-            }
-            let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
-            let j2 = if r as isize - 1 <= pk as isize {
-                k - 1
-            } else {
-                p - r
-            };
-            for j in j1..=j2 {
-                let c = (rk + j as isize) as usize;
-                let v = (s.a[s1 * p1 + j] - s.a[s1 * p1 + j - 1]) / s.ndu[(pk + 1) * p1 + c];
-                s.a[s2 * p1 + j] = v;
-                d += v * s.ndu[c * p1 + pk];
-            }
-            if r <= pk {
-                let v = -s.a[s1 * p1 + k - 1] / s.ndu[(pk + 1) * p1 + r];
-                s.a[s2 * p1 + k] = v;
-                d += v * s.ndu[r * p1 + pk];
-            }
-            s.ders[k * p1 + r] = d;
-            std::mem::swap(&mut s1, &mut s2);
-        }
-    }
-    let mut factor = p as f64;
-    for k in 1..=nd {
-        for j in 0..=p {
-            s.ders[k * p1 + j] *= factor;
-        }
-        factor *= (p - k) as f64;
+    if nd >= 2 && p >= 2 {
+        let lower = &s.ndu[(p - 2) * p1..(p - 2) * p1 + p - 1];
+        derivative_from_lower(knots, p - 1, span, lower, &mut s.d1_lower[..p]);
+        derivative_from_lower(
+            knots,
+            p,
+            span,
+            &s.d1_lower[..p],
+            &mut s.ders[2 * p1..3 * p1],
+        );
     }
 }

@@ -3,6 +3,7 @@
 use crate::basis::{BasisScratch, KnotVector};
 use crate::curve::{check_wrapped, homogeneous};
 use crate::error::NurbsError;
+use crate::MAX_DERIVATIVE;
 use nalgebra::{Vector3, Vector4};
 
 /// A NURBS surface `S(eta, xi) = H{ sum_i sum_j N_{i,p}(eta) N_{j,q}(xi) P_ij^w }` (3.23).
@@ -29,7 +30,7 @@ impl SurfaceScratch {
         Self {
             eta: BasisScratch::new(p),
             xi: BasisScratch::new(q),
-            temp: vec![Vector4::zeros(); q + 1],
+            temp: vec![Vector4::zeros(); (MAX_DERIVATIVE + 1) * (q + 1)],
         }
     }
 }
@@ -181,22 +182,29 @@ impl NurbsSurface {
         let (p, q, nx) = (self.eta.degree(), self.xi.degree(), self.xi.n_ctrl());
         let su = self.eta.basis_derivatives(eta, nd, left[0], &mut s.eta);
         let sv = self.xi.basis_derivatives(xi, nd, left[1], &mut s.xi);
+        // temp[k][s] = sum_r N^(k)_r(eta) P^w_(r, s) over the (p+1) x (q+1) active net, one pass
+        let q1 = q + 1;
+        let temp = &mut s.temp[..(nd + 1) * q1];
+        temp.iter_mut().for_each(|t| *t = Vector4::zeros());
+        for r in 0..=p {
+            let start = (su - p + r) * nx + sv - q;
+            let row = &self.ctrl_w[start..start + q1];
+            for k in 0..=nd {
+                let n = s.eta.der(k, r);
+                for (t, c) in temp[k * q1..(k + 1) * q1].iter_mut().zip(row) {
+                    *t += c * n;
+                }
+            }
+        }
         // a[k][l]: homogeneous partial derivative d^(k+l) S^w / d eta^k d xi^l
         let mut a = [[Vector4::zeros(); 3]; 3];
         for (k, ak) in a.iter_mut().enumerate().take(nd + 1) {
-            for sidx in 0..=q {
-                let mut t = Vector4::zeros();
-                for r in 0..=p {
-                    t += self.ctrl_w[(su - p + r) * nx + sv - q + sidx] * s.eta.der(k, r);
-                }
-                s.temp[sidx] = t;
-            }
             for (l, akl) in ak.iter_mut().enumerate().take(nd - k + 1) {
-                let mut v = Vector4::zeros();
-                for sidx in 0..=q {
-                    v += s.temp[sidx] * s.xi.der(l, sidx);
-                }
-                *akl = v;
+                let tk = &temp[k * q1..(k + 1) * q1];
+                *akl = tk
+                    .iter()
+                    .enumerate()
+                    .fold(Vector4::zeros(), |v, (j, t)| v + t * s.xi.der(l, j));
             }
         }
         rational_surface_derivatives(&a)
