@@ -1,4 +1,5 @@
-//! Knot vectors and B-spline basis functions (seed 000 (3.11)-(3.14); NURBS Book A2.1-A2.3).
+//! Knot vectors and B-spline basis functions (seed 000 (3.11)-(3.14); NURBS Book A2.1, A2.2 and
+//! the derivative formula (2.7) that A2.3 also implements).
 
 use crate::error::NurbsError;
 use crate::MAX_DERIVATIVE;
@@ -16,7 +17,7 @@ pub struct KnotVector {
     periodic: bool,
 }
 
-/// Scratch of the basis function recursions (NURBS Book A2.2/A2.3), sized for one degree.
+/// Scratch of the basis function recursions (NURBS Book A2.2, (2.7)), sized for one degree.
 #[derive(Debug, Clone)]
 pub struct BasisScratch {
     degree: usize,
@@ -173,7 +174,8 @@ impl KnotVector {
 
     /// Nonzero basis functions and their derivatives up to order `nd <= 2` at `u` (mapped into
     /// the domain), written to `scratch`; returns the span `s`, so `scratch.der(k, j)` is the
-    /// `k`-th derivative of `N_{s-p+j,p}(u)`. Recursion (3.11)-(3.13), NURBS Book A2.3.
+    /// `k`-th derivative of `N_{s-p+j,p}(u)`. Recursion (3.11)-(3.13) as in NURBS Book A2.2,
+    /// derivatives by (2.7) from the functions of degree `p - 1` and `p - 2` (the result of A2.3).
     pub fn basis_derivatives(&self, u: f64, nd: usize, left: bool, s: &mut BasisScratch) -> usize {
         debug_assert_eq!(s.degree, self.degree);
         let mut u = self.map_parameter(u);

@@ -3,7 +3,7 @@
 //! Seed 000 §3.2.1 (NURBS curves (3.9)-(3.18), global interpolation (3.19)-(3.22), surfaces by
 //! row-then-column interpolation (3.23)) and §3.3 (hierarchical-territory contact search,
 //! Algorithms 4-6), following the algorithms of *The NURBS Book* (Piegl & Tiller, 2nd ed.):
-//! A2.1 `FindSpan`, A2.2 `BasisFuns`, A2.3 `DersBasisFuns`, A3.6/A4.2/A4.4 (rational curve and
+//! A2.1 `FindSpan`, A2.2 `BasisFuns`, the derivatives (2.7) of A2.3 `DersBasisFuns`, A3.6/A4.2/A4.4 (rational curve and
 //! surface derivatives), A9.1 (global interpolation) and its periodic variant.
 //!
 //! No dynamics here. Everything that runs per time step is allocation-free: evaluation takes
