@@ -555,3 +555,63 @@ fn curve_search_on_closed_nurbs_matches_brute_force() {
     }
     assert!(s.full_search_count() < 10);
 }
+
+/// Torus with major radius 2 and tube radius 0.5, closed in both directions.
+struct Torus;
+impl ParametricSurface for Torus {
+    type Scratch = ();
+    fn ranges(&self) -> [ParamRange; 2] {
+        [ParamRange {
+            lo: 0.0,
+            hi: TAU,
+            closed: true,
+        }; 2]
+    }
+    fn surface_derivatives(&self, a: f64, b: f64, _: &mut ()) -> SurfaceDerivs {
+        let (sa, ca, sb, cb) = (a.sin(), a.cos(), b.sin(), b.cos());
+        let rr = 2.0 + 0.5 * cb;
+        SurfaceDerivs {
+            s: Vector3::new(rr * ca, rr * sa, 0.5 * sb),
+            s_u: Vector3::new(-rr * sa, rr * ca, 0.0),
+            s_v: Vector3::new(-0.5 * sb * ca, -0.5 * sb * sa, 0.5 * cb),
+            s_uu: Vector3::new(-rr * ca, -rr * sa, 0.0),
+            s_uv: Vector3::new(0.5 * sb * sa, -0.5 * sb * ca, 0.0),
+            s_vv: Vector3::new(-0.5 * cb * ca, -0.5 * cb * sa, -0.5 * sb),
+        }
+    }
+}
+
+/// Closed in both directions: the closest point of x on a torus lies on the tube circle's
+/// radius through x: c = 2 x_xy / |x_xy|, closest = c + 0.5 (x - c) / |x - c|. A point circles
+/// the torus through the hole and around the tube (seams of both directions crossed).
+#[test]
+fn torus_closed_in_both_directions() {
+    let mut s = SurfaceSearch::new(&Torus, grid(6), SearchSettings::default()).unwrap();
+    let steps = 3000;
+    for i in 0..=steps {
+        let t = i as f64 / steps as f64;
+        let (a, b) = (2.0 * TAU * t + 0.1, 7.0 * TAU * t);
+        let rho = 0.2 + 0.6 * (3.0 * TAU * t).sin().abs();
+        let x = Vector3::new(
+            (2.0 + rho * b.cos()) * a.cos(),
+            (2.0 + rho * b.cos()) * a.sin(),
+            rho * b.sin(),
+        );
+        let c = Vector3::new(x.x, x.y, 0.0).normalize() * 2.0;
+        let closest = c + (x - c).normalize() * 0.5;
+        let r = s
+            .search(&Torus, &mut (), &x)
+            .unwrap_or_else(|| panic!("step {i}"));
+        assert!(
+            (r.derivs.s - closest).norm() < 1e-12,
+            "step {i}: {:?} vs {closest:?}",
+            r.derivs.s
+        );
+        assert!((r.distance - (rho - 0.5).abs()).abs() < 1e-12);
+    }
+    assert!(
+        s.full_search_count() < steps / 20,
+        "{} full searches",
+        s.full_search_count()
+    );
+}

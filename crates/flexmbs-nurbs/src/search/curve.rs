@@ -127,7 +127,8 @@ impl CurveSearch {
         best
     }
 
-    /// Newton on `f = t^T g = 0`, `f' = C''^T g - |C'|^2`; steps limited to `max_step`.
+    /// Newton on `f = t^T g = 0`, `f' = C''^T g - |C'|^2` (a descent step `f / |C'|^2` where
+    /// the distance is not convex); steps limited to `max_step`.
     fn newton<C: ParametricCurve + ?Sized>(
         &self,
         curve: &C,
@@ -142,14 +143,20 @@ impl CurveSearch {
             let d = curve.curve_derivatives(u, scratch);
             let g = x - d.c;
             let f = d.d1.dot(&g);
-            let df = d.d2.dot(&g) - d.d1.norm_squared();
-            if !df.is_finite()
-                || df.abs() <= 1e-14 * d.d1.norm_squared()
+            // Hessian of |g|^2 / 2; where it is not positive, a Gauss-Newton (descent) step
+            let hessian = d.d1.norm_squared() - d.d2.dot(&g);
+            let h = if self.settings.minima_only && hessian <= 0.0 {
+                d.d1.norm_squared()
+            } else {
+                hessian
+            };
+            if !h.is_finite()
+                || h.abs() <= 1e-14 * d.d1.norm_squared()
                 || d.d1.norm_squared() == 0.0
             {
                 return None;
             }
-            let step = -f / df;
+            let step = f / h;
             let limited = step.clamp(-max_step, max_step);
             let (next, outside) = confine(u + limited, self.range);
             let converged =

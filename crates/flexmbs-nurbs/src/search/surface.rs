@@ -184,8 +184,9 @@ impl SurfaceSearch {
         changes(&self.g_eta) && changes(&self.g_xi)
     }
 
-    /// Newton on `f = (t_eta^T g, t_xi^T g) = 0` (3.6) with `J = df/d(eta, xi)`; steps limited
-    /// to `max_step`, open directions confined to the contour.
+    /// Newton on `f = (t_eta^T g, t_xi^T g) = 0` (3.6) (descent steps where the distance is not
+    /// convex, see [`newton_step`]); steps limited to `max_step`, open directions confined to
+    /// the contour.
     fn newton<S: ParametricSurface + ?Sized>(
         &self,
         surface: &S,
@@ -199,7 +200,7 @@ impl SurfaceSearch {
         let mut outside_in_a_row = 0;
         for _ in 0..self.settings.max_iterations {
             let d = surface.surface_derivatives(u[0], u[1], scratch);
-            let (step, _) = newton_step(&d, x)?;
+            let (step, _) = newton_step(&d, x, self.settings.minima_only)?;
             let scale = (step[0].abs() / max_step[0])
                 .max(step[1].abs() / max_step[1])
                 .max(1.0);
@@ -233,7 +234,7 @@ impl SurfaceSearch {
         u: [f64; 2],
     ) -> Option<SurfaceProjection> {
         let d = surface.surface_derivatives(u[0], u[1], scratch);
-        let (_, is_minimum) = newton_step(&d, x).unwrap_or(([0.0; 2], false));
+        let (_, is_minimum) = newton_step(&d, x, false).unwrap_or(([0.0; 2], false));
         if self.settings.minima_only && !is_minimum {
             return None;
         }
@@ -251,22 +252,32 @@ impl SurfaceSearch {
     }
 }
 
-/// Newton step `-J^-1 f` of the projection equations and whether `-J` (the Hessian of
-/// `|g|^2 / 2`) is positive definite; `None` if `J` is singular or not finite.
-fn newton_step(d: &SurfaceDerivs, x: &Vector3<f64>) -> Option<([f64; 2], bool)> {
+/// Newton step `H^-1 f` of the projection equations `f = (t_eta^T g, t_xi^T g) = 0` (3.6), with
+/// `H = -df/d(eta, xi)` the Hessian of `|g|^2 / 2`, and whether `H` is positive definite (a
+/// minimum of the distance). With `descent`, an indefinite `H` is replaced by the first
+/// fundamental form `[t_eta, t_xi]^T [t_eta, t_xi]` (Gauss-Newton): the step then still lowers
+/// the distance instead of heading for a maximum or saddle point of it. `None` if singular.
+fn newton_step(d: &SurfaceDerivs, x: &Vector3<f64>, descent: bool) -> Option<([f64; 2], bool)> {
     let g = x - d.s;
     let f = [d.s_u.dot(&g), d.s_v.dot(&g)];
-    let j11 = d.s_uu.dot(&g) - d.s_u.norm_squared();
-    let j12 = d.s_uv.dot(&g) - d.s_u.dot(&d.s_v);
-    let j22 = d.s_vv.dot(&g) - d.s_v.norm_squared();
-    let det = j11 * j22 - j12 * j12;
-    let scale = d.s_u.norm_squared() * d.s_v.norm_squared();
-    if !det.is_finite() || det.abs() <= 1e-14 * scale || scale == 0.0 {
+    let (e, fm, gm) = (
+        d.s_u.norm_squared(),
+        d.s_u.dot(&d.s_v),
+        d.s_v.norm_squared(),
+    );
+    let mut h = [e - d.s_uu.dot(&g), fm - d.s_uv.dot(&g), gm - d.s_vv.dot(&g)];
+    let mut det = h[0] * h[2] - h[1] * h[1];
+    let is_minimum = h[0] > 0.0 && det > 0.0;
+    if descent && !is_minimum {
+        h = [e, fm, gm];
+        det = e * gm - fm * fm;
+    }
+    if !det.is_finite() || det.abs() <= 1e-14 * e * gm || e * gm == 0.0 {
         return None;
     }
     let step = [
-        -(j22 * f[0] - j12 * f[1]) / det,
-        -(j11 * f[1] - j12 * f[0]) / det,
+        (h[2] * f[0] - h[1] * f[1]) / det,
+        (h[0] * f[1] - h[1] * f[0]) / det,
     ];
-    Some((step, j11 < 0.0 && det > 0.0))
+    Some((step, is_minimum))
 }
