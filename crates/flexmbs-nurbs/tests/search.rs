@@ -615,3 +615,43 @@ fn torus_closed_in_both_directions() {
         s.full_search_count()
     );
 }
+
+/// Open NURBS curve (interpolated arc): points whose projection falls beyond either end get no
+/// contact; inside, the result equals brute-force sampling.
+#[test]
+fn curve_search_on_open_nurbs_edges() {
+    let pts: Vec<Vector3<f64>> = (0..9)
+        .map(|i| {
+            let t = 0.4 * i as f64;
+            Vector3::new(t.cos(), t.sin(), 0.05 * t)
+        })
+        .collect();
+    let c = CurveInterpolator::from_points(&pts, ParamMethod::ChordLength, 3, false)
+        .unwrap()
+        .interpolate(&pts)
+        .unwrap();
+    let mut sc = c.scratch();
+    let mut s =
+        CurveSearch::new(&c, SearchGrid::EqualSpacing(8), SearchSettings::default()).unwrap();
+    let (d0, d1) = (c.derivatives(0.0, &mut sc), c.derivatives(1.0, &mut sc));
+    // beyond the start and the end, along the end tangents (and a bit off them)
+    for (end, sign) in [(d0, -1.0), (d1, 1.0)] {
+        let x = end.c + end.d1.normalize() * (0.3 * sign) + Vector3::new(0.0, 0.0, 0.05);
+        s.reset();
+        assert!(s.search(&c, &mut sc, &x).is_none(), "beyond an end: {x:?}");
+    }
+    for k in 0..40 {
+        let t = 0.1 + 2.9 * k as f64 / 39.0;
+        let x = Vector3::new(1.3 * t.cos(), 1.3 * t.sin(), 0.05 * t + 0.1);
+        let r = s.search(&c, &mut sc, &x).unwrap();
+        let n = 20000;
+        let bd = (0..=n)
+            .map(|j| (x - c.point(j as f64 / n as f64, &mut sc)).norm())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            r.distance <= bd + 1e-12 && bd - r.distance < 1e-6,
+            "{k}: {} vs {bd}",
+            r.distance
+        );
+    }
+}
