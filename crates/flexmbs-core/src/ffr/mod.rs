@@ -13,6 +13,7 @@
 
 mod body;
 mod consistent;
+pub mod contour;
 mod element;
 mod invariants;
 mod kinematics;

@@ -1,0 +1,481 @@
+//! Neutral contours of FFR bodies (seed 000 §3.2.2, §4.4): a NURBS surface through a grid of mesh
+//! nodes (the node index matrix `O` (3.24), row `i` along `eta`, column `j` along `xi`), or a
+//! NURBS curve through an ordered node list, with continuous position, velocity, orientation and
+//! Jacobian fields for contact.
+//!
+//! The interpolation is linear in the node values, and an FFR node sits at `ū = u_0 + Φ q_f` in
+//! body axes. So the undeformed positions and every mode shape are interpolated **once** at
+//! set-up (knots and parameters from the undeformed geometry, chord length by default), and the
+//! deformed contour of an evaluation is the control net `C(q_f) = C_0 + Σ_k q_f,k C_k` (O(n_ctrl
+//! n_f), no solve). At a contour point `(eta, xi)` the body-axes position `ū`, the tangents
+//! `t_eta`, `t_xi` (3.25)-(3.26) and the mode-shape matrix `Φ(eta, xi)` are field evaluations of
+//! these nets, and the point moves as a material point of the body (the formula of mesh-node
+//! frames, (2.70)):
+//!
+//! ```text
+//!     r = R + A ū,   v = Ṙ + A (ω̄ × ū + Φ q̇_f),   J_T = [I, -A ū~ H, A Φ],
+//!     n = A (t_eta × t_xi)/|..| (3.27, sign: outward),  t_1 = A t_eta/|t_eta| (3.28),  t_2 = n × t_1 (3.29).
+//! ```
+//!
+//! The contact search runs on the deformed contour in body axes (the point transformed by
+//! `Aᵀ (p - R)`), so the rigid motion never enters the search.
+
+use super::{FfrBody, FfrScratch};
+use crate::rotation::skew;
+use faer::MatMut;
+use flexmbs_nurbs::{
+    CurveInterpolator, CurveScratch, NurbsCurve, NurbsError, NurbsSurface, ParamMethod,
+    SurfaceInterpolator, SurfaceScratch,
+};
+use nalgebra::{Matrix3, Vector3};
+
+/// Why a neutral contour cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ContourError {
+    /// A node index the body does not have.
+    #[error("contour node {node} does not exist (the body has {nodes} nodes)")]
+    UnknownNode {
+        /// The index.
+        node: usize,
+        /// Number of nodes of the body.
+        nodes: usize,
+    },
+    /// A node listed twice.
+    #[error("contour node {node} appears twice")]
+    DuplicateNode {
+        /// The index.
+        node: usize,
+    },
+    /// The node index matrix is not `n_eta x n_xi`.
+    #[error("the node index matrix has {got} entries, expected {rows} x {cols}")]
+    Shape {
+        /// Rows (`eta`).
+        rows: usize,
+        /// Columns (`xi`).
+        cols: usize,
+        /// Entries given.
+        got: usize,
+    },
+    /// The NURBS set-up failed (too few nodes for the degree, coincident nodes, ...).
+    #[error(transparent)]
+    Nurbs(#[from] NurbsError),
+}
+
+/// Settings of a neutral contour.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContourSettings {
+    /// Degree in each direction (3: C^2, as sliding contact needs). Default 3.
+    pub degree: usize,
+    /// Parameters from the undeformed nodes. Default chord length.
+    pub params: ParamMethod,
+    /// Closed (periodic) in `eta` / `xi` (a tube's circumference). Default open.
+    pub closed: [bool; 2],
+    /// Flip the normal `t_eta × t_xi` so that it points out of the material. Default `false`.
+    pub flip_normal: bool,
+}
+
+impl Default for ContourSettings {
+    fn default() -> Self {
+        Self {
+            degree: 3,
+            params: ParamMethod::ChordLength,
+            closed: [false, false],
+            flip_normal: false,
+        }
+    }
+}
+
+/// Checks node indices against the body: all exist, none twice.
+fn check_nodes(body: &FfrBody, nodes: &[usize]) -> Result<(), ContourError> {
+    let mut seen = vec![false; body.num_nodes()];
+    for &n in nodes {
+        let s = seen.get_mut(n).ok_or(ContourError::UnknownNode {
+            node: n,
+            nodes: body.num_nodes(),
+        })?;
+        if *s {
+            return Err(ContourError::DuplicateNode { node: n });
+        }
+        *s = true;
+    }
+    Ok(())
+}
+
+/// Translational mode `k` at the listed nodes (body axes).
+fn mode_values(body: &FfrBody, nodes: &[usize], k: usize) -> Vec<Vector3<f64>> {
+    let col = body.modes_t.column(k);
+    nodes
+        .iter()
+        .map(|&n| Vector3::new(col[3 * n], col[3 * n + 1], col[3 * n + 2]))
+        .collect()
+}
+
+/// A 2D neutral contour of an FFR body: the NURBS surface through the node grid `O`.
+#[derive(Debug, Clone)]
+pub struct FfrSurfaceContour {
+    interp: SurfaceInterpolator,
+    /// Control net of the undeformed surface `C_0` (body axes).
+    net0: Vec<Vector3<f64>>,
+    /// Control nets of the translational mode shapes `C_k` (body axes).
+    net_modes: Vec<Vec<Vector3<f64>>>,
+    sign: f64,
+}
+
+/// The evaluated state of an [`FfrSurfaceContour`]: the deformed contour in body axes and the
+/// evaluation scratch (one per contour, in the contact state; created once).
+#[derive(Debug, Clone)]
+pub struct SurfaceContourState {
+    /// The deformed contour in body axes (for the contact search).
+    pub surface: NurbsSurface,
+    net: Vec<Vector3<f64>>,
+    scratch: SurfaceScratch,
+}
+
+/// Kinematics of a contour point `(eta, xi)` in global coordinates.
+#[derive(Debug, Clone)]
+pub struct ContourPoint {
+    /// Position `r`.
+    pub position: Vector3<f64>,
+    /// Velocity of the material point there.
+    pub velocity: Vector3<f64>,
+    /// Outward unit normal `n` (3.27).
+    pub normal: Vector3<f64>,
+    /// Unit tangents `t_1` (3.28), `t_2` (3.29): with `n` an orthonormal right-handed frame.
+    pub tangents: [Vector3<f64>; 2],
+    /// Parametric tangents `t_eta`, `t_xi` (global, not normalized; the search's directions).
+    pub t_param: [Vector3<f64>; 2],
+    /// The point in body axes `ū`.
+    pub local: Vector3<f64>,
+}
+
+impl FfrSurfaceContour {
+    /// The contour through the nodes `grid` (row-major `n_eta x n_xi`, the matrix `O` of (3.24))
+    /// of `body`. Interpolates the undeformed positions and the `n_f` mode shapes once.
+    pub fn new(
+        body: &FfrBody,
+        grid: &[usize],
+        n_eta: usize,
+        n_xi: usize,
+        settings: ContourSettings,
+    ) -> Result<Self, ContourError> {
+        if grid.len() != n_eta * n_xi {
+            return Err(ContourError::Shape {
+                rows: n_eta,
+                cols: n_xi,
+                got: grid.len(),
+            });
+        }
+        check_nodes(body, grid)?;
+        let u0: Vec<Vector3<f64>> = grid.iter().map(|&n| body.u0[n]).collect();
+        let degrees = [settings.degree; 2];
+        let interp = SurfaceInterpolator::from_grid(
+            &u0,
+            n_eta,
+            n_xi,
+            settings.params,
+            degrees,
+            settings.closed,
+        )?;
+        let mut net0 = vec![Vector3::zeros(); interp.n_ctrl()];
+        interp.control_points_into(&u0, &mut net0)?;
+        let net_modes = (0..body.nf())
+            .map(|k| {
+                let mut net = vec![Vector3::zeros(); interp.n_ctrl()];
+                interp.control_points_into(&mode_values(body, grid, k), &mut net)?;
+                Ok(net)
+            })
+            .collect::<Result<_, NurbsError>>()?;
+        Ok(Self {
+            interp,
+            net0,
+            net_modes,
+            sign: if settings.flip_normal { -1.0 } else { 1.0 },
+        })
+    }
+
+    /// The interpolator (parameters, knots) of the contour.
+    pub fn interpolator(&self) -> &SurfaceInterpolator {
+        &self.interp
+    }
+
+    /// A state for [`Self::update`] (allocates; create once).
+    pub fn state(&self) -> Result<SurfaceContourState, ContourError> {
+        let (eta, xi) = (self.interp.eta(), self.interp.xi());
+        let surface = NurbsSurface::new(
+            eta.knot_vector().clone(),
+            xi.knot_vector().clone(),
+            &self.net0,
+            &vec![1.0; self.net0.len()],
+        )?;
+        Ok(SurfaceContourState {
+            scratch: surface.scratch(),
+            surface,
+            net: self.net0.clone(),
+        })
+    }
+
+    /// The deformed contour of the evaluated body state `s`: `C = C_0 + Σ q_f,k C_k`.
+    /// O(n_ctrl n_f), no allocation.
+    pub fn update(
+        &self,
+        s: &FfrScratch,
+        state: &mut SurfaceContourState,
+    ) -> Result<(), ContourError> {
+        state.net.copy_from_slice(&self.net0);
+        for (net_k, q) in self.net_modes.iter().zip(&s.qf) {
+            for (c, m) in state.net.iter_mut().zip(net_k) {
+                *c += m * *q;
+            }
+        }
+        state.surface.set_control_points(&state.net)?;
+        Ok(())
+    }
+
+    /// Kinematics of the contour point `(eta, xi)` for the body state `s` (positions `r`,
+    /// velocity `r_dot` of the floating frame) and the contour `state` updated for it.
+    pub fn point(
+        &self,
+        r: &Vector3<f64>,
+        r_dot: &Vector3<f64>,
+        s: &FfrScratch,
+        state: &mut SurfaceContourState,
+        eta: f64,
+        xi: f64,
+    ) -> Result<ContourPoint, ContourError> {
+        let d = self
+            .interp
+            .field_derivatives(&state.net, eta, xi, &mut state.scratch)?;
+        let mut phi_qd = Vector3::zeros();
+        for (net_k, qd) in self.net_modes.iter().zip(&s.qfd) {
+            phi_qd += self
+                .interp
+                .field_derivatives(net_k, eta, xi, &mut state.scratch)?[0]
+                * *qd;
+        }
+        Ok(material_point(
+            r,
+            r_dot,
+            s,
+            d[0],
+            phi_qd,
+            [d[1], d[2]],
+            self.sign,
+        ))
+    }
+
+    /// Translational Jacobian `J_T = [I, -A ū~ H, A Φ(eta, xi)]` (3 x n_u) of the contour point
+    /// `(eta, xi)` into `jt`.
+    pub fn jacobian_translation(
+        &self,
+        s: &FfrScratch,
+        state: &mut SurfaceContourState,
+        eta: f64,
+        xi: f64,
+        jt: MatMut<'_, f64>,
+    ) -> Result<(), ContourError> {
+        let u = self
+            .interp
+            .field_derivatives(&state.net, eta, xi, &mut state.scratch)?[0];
+        let phi = |k: usize, sc: &mut SurfaceScratch| {
+            self.interp
+                .field_derivatives(&self.net_modes[k], eta, xi, sc)
+                .map(|d| d[0])
+        };
+        write_jacobian(
+            s,
+            &u,
+            self.net_modes.len(),
+            &mut |k| phi(k, &mut state.scratch),
+            jt,
+        )
+    }
+}
+
+/// A 1D neutral contour of an FFR body: the NURBS curve through an ordered node list (a beam's
+/// axis, an edge).
+#[derive(Debug, Clone)]
+pub struct FfrCurveContour {
+    interp: CurveInterpolator,
+    net0: Vec<Vector3<f64>>,
+    net_modes: Vec<Vec<Vector3<f64>>>,
+}
+
+/// The evaluated state of an [`FfrCurveContour`] (see [`SurfaceContourState`]).
+#[derive(Debug, Clone)]
+pub struct CurveContourState {
+    /// The deformed contour in body axes.
+    pub curve: NurbsCurve,
+    net: Vec<Vector3<f64>>,
+    scratch: CurveScratch,
+}
+
+impl FfrCurveContour {
+    /// The contour through `nodes` (in order) of `body`; `settings.closed[0]` closes it.
+    pub fn new(
+        body: &FfrBody,
+        nodes: &[usize],
+        settings: ContourSettings,
+    ) -> Result<Self, ContourError> {
+        check_nodes(body, nodes)?;
+        let u0: Vec<Vector3<f64>> = nodes.iter().map(|&n| body.u0[n]).collect();
+        let interp = CurveInterpolator::from_points(
+            &u0,
+            settings.params,
+            settings.degree,
+            settings.closed[0],
+        )?;
+        let mut net0 = vec![Vector3::zeros(); interp.n_ctrl()];
+        interp.control_points_into(&u0, &mut net0)?;
+        let net_modes = (0..body.nf())
+            .map(|k| {
+                let mut net = vec![Vector3::zeros(); interp.n_ctrl()];
+                interp.control_points_into(&mode_values(body, nodes, k), &mut net)?;
+                Ok(net)
+            })
+            .collect::<Result<_, NurbsError>>()?;
+        Ok(Self {
+            interp,
+            net0,
+            net_modes,
+        })
+    }
+
+    /// The interpolator (parameters, knots) of the contour.
+    pub fn interpolator(&self) -> &CurveInterpolator {
+        &self.interp
+    }
+
+    /// A state for [`Self::update`] (allocates; create once).
+    pub fn state(&self) -> Result<CurveContourState, ContourError> {
+        let net_w = self.net0.iter().map(|p| p.push(1.0)).collect();
+        let curve = NurbsCurve::from_knot_vector(self.interp.knot_vector().clone(), net_w)?;
+        Ok(CurveContourState {
+            scratch: self.interp.scratch(),
+            curve,
+            net: self.net0.clone(),
+        })
+    }
+
+    /// The deformed contour of the evaluated body state `s`. O(n_ctrl n_f), no allocation.
+    pub fn update(
+        &self,
+        s: &FfrScratch,
+        state: &mut CurveContourState,
+    ) -> Result<(), ContourError> {
+        state.net.copy_from_slice(&self.net0);
+        for (net_k, q) in self.net_modes.iter().zip(&s.qf) {
+            for (c, m) in state.net.iter_mut().zip(net_k) {
+                *c += m * *q;
+            }
+        }
+        state.curve.set_control_points(&state.net)?;
+        Ok(())
+    }
+
+    /// Position, velocity and the curve tangent (`tangents[0]`, unit; `normal` and
+    /// `tangents[1]` are zero: a curve has no normal of its own) of the point at `eta`.
+    pub fn point(
+        &self,
+        r: &Vector3<f64>,
+        r_dot: &Vector3<f64>,
+        s: &FfrScratch,
+        state: &mut CurveContourState,
+        eta: f64,
+    ) -> Result<ContourPoint, ContourError> {
+        let d = self
+            .interp
+            .field_derivatives(&state.net, eta, &mut state.scratch)?;
+        let mut phi_qd = Vector3::zeros();
+        for (net_k, qd) in self.net_modes.iter().zip(&s.qfd) {
+            phi_qd += self
+                .interp
+                .field_derivatives(net_k, eta, &mut state.scratch)?[0]
+                * *qd;
+        }
+        let mut p = material_point(r, r_dot, s, d[0], phi_qd, [d[1], Vector3::zeros()], 1.0);
+        p.normal = Vector3::zeros();
+        p.tangents[1] = Vector3::zeros();
+        Ok(p)
+    }
+
+    /// `J_T` (3 x n_u) of the curve point at `eta` into `jt`.
+    pub fn jacobian_translation(
+        &self,
+        s: &FfrScratch,
+        state: &mut CurveContourState,
+        eta: f64,
+        jt: MatMut<'_, f64>,
+    ) -> Result<(), ContourError> {
+        let u = self
+            .interp
+            .field_derivatives(&state.net, eta, &mut state.scratch)?[0];
+        let phi = |k: usize, sc: &mut CurveScratch| {
+            self.interp
+                .field_derivatives(&self.net_modes[k], eta, sc)
+                .map(|d| d[0])
+        };
+        write_jacobian(
+            s,
+            &u,
+            self.net_modes.len(),
+            &mut |k| phi(k, &mut state.scratch),
+            jt,
+        )
+    }
+}
+
+/// Global kinematics of a material point at `u` (body axes) with elastic velocity `phi_qd`
+/// (`Φ q̇_f`) and body-axes parametric tangents `t`: (2.70) and (3.27)-(3.29).
+fn material_point(
+    r: &Vector3<f64>,
+    r_dot: &Vector3<f64>,
+    s: &FfrScratch,
+    u: Vector3<f64>,
+    phi_qd: Vector3<f64>,
+    t: [Vector3<f64>; 2],
+    sign: f64,
+) -> ContourPoint {
+    let a = s.a;
+    let (te, tx) = (a * t[0], a * t[1]);
+    let n = te.cross(&tx);
+    let n = if n.norm() > 0.0 {
+        sign * n / n.norm()
+    } else {
+        n
+    };
+    let t1 = if te.norm() > 0.0 { te / te.norm() } else { te };
+    let t2 = n.cross(&t1);
+    let t2 = if t2.norm() > 0.0 { t2 / t2.norm() } else { t2 };
+    ContourPoint {
+        position: r + a * u,
+        velocity: r_dot + a * (s.omega.cross(&u) + phi_qd),
+        normal: n,
+        tangents: [t1, t2],
+        t_param: [te, tx],
+        local: u,
+    }
+}
+
+/// `J_T = [I, -A ū~ H, A Φ]` with `Φ` column `k` from `phi(k)`.
+fn write_jacobian(
+    s: &FfrScratch,
+    u: &Vector3<f64>,
+    nf: usize,
+    phi: &mut dyn FnMut(usize) -> Result<Vector3<f64>, NurbsError>,
+    mut jt: MatMut<'_, f64>,
+) -> Result<(), ContourError> {
+    let b: Matrix3<f64> = -s.a * skew(u) * s.h;
+    for i in 0..3 {
+        for j in 0..3 {
+            jt[(i, j)] = if i == j { 1.0 } else { 0.0 };
+            jt[(i, 3 + j)] = b[(i, j)];
+        }
+    }
+    for k in 0..nf {
+        let col = s.a * phi(k)?;
+        for i in 0..3 {
+            jt[(i, 6 + k)] = col[i];
+        }
+    }
+    Ok(())
+}
