@@ -8,6 +8,7 @@ pub mod bodies;
 pub mod compile;
 pub mod config;
 pub mod error;
+pub mod fe_frames;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;

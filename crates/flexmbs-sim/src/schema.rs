@@ -330,6 +330,8 @@ pub struct FrameSpec {
     pub node: Option<u64>,
     /// The FE node nearest to this point (body coordinates) (ffr bodies).
     pub nearest: Option<[Quantity; 3]>,
+    /// A named rigid interface of the body's FE model (ffr bodies): the frame follows its node.
+    pub interface: Option<String>,
 }
 
 /// Joint types.
