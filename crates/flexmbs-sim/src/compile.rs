@@ -4,6 +4,7 @@
 use crate::bodies::{build_body, BodyGeometry, BuiltElement};
 pub use crate::config::{orientation, time_function, OutputConfig, OutputEvery, SolverConfig};
 use crate::config::{output_config, solver_config};
+use crate::drives::{check_drive_smoothness, DriveLevel};
 use crate::error::SimError;
 use crate::locate::{line_of, line_of_path};
 use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
@@ -112,6 +113,9 @@ pub struct CompiledModel {
     /// Copies of the ffr bodies with geometric stiffening, for the power of the stiffening
     /// force in the energy balance (`flexmbs_core::power::stiffening_power`).
     pub stiffened: Vec<(BodyId, FfrBody)>,
+    /// Warnings about legal but suspicious input (file, line, key path and message each), which
+    /// `check` and `run` print.
+    pub warnings: Vec<String>,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -272,6 +276,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         })
     };
     let mut joint_rows = Vec::new();
+    let mut drives = Vec::new();
     for (i, j) in mf.joint.iter().enumerate() {
         let p = format!("joint[{i}]");
         let (a, b) = (
@@ -383,6 +388,20 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         } else {
             None
         };
+        if let Some(m) = &prescribed {
+            let (key, f, level) = match m {
+                PrescribedMotion::RevoluteAngle(f) => {
+                    ("angle", f, DriveLevel::Position { unit: "rad" })
+                }
+                PrescribedMotion::RevoluteRate { rate, .. } => {
+                    ("angular_velocity", rate, DriveLevel::Rate)
+                }
+                PrescribedMotion::PrismaticDisplacement(f) => {
+                    ("displacement", f, DriveLevel::Position { unit: "m" })
+                }
+            };
+            drives.push((format!("{p}.{key}"), j.name.clone(), f.clone(), level));
+        }
         joint.prescribed = prescribed;
         // a driven revolute joint locks its rz through the drive row
         if joint.locked[3..].iter().any(|&l| l) || j.angle.is_some() || j.angular_velocity.is_some()
@@ -514,6 +533,14 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         }
     }
     let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
+    let mut warnings = Vec::new();
+    // statics has no velocities or accelerations to spoil
+    if !matches!(solver, SolverConfig::Statics { .. }) {
+        for (path, joint, f, level) in &drives {
+            let t_end = Some(solver.t_end());
+            check_drive_smoothness(&ctx, path, joint, f, *level, t_end, &mut warnings)?;
+        }
+    }
     let mut model = spec.compile().map_err(|source| {
         if let ModelError::SameOwner { item } = &source {
             let joint = mf.joint.iter().position(|j| &j.name == item);
@@ -595,6 +622,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         bodies,
         signals,
         stiffened,
+        warnings,
     })
 }
 

@@ -7,6 +7,7 @@
 pub mod bodies;
 pub mod compile;
 pub mod config;
+pub mod drives;
 pub mod error;
 pub mod fe_frames;
 pub mod initial;
