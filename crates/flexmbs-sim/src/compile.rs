@@ -6,6 +6,7 @@ pub use crate::config::{orientation, time_function, OutputConfig, OutputEvery, S
 use crate::config::{output_config, solver_config};
 use crate::drives::{check_drive_smoothness, DriveLevel};
 use crate::error::SimError;
+use crate::fe_frames::{check_rotation_lock_at_node, RotationUse};
 use crate::locate::{line_of, line_of_path};
 use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
@@ -408,10 +409,10 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         {
             for (side, name, id) in [("a", &j.a, a), ("b", &j.b, b)] {
                 if let Some(&(bi, n)) = node_frames.get(&id) {
-                    crate::fe_frames::check_rotation_lock_at_node(
+                    check_rotation_lock_at_node(
                         &ctx,
                         &format!("{p}.{side}"),
-                        &j.name,
+                        RotationUse::Joint(&j.name),
                         name,
                         &bodies[bi].name,
                         &bodies[bi].geometry,
@@ -450,6 +451,17 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                     .as_ref()
                     .ok_or_else(|| ctx.err(&p, "needs `frame`"))?;
                 let frame = frame(f, format!("{p}.frame"))?;
+                if let (LoadType::Torque, Some(&(bi, n))) = (l.kind, node_frames.get(&frame)) {
+                    check_rotation_lock_at_node(
+                        &ctx,
+                        &format!("{p}.frame"),
+                        RotationUse::Torque,
+                        f,
+                        &bodies[bi].name,
+                        &bodies[bi].geometry,
+                        n,
+                    )?;
+                }
                 let v = l
                     .vector
                     .as_ref()

@@ -172,13 +172,23 @@ const DEFINE_INTERFACE: &str = "Define one in the body's FE model file: a \
      `interface = \"<name>\"` (a reduced-body file keeps the interface node, without its name: \
      use `node = <id>` there)";
 
-/// Refuses a joint that locks a rotation at a frame on a translation-only node of an ffr body
-/// (see [`translation_only_nodes`]): the frame's axes would not turn with the body's
-/// deformation, so the joint would transmit no slope. `path` is the joint side's key path.
+/// What needs the rotation of a frame's node.
+#[derive(Debug, Clone, Copy)]
+pub enum RotationUse<'a> {
+    /// A joint (named) that locks a rotation, directly or through an angle drive.
+    Joint(&'a str),
+    /// A torque load.
+    Torque,
+}
+
+/// Refuses a joint that locks a rotation, or a torque, at a frame on a translation-only node of
+/// an ffr body (see [`translation_only_nodes`]): the frame's axes would not turn with the body's
+/// deformation, so the joint would transmit no slope (the torque would not bend the body). `path`
+/// is the key path of the joint side or the load's frame.
 pub fn check_rotation_lock_at_node(
     ctx: &Ctx,
     path: &str,
-    joint: &str,
+    user: RotationUse,
     frame: &str,
     body: &str,
     g: &BodyGeometry,
@@ -188,11 +198,20 @@ pub fn check_rotation_lock_at_node(
         return Ok(());
     }
     let id = g.node_ids[node];
+    let (lead, effect) = match user {
+        RotationUse::Joint(joint) => (
+            format!("joint `{joint}` locks rotations"),
+            "the joint would not transmit the body's slope there",
+        ),
+        RotationUse::Torque => (
+            "a torque acts".to_string(),
+            "the torque would turn the body as a whole instead of bending it there",
+        ),
+    };
     let mut msg = format!(
-        "joint `{joint}` locks rotations at frame `{frame}`, which sits on FE node {id} of body \
-         `{body}`: a node without rotational degrees of freedom (a solid-mesh node), whose axes do \
-         not turn with the body's deformation, so the joint would not transmit the body's slope \
-         there and the model would be wrong without any error."
+        "{lead} at frame `{frame}`, which sits on FE node {id} of body `{body}`: a node without \
+         rotational degrees of freedom (a solid-mesh node), whose axes do not turn with the \
+         body's deformation, so {effect} and the model would be wrong without any error."
     );
     if let Some(i) = g.interfaces.iter().find(|i| i.slaves.contains(&node)) {
         msg.push_str(&format!(

@@ -122,6 +122,23 @@ fn joint_locking_rotations_at_a_solid_node_is_refused_naming_the_interface() {
     std::fs::write(&file, text).unwrap();
     // (statics assembles the rough start, so the payload may sit off the node)
     flexmbs_sim::load_model(&file).unwrap();
+    // a torque there is refused alike
+    let text = std::fs::read_to_string(&file).unwrap().replacen(
+        "frame = \"payload\"",
+        "frame = \"elbow\"",
+        1,
+    );
+    std::fs::write(&file, text).unwrap();
+    let e = flexmbs_sim::load_model(&file).unwrap_err().to_string();
+    assert!(
+        e.contains("at `load[0].frame`: a torque acts at frame `elbow`, which sits on FE node"),
+        "{e}"
+    );
+    assert!(
+        e.contains("so the torque would turn the body as a whole instead of bending it there"),
+        "{e}"
+    );
+    assert!(e.contains("`interface = \"tip\"`"), "{e}");
 }
 
 #[test]
