@@ -51,10 +51,10 @@ pub fn frame_node(ctx: &Ctx, p: &str, f: &FrameSpec, g: &BodyGeometry) -> Result
         ("interface", f.interface.is_some()),
     ];
     let which: Vec<&str> = given.iter().filter(|(_, s)| *s).map(|(k, _)| *k).collect();
-    let key = format!("{p}.{}", which[0]);
-    if which.len() > 1 {
+    if which.len() != 1 {
         return Err(ctx.err(p, "give one of `node`, `nearest` and `interface`"));
     }
+    let key = format!("{p}.{}", which[0]);
     if !g.fe_nodes {
         return Err(ctx.err(
             &key,
@@ -80,10 +80,10 @@ pub fn frame_node(ctx: &Ctx, p: &str, f: &FrameSpec, g: &BodyGeometry) -> Result
             .map(|i| i.node)
             .ok_or_else(|| ctx.err(&key, unknown_interface_message(body, name, g)));
     }
-    let x = match &f.nearest {
-        Some(x) => ctx.vec3(x, Dimension::Length, &key)?,
-        None => unreachable!("one of node, nearest, interface is given"),
+    let Some(x) = &f.nearest else {
+        return Err(ctx.err(p, "give one of `node`, `nearest` and `interface`"));
     };
+    let x = ctx.vec3(x, Dimension::Length, &key)?;
     let n = nearest_node(g, &x);
     // a point far off the body is a mistake (unit, axis), not a choice
     let (dist, size) = (
