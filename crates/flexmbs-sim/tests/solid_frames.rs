@@ -184,3 +184,93 @@ fn unknown_node_and_interface_errors_list_the_interfaces() {
         "{e}"
     );
 }
+
+/// Without a rigid interface the message explains how to define one.
+#[test]
+fn refusal_without_interfaces_explains_how_to_define_one() {
+    let dir = common::work_dir("solid-frames", "no-interface");
+    let file = model_with(&dir, "nearest = [0.5, 0.0, 0.0]");
+    let plain = LINK
+        .replace(
+            "[[body.boundary.rigid]]\nname = \"tip\"\nnodes = \"xmax\"\n",
+            "",
+        )
+        .replace("method = \"craig-bampton\"\ninterface = [\"tip\"]\n", "");
+    assert!(
+        !plain.contains("tip") && !plain.contains("craig"),
+        "{plain}"
+    );
+    std::fs::write(dir.join("link.toml"), plain).unwrap();
+    let e = flexmbs_sim::load_model(&file).unwrap_err().to_string();
+    assert!(
+        e.contains("at `joint[1].a`: joint `weld` locks rotations"),
+        "{e}"
+    );
+    assert!(
+        e.contains(
+            "Body `link` has no rigid interface. Define one in the body's FE model file: a \
+             `[[body.boundary.rigid]]` table with a `name` and the `nodes` the joint grips"
+        ),
+        "{e}"
+    );
+    assert!(
+        e.contains("then name it on the frame with `interface = \"<name>\"`"),
+        "{e}"
+    );
+}
+
+/// A reduced-body file keeps the interface node (with rotations) but not its name: the refusal
+/// lists it by id, and `interface = "tip"` is an error that says so.
+#[test]
+fn refusal_on_a_reduced_body_file_lists_nodes_with_rotations() {
+    let dir = common::work_dir("solid-frames", "body-file");
+    let file = model_with(&dir, "nearest = [0.5, 0.0, 0.0]");
+    let (body, _) = flexmbs_sim::bodies::load_reduced_with_fe(
+        &dir.join("link.toml"),
+        &dir,
+        "link",
+        Default::default(),
+    )
+    .unwrap();
+    // the interface node follows the mesh nodes
+    let iface = body.num_nodes() - 1;
+    let id = body.node_ids[iface];
+    assert_eq!(body.nodes[iface], [0.5, 0.01, 0.0025]);
+    flexmbs_io::body_file::write_body(&dir.join("link.fmb.h5"), &body).unwrap();
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("source = \"link.toml\"", "source = \"link.fmb.h5\"");
+    std::fs::write(&file, &text).unwrap();
+    let e = flexmbs_sim::load_model(&file).unwrap_err().to_string();
+    assert!(
+        e.contains(&format!(
+            "Attach the frame to a node with rotations (a rigid interface node) instead: \
+             `node = {id}` (at [0.5, 0.01, 0.0025] m, "
+        )),
+        "{e}"
+    );
+    std::fs::write(
+        &file,
+        text.replace("nearest = [0.5, 0.0, 0.0]", "interface = \"tip\""),
+    )
+    .unwrap();
+    let e = flexmbs_sim::load_model(&file).unwrap_err().to_string();
+    assert!(
+        e.contains("at `frame[1].interface`: body `link` has no rigid interface `tip`: its source names none"),
+        "{e}"
+    );
+    assert!(e.contains("a reduced-body file keeps the interface node, without its name: use `node = <id>` there"), "{e}");
+    // and with `node = <id>` it runs and transmits the slope as the FE model file does
+    std::fs::write(
+        &file,
+        text.replace("nearest = [0.5, 0.0, 0.0]", &format!("node = {id}")),
+    )
+    .unwrap();
+    let cm = flexmbs_sim::load_model(&file).unwrap();
+    let out = dir.join("run");
+    run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap();
+    let r = read_results(&out.join("results.h5")).unwrap();
+    let oy = *r.series("payload.orientation.y").unwrap().last().unwrap();
+    let slope = 0.5 / (70e9 * 0.02 * 0.005f64.powi(3) / 12.0);
+    assert!((oy - slope).abs() < 1e-6 * slope, "{oy} vs {slope}");
+}
