@@ -545,14 +545,6 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         }
     }
     let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
-    let mut warnings = Vec::new();
-    // statics has no velocities or accelerations to spoil
-    if !matches!(solver, SolverConfig::Statics { .. }) {
-        for (path, joint, f, level) in &drives {
-            let t_end = Some(solver.t_end());
-            check_drive_smoothness(&ctx, path, joint, f, *level, t_end, &mut warnings)?;
-        }
-    }
     let mut model = spec.compile().map_err(|source| {
         if let ModelError::SameOwner { item } = &source {
             let joint = mf.joint.iter().position(|j| &j.name == item);
@@ -623,6 +615,14 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     let output = output_config(&ctx, &mf, &model, &bodies, &signals)?;
     let row_values = 10 + model.nq + model.nu + model.nc + crate::signals::signal_width(&signals);
     crate::config::check_output_size(&ctx, &solver, &output, row_values)?;
+    let mut warnings = Vec::new();
+    // statics has no velocities or accelerations to spoil
+    if !matches!(solver, SolverConfig::Statics { .. }) {
+        for (path, joint, f, level) in &drives {
+            let t_end = Some(solver.t_end());
+            check_drive_smoothness(&ctx, path, joint, f, *level, t_end, &mut warnings)?;
+        }
+    }
     Ok(CompiledModel {
         name: mf.model.name.clone(),
         file: file.to_path_buf(),
