@@ -34,6 +34,7 @@ fn install_ctrl_c(stop: Arc<AtomicBool>) {
 pub fn cmd_run(model: &Path, out: Option<PathBuf>, quiet: bool) -> Result<i32> {
     crate::file_kind::expect_model_file(model, "run", true)?;
     let cm = flexmbs_sim::load_model(model)?;
+    print_warnings(&cm);
     let out = out.unwrap_or_else(|| {
         let stem = model
             .file_stem()
@@ -176,6 +177,7 @@ fn print_summary(s: &RunSummary, statics: bool, explicit: bool) {
 /// `flexmbs check` of a multibody model file.
 pub fn check_multibody(model: &Path) -> Result<()> {
     let cm = flexmbs_sim::load_model(model)?;
+    print_warnings(&cm);
     println!(
         "{}: OK: multibody model `{}`: {}, {}, {} ({}), {}, {}, {}; solver {}",
         model.display(),
@@ -190,6 +192,13 @@ pub fn check_multibody(model: &Path) -> Result<()> {
         describe_solver(&cm.solver)
     );
     Ok(())
+}
+
+/// Prints the model's warnings to stderr, one per line.
+fn print_warnings(cm: &CompiledModel) {
+    for w in &cm.warnings {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// `n` with the singular or plural noun.

@@ -81,4 +81,4 @@ pub use model::{BodyDofs, Model, ModelSpec};
 pub use node::{DofMap, NodeKind};
 pub use rigid::{RigidBody, RotationParam};
 pub use state::{State, Workspace};
-pub use time_function::TimeFunction;
+pub use time_function::{Discontinuity, MotionLaw, TimeFunction};

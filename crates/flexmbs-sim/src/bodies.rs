@@ -3,6 +3,7 @@
 
 use crate::compile::Ctx;
 use crate::error::SimError;
+use crate::fe_frames::{rotating_nodes, translation_only_nodes, FeInterface};
 use crate::mass_model::{
     beam_rotary_inertias, check_consistent_source, full_mass_to_si, CONSISTENT_NEEDS_FE_MODEL,
 };
@@ -50,6 +51,13 @@ pub struct BodyGeometry {
     pub modes: usize,
     /// Rotation parametrization.
     pub rotation: RotationName,
+    /// Named rigid interfaces (FE model-file sources; empty otherwise).
+    pub interfaces: Vec<FeInterface>,
+    /// Per point: an FE node that moves in the modes without rotating in any
+    /// ([`crate::fe_frames::translation_only_nodes`]; empty for rigid bodies).
+    pub translation_only: Vec<bool>,
+    /// Per point: an FE node whose rotation appears in some mode (empty for rigid bodies).
+    pub rotating: Vec<bool>,
 }
 
 /// Error of `geometric_stiffening = true` on a source without an FE model or stored geometric
@@ -155,6 +163,9 @@ fn rigid_body(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(BuiltElement, BodyGeo
         }],
         modes: 0,
         rotation: b.rotation,
+        interfaces: Vec::new(),
+        translation_only: Vec::new(),
+        rotating: Vec::new(),
     };
     Ok((
         BuiltElement::Rigid(RigidBody::new(mass, inertia).with_rotation(rotation)),
@@ -377,6 +388,7 @@ fn ffr_body(
     }
     let rotary = node_rotary_inertias(ctx, p, b, kind, &loaded)?;
     let geometric = geometric_stiffness(ctx, p, b, kind, &loaded)?;
+    let interfaces = loaded.fe.as_ref().map(named_interfaces).unwrap_or_default();
     let LoadedBody {
         reduced,
         fe,
@@ -423,8 +435,26 @@ fn ffr_body(
         cells: si.cells.clone(),
         modes: si.num_modes(),
         rotation: b.rotation,
+        interfaces,
+        translation_only: translation_only_nodes(&si),
+        rotating: rotating_nodes(&si),
     };
     Ok((BuiltElement::Ffr(Box::new(FfrElement::new(body))), geometry))
+}
+
+/// The rigid interfaces of an FE model (`[[body.boundary.rigid]]`, in order: their nodes follow
+/// the mesh nodes) with their names.
+fn named_interfaces(fe: &FeModel) -> Vec<FeInterface> {
+    let p = &fe.prepared;
+    p.bc.rigid
+        .iter()
+        .zip(&p.system.map.interface_nodes)
+        .map(|(r, &node)| FeInterface {
+            name: r.name.clone(),
+            node,
+            slaves: r.nodes.clone(),
+        })
+        .collect()
 }
 
 /// Node rotary inertias of an ffr body (SI), if asked for or available: computed from a beam

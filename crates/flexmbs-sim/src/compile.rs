@@ -4,7 +4,9 @@
 use crate::bodies::{build_body, BodyGeometry, BuiltElement};
 pub use crate::config::{orientation, time_function, OutputConfig, OutputEvery, SolverConfig};
 use crate::config::{output_config, solver_config};
+use crate::drives::{check_drive_smoothness, DriveLevel};
 use crate::error::SimError;
+use crate::fe_frames::{check_rotation_lock_at_node, RotationUse};
 use crate::locate::{line_of, line_of_path};
 use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
@@ -112,6 +114,9 @@ pub struct CompiledModel {
     /// Copies of the ffr bodies with geometric stiffening, for the power of the stiffening
     /// force in the energy balance (`flexmbs_core::power::stiffening_power`).
     pub stiffened: Vec<(BodyId, FfrBody)>,
+    /// Warnings about legal but suspicious input (file, line, key path and message each), which
+    /// `check` and `run` print.
+    pub warnings: Vec<String>,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -170,6 +175,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     // frames fixed in the floating frame of an ffr body whose modes do not clamp it
     let mut abstract_frames: HashMap<FrameId, String> = HashMap::new();
     let mut abstract_bodies = Vec::new();
+    // frames on FE nodes: (body index, node index)
+    let mut node_frames: HashMap<FrameId, (usize, usize)> = HashMap::new();
     let mut stiffened = Vec::new();
     for (i, b) in mf.body.iter().enumerate() {
         let (element, geometry) = build_body(&ctx, i, b, base)?;
@@ -206,8 +213,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             None => i3,
         };
         let id = if f.body == "ground" {
-            if f.node.is_some() || f.nearest.is_some() {
-                return Err(ctx.err(&p, "ground frames cannot refer to FE nodes"));
+            if f.node.is_some() || f.nearest.is_some() || f.interface.is_some() {
+                return Err(ctx.err(&p, "ground frames cannot refer to FE nodes or interfaces"));
             }
             let pos = opt_vec(
                 &ctx,
@@ -228,73 +235,30 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                 ));
             };
             let body = &bodies[bi];
-            match (f.node, &f.nearest) {
-                (None, None) => {
-                    let pos = opt_vec(
-                        &ctx,
-                        &f.position,
-                        Dimension::Length,
-                        &format!("{p}.position"),
-                    )?;
-                    let id = spec.add_frame(&f.name, body.id, pos, rotation);
-                    if abstract_bodies[bi] {
-                        abstract_frames.insert(id, f.body.clone());
-                    }
-                    id
+            if f.node.is_none() && f.nearest.is_none() && f.interface.is_none() {
+                let pos = opt_vec(
+                    &ctx,
+                    &f.position,
+                    Dimension::Length,
+                    &format!("{p}.position"),
+                )?;
+                let id = spec.add_frame(&f.name, body.id, pos, rotation);
+                if abstract_bodies[bi] {
+                    abstract_frames.insert(id, f.body.clone());
                 }
-                (node, nearest) => {
-                    let g = &body.geometry;
-                    let which = if node.is_some() { "node" } else { "nearest" };
-                    if !g.fe_nodes {
-                        return Err(ctx.err(
-                            &format!("{p}.{which}"),
-                            format!(
-                                "body `{}` is rigid: `node`/`nearest` need an ffr body",
-                                f.body
-                            ),
-                        ));
-                    }
-                    if f.position.is_some() {
-                        return Err(ctx.err(&format!("{p}.{which}"), "a node frame takes its position from the node: drop `position` (`orientation` may rotate its axes)"));
-                    }
-                    let n = match (node, nearest) {
-                        (Some(id), None) => {
-                            g.node_ids.iter().position(|&x| x == id).ok_or_else(|| {
-                                ctx.err(
-                                    &format!("{p}.node"),
-                                    format!("body `{}` has no FE node {id}", f.body),
-                                )
-                            })?
-                        }
-                        (None, Some(x)) => {
-                            let x = ctx.vec3(x, Dimension::Length, &format!("{p}.nearest"))?;
-                            let n = nearest_point(&g.points, &x);
-                            // a point far off the body is a mistake (unit, axis), not a choice
-                            let (dist, size) = (
-                                (Vector3::from(g.points[n]) - x).norm(),
-                                bounding_box_diagonal(&g.points),
-                            );
-                            if dist > NEAREST_TOL * size {
-                                return Err(ctx.err(
-                                    &format!("{p}.nearest"),
-                                    format!(
-                                        "the nearest FE node of body `{}` (node {}, at {:?} m) is {dist:.4e} m from this point, more than {} of the body size ({size:.4e} m): check the coordinates (body axes, m unless a unit is given)",
-                                        f.body, g.node_ids[n], g.points[n], NEAREST_TOL
-                                    ),
-                                ));
-                            }
-                            n
-                        }
-                        _ => return Err(ctx.err(&p, "give `node` or `nearest`, not both")),
-                    };
-                    spec.add_oriented_node_frame(
-                        &f.name,
-                        body.id,
-                        n,
-                        Vector3::from(g.points[n]),
-                        rotation,
-                    )
-                }
+                id
+            } else {
+                let g = &body.geometry;
+                let n = crate::fe_frames::frame_node(&ctx, &p, f, g)?;
+                let id = spec.add_oriented_node_frame(
+                    &f.name,
+                    body.id,
+                    n,
+                    Vector3::from(g.points[n]),
+                    rotation,
+                );
+                node_frames.insert(id, (bi, n));
+                id
             }
         };
         frames.insert(f.name.clone(), id);
@@ -313,6 +277,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         })
     };
     let mut joint_rows = Vec::new();
+    let mut drives = Vec::new();
     for (i, j) in mf.joint.iter().enumerate() {
         let p = format!("joint[{i}]");
         let (a, b) = (
@@ -424,7 +389,38 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         } else {
             None
         };
+        if let Some(m) = &prescribed {
+            let (key, f, level) = match m {
+                PrescribedMotion::RevoluteAngle(f) => {
+                    ("angle", f, DriveLevel::Position { unit: "rad" })
+                }
+                PrescribedMotion::RevoluteRate { rate, .. } => {
+                    ("angular_velocity", rate, DriveLevel::Rate)
+                }
+                PrescribedMotion::PrismaticDisplacement(f) => {
+                    ("displacement", f, DriveLevel::Position { unit: "m" })
+                }
+            };
+            drives.push((format!("{p}.{key}"), j.name.clone(), f.clone(), level));
+        }
         joint.prescribed = prescribed;
+        // a driven revolute joint locks its rz through the drive row
+        if joint.locked[3..].iter().any(|&l| l) || j.angle.is_some() || j.angular_velocity.is_some()
+        {
+            for (side, name, id) in [("a", &j.a, a), ("b", &j.b, b)] {
+                if let Some(&(bi, n)) = node_frames.get(&id) {
+                    check_rotation_lock_at_node(
+                        &ctx,
+                        &format!("{p}.{side}"),
+                        RotationUse::Joint(&j.name),
+                        name,
+                        &bodies[bi].name,
+                        &bodies[bi].geometry,
+                        n,
+                    )?;
+                }
+            }
+        }
         joint_rows.push(joint.num_rows());
         spec.add_joint(joint);
     }
@@ -455,6 +451,17 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                     .as_ref()
                     .ok_or_else(|| ctx.err(&p, "needs `frame`"))?;
                 let frame = frame(f, format!("{p}.frame"))?;
+                if let (LoadType::Torque, Some(&(bi, n))) = (l.kind, node_frames.get(&frame)) {
+                    check_rotation_lock_at_node(
+                        &ctx,
+                        &format!("{p}.frame"),
+                        RotationUse::Torque,
+                        f,
+                        &bodies[bi].name,
+                        &bodies[bi].geometry,
+                        n,
+                    )?;
+                }
                 let v = l
                     .vector
                     .as_ref()
@@ -611,6 +618,14 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     let output = output_config(&ctx, &mf, &model, &bodies, &signals)?;
     let row_values = 10 + model.nq + model.nu + model.nc + crate::signals::signal_width(&signals);
     crate::config::check_output_size(&ctx, &solver, &output, row_values)?;
+    let mut warnings = Vec::new();
+    // statics has no velocities or accelerations to spoil
+    if !matches!(solver, SolverConfig::Statics { .. }) {
+        for (path, joint, f, level) in &drives {
+            let t_end = Some(solver.t_end());
+            check_drive_smoothness(&ctx, path, joint, f, *level, t_end, &mut warnings)?;
+        }
+    }
     Ok(CompiledModel {
         name: mf.model.name.clone(),
         file: file.to_path_buf(),
@@ -622,6 +637,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         bodies,
         signals,
         stiffened,
+        warnings,
     })
 }
 
@@ -678,28 +694,6 @@ fn opt_vec(
 ) -> Result<Vector3<f64>, SimError> {
     v.as_ref()
         .map_or(Ok(Vector3::zeros()), |v| ctx.vec3(v, dim, path))
-}
-
-/// Largest distance of a `nearest` point from its node, as a fraction of the body's
-/// bounding-box diagonal.
-pub const NEAREST_TOL: f64 = 0.05;
-
-fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
-}
-
-fn nearest_point(points: &[[f64; 3]], x: &Vector3<f64>) -> usize {
-    let d = |p: &[f64; 3]| (Vector3::from(*p) - x).norm_squared();
-    (0..points.len())
-        .min_by(|&a, &b| d(&points[a]).total_cmp(&d(&points[b])))
-        .unwrap_or(0)
 }
 
 /// Why a joint may not attach to a frame fixed in the floating frame of an ffr body whose modes

@@ -8,7 +8,7 @@ use crate::units::{Dimension, Quantity};
 use flexmbs_core::integrator::{
     AdaptiveSettings, Dopri5Settings, GenAlphaSettings, NewtonSettings, StaticsSettings,
 };
-use flexmbs_core::{Model, TimeFunction};
+use flexmbs_core::{Model, MotionLaw, TimeFunction};
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 /// Solver configuration.
 #[derive(Debug, Clone, PartialEq)]
@@ -154,6 +154,7 @@ pub fn time_function(
         ("offset", f.offset.is_some()),
         ("times", f.times.is_some()),
         ("values", f.values.is_some()),
+        ("ramp", f.ramp.is_some()),
     ];
     let allowed: &[&str] = match f.kind {
         TimeType::Constant => &["value"],
@@ -162,6 +163,8 @@ pub fn time_function(
         TimeType::Pulse => &["t0", "t1", "value"],
         TimeType::Harmonic => &["amplitude", "frequency", "phase", "offset"],
         TimeType::Table => &["times", "values"],
+        TimeType::Step3 | TimeType::Step5 | TimeType::Cycloidal => &["t0", "t1", "v0", "v1"],
+        TimeType::Move => &["t0", "t1", "v0", "v1", "ramp"],
     };
     ctx.only(
         p,
@@ -231,8 +234,35 @@ pub fn time_function(
                 .collect::<Result<Vec<_>, _>>()?;
             TimeFunction::Table { times, values }
         }
+        TimeType::Step3 | TimeType::Step5 | TimeType::Cycloidal | TimeType::Move => {
+            let law = match f.kind {
+                TimeType::Step3 => MotionLaw::Cubic,
+                TimeType::Step5 => MotionLaw::Quintic,
+                TimeType::Cycloidal => MotionLaw::Cycloidal,
+                _ => {
+                    let ramp = val(&f.ramp, "ramp", Dimension::Dimensionless, Some(0.25))?;
+                    if !(ramp > 0.0 && ramp <= 0.5) {
+                        return Err(ctx.err(
+                            &key("ramp"),
+                            format!("the ramp fraction must be in (0, 0.5], got {ramp}"),
+                        ));
+                    }
+                    MotionLaw::Trapezoid { ramp }
+                }
+            };
+            TimeFunction::Move {
+                t0: val(&f.t0, "t0", Time, Some(0.0))?,
+                t1: val(&f.t1, "t1", Time, None)?,
+                v0: val(&f.v0, "v0", dim, Some(0.0))?,
+                v1: val(&f.v1, "v1", dim, None)?,
+                law,
+            }
+        }
     };
-    if let TimeFunction::Ramp { t0, t1, .. } | TimeFunction::Pulse { t0, t1, .. } = tf {
+    if let TimeFunction::Ramp { t0, t1, .. }
+    | TimeFunction::Pulse { t0, t1, .. }
+    | TimeFunction::Move { t0, t1, .. } = tf
+    {
         if t1 <= t0 {
             return Err(ctx.err(
                 &key("t1"),

@@ -7,7 +7,9 @@
 pub mod bodies;
 pub mod compile;
 pub mod config;
+pub mod drives;
 pub mod error;
+pub mod fe_frames;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;

@@ -330,6 +330,8 @@ pub struct FrameSpec {
     pub node: Option<u64>,
     /// The FE node nearest to this point (body coordinates) (ffr bodies).
     pub nearest: Option<[Quantity; 3]>,
+    /// A named rigid interface of the body's FE model (ffr bodies): the frame follows its node.
+    pub interface: Option<String>,
 }
 
 /// Joint types.
@@ -484,6 +486,14 @@ pub enum TimeType {
     Harmonic,
     /// Piecewise linear through (`times`, `values`).
     Table,
+    /// Cubic smooth step (Adams STEP) from `v0` at `t0` to `v1` at `t1`.
+    Step3,
+    /// Quintic smooth step (Adams STEP5) from `v0` at `t0` to `v1` at `t1`.
+    Step5,
+    /// Cycloidal move from `v0` at `t0` to `v1` at `t1`.
+    Cycloidal,
+    /// Trapezoidal-velocity move with S-curve corners (`ramp` fraction) from `v0` to `v1`.
+    Move,
 }
 
 /// A typed time function; values carry the dimension of the quantity it drives.
@@ -519,6 +529,8 @@ pub struct TimeFunctionSpec {
     pub times: Option<Vec<Quantity>>,
     /// Table values.
     pub values: Option<Vec<Quantity>>,
+    /// Fraction of a `move` in each acceleration ramp (default 0.25).
+    pub ramp: Option<Quantity>,
 }
 
 /// `[output]`.
