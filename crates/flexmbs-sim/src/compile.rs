@@ -117,6 +117,8 @@ pub struct CompiledModel {
     /// Warnings about legal but suspicious input (file, line, key path and message each), which
     /// `check` and `run` print.
     pub warnings: Vec<String>,
+    /// `solver.initial = "static"`: the run starts from static equilibrium at t = 0.
+    pub initial_static: bool,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -597,8 +599,12 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             return Err(ctx.err(&format!("body[{i}].orientation"), "this orientation is singular for Cardan angles (beta = +-90 deg): use rotation = \"quaternion\""));
         }
     }
+    let initial_static = mf.solver.initial == Some(crate::schema::InitialName::Static);
+    if initial_static {
+        crate::initial::check_static_start(&ctx, &mf)?;
+    }
     // statics solves g = 0 itself (and sets u = 0): a roughly placed start is legitimate there
-    if !matches!(solver, SolverConfig::Statics { .. }) {
+    if !matches!(solver, SolverConfig::Statics { .. }) && !initial_static {
         crate::initial::check_initial_assembly(&ctx, &model, &initial)?;
     }
     let joint_names: Vec<(String, usize)> = mf
@@ -638,6 +644,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         signals,
         stiffened,
         warnings,
+        initial_static,
     })
 }
 

@@ -300,6 +300,7 @@ pub(crate) fn solver_config(
         ("atol", s.atol.is_some()),
         ("h_max", s.h_max.is_some()),
         ("load_steps", s.load_steps.is_some()),
+        ("initial", s.initial.is_some()),
     ];
     let positive = |q: &Quantity, key: &str| -> Result<f64, SimError> {
         let v = ctx.q(q, Dimension::Time, key)?;
@@ -355,7 +356,7 @@ pub(crate) fn solver_config(
                 "solver",
                 "generalized-alpha",
                 &present,
-                &["t_end", "h", "rho_inf", "adaptive", "newton"],
+                &["t_end", "h", "rho_inf", "adaptive", "newton", "initial"],
             )?;
             let t_end = t_end()?;
             let h = positive(
@@ -417,7 +418,7 @@ pub(crate) fn solver_config(
                 "solver",
                 "dopri5",
                 &present,
-                &["t_end", "h", "rtol", "atol", "h_max"],
+                &["t_end", "h", "rtol", "atol", "h_max", "initial"],
             )?;
             if *has_joints {
                 return Err(ctx.err("solver.type", format!("dopri5 integrates unconstrained models only, but the model has {} joint(s): use generalized-alpha", mf.joint.len())));

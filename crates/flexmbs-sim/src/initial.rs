@@ -5,6 +5,25 @@ use crate::compile::Ctx;
 use crate::error::SimError;
 use flexmbs_core::{system, Model, SolverError, State, Workspace};
 
+/// `solver.initial = "static"` starts at rest: initial body velocities would be discarded, so
+/// they are refused with their key.
+pub(crate) fn check_static_start(ctx: &Ctx, mf: &crate::schema::ModelFile) -> Result<(), SimError> {
+    for (i, b) in mf.body.iter().enumerate() {
+        for (key, given) in [
+            ("velocity", b.velocity.is_some()),
+            ("angular_velocity", b.angular_velocity.is_some()),
+        ] {
+            if given {
+                return Err(ctx.err(
+                    &format!("body[{i}].{key}"),
+                    "solver.initial = \"static\" starts from static equilibrium at rest: remove the initial velocity (or use initial = \"given\")",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The initial state must satisfy the joints ([`flexmbs_core::system::check_assembly`],
 /// tolerance [`flexmbs_core::system::ASSEMBLY_TOL`]): otherwise the index-3 integrator would snap
 /// the bodies together in the first step with arbitrary impulses (energy out of nowhere). The

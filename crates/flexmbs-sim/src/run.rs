@@ -8,8 +8,8 @@ use crate::error::SimError;
 use crate::signals::{coordinate_names, evaluate_signals, signal_width};
 use flexmbs_core::ffr::FfrScratch;
 use flexmbs_core::integrator::{
-    self, Dopri5, Dopri5Stepper, GenAlpha, GenAlphaStepper, Statics, StaticsStepper, StepControl,
-    StepStats, Stepper,
+    self, Dopri5, Dopri5Stepper, GenAlpha, GenAlphaStepper, Statics, StaticsSettings,
+    StaticsStepper, StepControl, StepStats, Stepper,
 };
 use flexmbs_core::power::{
     external_power, has_external_work, power_frames, stiffening_power, WorkMeter,
@@ -571,6 +571,9 @@ fn integrate(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<(usize, bool), SolverError> {
     let m = &cm.model;
+    if cm.initial_static {
+        static_equilibrium_start(m, s, ws)?;
+    }
     let (mut stepper, control, end) = stepper_of(&cm.solver)?;
     stepper.initialize(m, s, ws)?;
     if !rec.statics {
@@ -592,6 +595,26 @@ fn integrate(
         rec.on_step(s, st, stop, progress)
     })?;
     Ok((r.rejected, r.stopped))
+}
+
+/// `solver.initial = "static"`: static equilibrium at `t = s.t` (gravity, loads and drive
+/// positions at that time; the statics solver's default load stepping), at rest; then the joints
+/// must hold at velocity level too (a drive with a non-zero rate at t = 0 cannot start at rest).
+fn static_equilibrium_start(
+    m: &Model,
+    s: &mut State,
+    ws: &mut Workspace,
+) -> Result<(), SolverError> {
+    let t0 = s.t;
+    let statics = Statics::new(StaticsSettings::default());
+    let mut stepper = StaticsStepper::new(statics);
+    stepper.initialize(m, s, ws)?;
+    integrator::drive(&mut stepper, m, s, ws, statics.control(), 1.0, |_, _| {
+        ControlFlow::Continue(())
+    })?;
+    s.t = t0;
+    s.u.fill(0.0);
+    system::check_assembly(m, s, ws, system::ASSEMBLY_TOL)
 }
 
 fn next_output_time(cm: &CompiledModel, t: f64) -> f64 {

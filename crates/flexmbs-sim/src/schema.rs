@@ -87,6 +87,18 @@ pub struct SolverSpec {
     pub load_steps: Option<usize>,
     /// Linear-solver backend of the system matrices, default `auto`.
     pub linear_solver: Option<LinearSolverName>,
+    /// Initial state of a time integration, default `given`.
+    pub initial: Option<InitialName>,
+}
+
+/// `solver.initial` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum InitialName {
+    /// The bodies' poses and velocities as given.
+    Given,
+    /// Static equilibrium at t = 0 (under gravity, loads and drives at t = 0), at rest.
+    Static,
 }
 
 /// `solver.linear_solver` values.
