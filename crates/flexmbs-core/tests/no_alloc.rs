@@ -85,6 +85,20 @@ fn ffr_steps_allocations(modified: bool) -> usize {
             rate: TimeFunction::Constant(10.0),
         },
     ));
+    // a follower tip force (the analytic load tangent) and a dead one at a floating-frame point
+    let tip = spec.add_node_frame("tip", b, n - 1, Vector3::from(nodes[n - 1]));
+    let mid = spec.add_frame("mid", b, Vector3::new(0.5, 0.0, 0.0), Matrix3::identity());
+    for (frame, coordinates) in [
+        (tip, LoadCoordinates::Frame),
+        (mid, LoadCoordinates::Global),
+    ] {
+        spec.add_load(Load::Force {
+            frame,
+            vector: Vector3::new(0.0, 1.0, 0.5),
+            time: TimeFunction::Constant(1.0),
+            coordinates,
+        });
+    }
     let model = spec.compile().unwrap();
     let mut s = model.initial_state();
     model.set_body_velocity(&mut s, b, Vector3::zeros(), Vector3::new(0.0, 0.0, 10.0));

@@ -685,5 +685,8 @@ fn static_start_refuses_initial_velocities() {
     );
     let err = flexmbs_sim::compile_model(&text, &example("sagging_cantilever.toml")).unwrap_err();
     let msg = err.to_string();
-    assert!(msg.contains("body[0].angular_velocity") && msg.contains("rest"), "{msg}");
+    assert!(
+        msg.contains("body[0].angular_velocity") && msg.contains("rest"),
+        "{msg}"
+    );
 }
