@@ -72,6 +72,9 @@ pub struct OutputConfig {
     pub animation: bool,
     /// Animation frame every n-th output row.
     pub animation_every: usize,
+    /// The animation's points are the rigidly moved bodies plus this multiple of the elastic
+    /// deformation (1: the true shape).
+    pub deformation_scale: f64,
     /// Plots: file stem and series.
     pub plots: Vec<(String, Vec<String>)>,
     /// Series for `<model>.csv`.
@@ -490,6 +493,13 @@ pub(crate) fn output_config(
     if animation_every == 0 {
         return Err(ctx.err("output.animation_every", "must be >= 1"));
     }
+    let deformation_scale = o.deformation_scale.unwrap_or(1.0);
+    if !(deformation_scale.is_finite() && deformation_scale >= 0.0) {
+        return Err(ctx.err(
+            "output.deformation_scale",
+            format!("must be a finite number >= 0, got {deformation_scale}"),
+        ));
+    }
     let names = series_names(model, bodies, signals);
     let check = |list: &[String], key: &str| -> Result<(), SimError> {
         for (k, s) in list.iter().enumerate() {
@@ -521,6 +531,7 @@ pub(crate) fn output_config(
         every,
         animation: o.animation,
         animation_every,
+        deformation_scale,
         plots,
         csv: o.csv.clone(),
     })

@@ -4,6 +4,7 @@
 //! ([`run`]). Reference of the file format: `docs/model-file.md`, "Multibody models".
 #![warn(missing_docs)]
 
+mod animation_points;
 pub mod bodies;
 pub mod compile;
 pub mod config;

@@ -15,14 +15,12 @@ use flexmbs_core::power::{
     external_power, has_external_work, power_frames, stiffening_power, WorkMeter,
 };
 use flexmbs_core::{
-    system, ElementScratch, FrameId, FrameKinematics, LocalFrame, Model, SolverError, State,
-    Workspace,
+    system, ElementScratch, FrameId, FrameKinematics, Model, SolverError, State, Workspace,
 };
 use flexmbs_io::results::{
     plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
     ResultsLayout, ResultsRow, ResultsWriter, RunStatus, SignalSpec,
 };
-use nalgebra::{Matrix3, Vector3};
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -162,6 +160,8 @@ struct Recorder<'a> {
     body_fk: Vec<FrameKinematics>,
     signals: Vec<f64>,
     positions: Vec<Vec<[f64; 3]>>,
+    /// Elastic displacement of every animation point (global axes).
+    elastic: Vec<Vec<[f64; 3]>>,
     steps: usize,
     newton: usize,
     next_time: f64,
@@ -228,10 +228,11 @@ impl<'a> Recorder<'a> {
         let rows = w.rows();
         if let Some(anim) = self.anim.as_mut() {
             if (rows - 1) % self.cm.output.animation_every == 0 {
-                let (fk, pos) = (&mut self.body_fk, &mut self.positions);
-                body_points(m, self.cm, s, &mut self.eval, fk, pos);
+                let (fk, pos, el) = (&mut self.body_fk, &mut self.positions, &mut self.elastic);
+                crate::animation_points::body_points(m, self.cm, s, &mut self.eval, fk, pos, el);
                 let refs: Vec<&[[f64; 3]]> = self.positions.iter().map(|p| p.as_slice()).collect();
-                anim.write_frame(t, &refs)?;
+                let el: Vec<&[[f64; 3]]> = self.elastic.iter().map(|p| p.as_slice()).collect();
+                anim.write_frame_elastic(t, &refs, Some(&el))?;
             }
         }
         Ok(())
@@ -326,32 +327,6 @@ impl<'a> Recorder<'a> {
     }
 }
 
-/// Current global positions of every body's animation points.
-fn body_points(
-    m: &Model,
-    cm: &CompiledModel,
-    s: &State,
-    eval: &mut [ElementScratch],
-    fk: &mut [FrameKinematics],
-    out: &mut [Vec<[f64; 3]>],
-) {
-    for ((info, k), pts) in cm.bodies.iter().zip(fk.iter_mut()).zip(out.iter_mut()) {
-        let b = &m.bodies[info.id.0];
-        let (q, u) = (m.body_q(info.id, &s.q), m.body_u(info.id, &s.u));
-        pts.clear();
-        for (n, p) in info.geometry.points.iter().enumerate() {
-            let lf = LocalFrame {
-                position: Vector3::from(*p),
-                rotation: Matrix3::identity(),
-                mesh_node: info.geometry.fe_nodes.then_some(n),
-            };
-            b.element
-                .frame_kinematics(q, u, &mut eval[info.id.0], &lf, k);
-            pts.push([k.position.x, k.position.y, k.position.z]);
-        }
-    }
-}
-
 /// Runs a compiled model. `progress` is called after every accepted step.
 /// Returns the summary of a completed or interrupted run; a solver failure is an error (the
 /// results file is finished with status `failed` first).
@@ -433,6 +408,11 @@ pub fn run_model(
             .collect(),
         signals: Vec::with_capacity(signal_width(&cm.signals)),
         positions: cm
+            .bodies
+            .iter()
+            .map(|b| Vec::with_capacity(b.geometry.points.len()))
+            .collect(),
+        elastic: cm
             .bodies
             .iter()
             .map(|b| Vec::with_capacity(b.geometry.points.len()))

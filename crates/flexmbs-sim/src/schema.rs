@@ -562,6 +562,8 @@ pub struct OutputSpec {
     pub animation: bool,
     /// Animation frame every n-th output row (default 1).
     pub animation_every: Option<usize>,
+    /// Scale of the elastic deformation in the animation's points (default 1).
+    pub deformation_scale: Option<f64>,
     /// Plots: file stem -> list of series.
     #[serde(default)]
     pub plots: BTreeMap<String, Vec<String>>,
@@ -582,6 +584,7 @@ impl Default for OutputSpec {
             signals: Vec::new(),
             animation: true,
             animation_every: None,
+            deformation_scale: None,
             plots: BTreeMap::new(),
             csv: Vec::new(),
         }

@@ -21,7 +21,9 @@ pub struct AnimationBody {
 /// Writer of a ParaView animation: `dir/<name>.pvd` and `dir/<name>_frames/<name>_NNNNNN.vtu`.
 ///
 /// Every frame is one unstructured grid with all bodies merged (points of body 0 first), the point
-/// vector field `displacement` (current minus reference position), the cell field `body` (index of
+/// vector field `displacement` (written minus reference position), with
+/// [`AnimationWriter::write_frame_elastic`] also `elastic_displacement` (the deformation alone,
+/// global axes: the point minus where the rigidly moved body would put it), the cell field `body` (index of
 /// the body the cell belongs to, as Float64) and the field data `TimeValue` (the frame time, which
 /// ParaView shows). The `.pvd` (file names relative to its directory) is rewritten atomically
 /// after the first frame and then whenever [`AnimationWriter::pvd_interval`] of wall time (default
@@ -157,6 +159,17 @@ impl AnimationWriter {
     /// `positions[b]` are the current positions of body b's points (same count as its reference
     /// points). Then rewrites the `.pvd`.
     pub fn write_frame(&mut self, t: f64, positions: &[&[[f64; 3]]]) -> Result<(), ResultsError> {
+        self.write_frame_elastic(t, positions, None)
+    }
+
+    /// [`AnimationWriter::write_frame`] with the point field `elastic_displacement`:
+    /// `elastic[b]` per point of body b (same counts as `positions`).
+    pub fn write_frame_elastic(
+        &mut self,
+        t: f64,
+        positions: &[&[[f64; 3]]],
+        elastic: Option<&[&[[f64; 3]]]>,
+    ) -> Result<(), ResultsError> {
         let invalid = |message: String| ResultsError::InvalidAnimation {
             path: self.pvd_path(),
             message,
@@ -195,14 +208,43 @@ impl AnimationWriter {
             .zip(&self.reference)
             .flat_map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]])
             .collect();
+        let mut elastic_field = Vec::new();
+        if let Some(el) = elastic {
+            for (b, (e, p)) in el.iter().zip(positions).enumerate() {
+                if e.len() != p.len() {
+                    return Err(invalid(format!(
+                        "body {b}: {} elastic displacements for {} points",
+                        e.len(),
+                        p.len()
+                    )));
+                }
+                elastic_field.extend(e.iter().flatten());
+            }
+            if el.len() != positions.len() {
+                return Err(invalid(format!(
+                    "{} elastic lists for {} bodies",
+                    el.len(),
+                    positions.len()
+                )));
+            }
+        }
         let k = self.entries.len();
         let rel = format!("{0}_frames/{0}_{k:06}.vtu", self.name);
         let file = self.dir.join(&rel);
+        let both: [(&str, usize, &[f64]); 2] = [
+            ("displacement", 3, &displacement),
+            ("elastic_displacement", 3, &elastic_field),
+        ];
+        let fields = if elastic.is_some() {
+            &both[..]
+        } else {
+            &both[..1]
+        };
         write_vtu_with(
             &file,
             &points,
             &self.cells,
-            &[("displacement", 3, &displacement)],
+            fields,
             &[("body", 1, &self.body_of_cell)],
             &[("TimeValue", 1, &[t])],
             VtuEncoding::Base64,
