@@ -4,6 +4,11 @@
 //! never a `results.h5` left behind. Each corpus file starts with two header lines:
 //! `# expect-key: <key path>` and `# expect: <substring of the message>`.
 //!
+//! FE body files (`tests/bad_models/fe/*.toml`, same headers) that are mechanisms (zero-energy
+//! modes: hourglass modes, disconnected parts) are refused the same way by `modal` and `reduce`
+//! (which writes no file); `check` of an FE body file meshes it and finds disconnected parts, but
+//! runs no eigen analysis.
+//!
 //! Plus the case that needs a generated file: a reduced-body file (`.fmb.h5`) without modes.
 
 use std::path::{Path, PathBuf};
@@ -21,11 +26,11 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-/// Exit code and stderr of `flexmbs -q <command> <model> [-o <out>]`.
+/// Exit code and stderr of `flexmbs -q <command> <model> [-o <out>]` (`-o` for run and reduce).
 fn flexmbs(command: &str, model: &Path, out: &Path) -> (Option<i32>, String) {
     let mut c = Command::new(env!("CARGO_BIN_EXE_flexmbs"));
     c.arg("-q").arg(command).arg(model);
-    if command == "run" {
+    if command == "run" || command == "reduce" {
         c.arg("-o").arg(out);
     }
     let o = c.output().unwrap();
@@ -48,8 +53,19 @@ fn header<'a>(text: &'a str, tag: &str, name: &str) -> &'a str {
 /// file name and a line number) containing `needle`, without a panic, and that `run` wrote no
 /// results file.
 fn assert_refused(model: &Path, key: &str, needle: &str, out: &Path) {
+    assert_refused_by(&["check", "run"], model, key, needle, out);
+    assert!(
+        !out.join("results.h5").exists(),
+        "run {} wrote a results file although the model is refused",
+        model.display()
+    );
+}
+
+/// Asserts that each of `commands` refuses `model` with a located error at `key` (after the file
+/// name and a line number) containing `needle`, with exit code 1 and without a panic.
+fn assert_refused_by(commands: &[&str], model: &Path, key: &str, needle: &str, out: &Path) {
     let name = model.file_name().unwrap().to_str().unwrap();
-    for command in ["check", "run"] {
+    for &command in commands {
         let (code, err) = flexmbs(command, model, out);
         let what = format!("{command} {name}: exit {code:?}, stderr:\n{err}");
         assert_eq!(code, Some(1), "{what}");
@@ -68,10 +84,6 @@ fn assert_refused(model: &Path, key: &str, needle: &str, out: &Path) {
         assert!(file_part.ends_with(name), "{what}");
         assert!(err[at..].contains(needle), "{what}\n(lacks `{needle}`)");
     }
-    assert!(
-        !out.join("results.h5").exists(),
-        "run {name} wrote a results file although the model is refused"
-    );
 }
 
 #[test]
@@ -93,6 +105,31 @@ fn check_and_run_refuse_every_bad_model_with_a_located_error() {
         assert_refused(model, key, needle, &out);
         println!("{name}: refused at `{key}`");
     }
+}
+
+#[test]
+fn modal_and_reduce_refuse_mechanisms_with_the_cause_named() {
+    let dir = corpus_dir().join("fe");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 2);
+    let out = scratch("fe");
+    for model in &files {
+        let text = std::fs::read_to_string(model).unwrap();
+        let name = model.file_name().unwrap().to_str().unwrap();
+        let key = header(&text, "expect-key", name);
+        let needle = header(&text, "expect", name);
+        let body_file = out.join(format!("{name}.fmb.h5"));
+        assert_refused_by(&["modal", "reduce"], model, key, needle, &body_file);
+        assert!(!body_file.exists(), "reduce {name} wrote {body_file:?}");
+        println!("{name}: refused at `{key}`");
+    }
+    // `check` meshes the body: it finds the disconnected parts (no eigen analysis)
+    let two = dir.join("two_boxes.toml");
+    assert_refused_by(&["check"], &two, "body.mesh", "parts not connected", &out);
 }
 
 /// A free-free solid body (hex8), so that the FFR mass product without rotary inertias runs.
