@@ -530,6 +530,13 @@ fn set_damping(ctx: &Ctx, dk: &str, d: &DampingSpec, body: &mut FfrBody) -> Resu
             ))
         }
     }
+    if body.d_ff.iter().any(|v| !v.is_finite()) {
+        // e.g. alpha = 1e300: d_ff overflows and the first step would fail on NaN
+        return Err(ctx.err(
+            dk,
+            "the modal damping matrix overflows (non-finite entries): the coefficients are far too large",
+        ));
+    }
     Ok(())
 }
 
