@@ -115,7 +115,7 @@ fn modal_and_reduce_refuse_mechanisms_with_the_cause_named() {
         .map(|e| e.unwrap().path())
         .collect();
     files.sort();
-    assert_eq!(files.len(), 2);
+    assert_eq!(files.len(), 3);
     let out = scratch("fe");
     for model in &files {
         let text = std::fs::read_to_string(model).unwrap();

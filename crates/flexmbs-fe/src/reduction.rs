@@ -274,7 +274,12 @@ pub fn craig_bampton(
     });
     let chol = SparseCholesky::factor(&k_ii).map_err(|_| FeError::NotPositiveDefinite {
         what: "K_II (stiffness with the interface fixed)".into(),
-        hint: ": the interface does not fix the body's rigid-body motion".into(),
+        hint:
+            ": with the interface held the body still moves without strain energy: the interface \
+               does not stop every rigid-body motion, or the mesh is a mechanism (hourglass modes \
+               of hex20r with one element across a section: use 2 or more divisions across or \
+               hex20; parts not connected to each other)"
+                .into(),
     })?;
     let mut psi = k_ib.to_dense();
     chol.solve_in_place(psi.as_mut());

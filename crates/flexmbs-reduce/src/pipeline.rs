@@ -630,7 +630,13 @@ pub fn run_reduction(
                 provenance,
                 &mut |e| progress(Stage::Eigen(e)),
             )
-            .map_err(fe("Craig-Bampton reduction"))
+            .map_err(|e| match e {
+                // K_II singular: a mechanism with the interface held
+                FeError::NotPositiveDefinite { ref what, .. } if what.starts_with("K_II") => {
+                    mechanism_error(spec, body, e)
+                }
+                e => fe("Craig-Bampton reduction")(e),
+            })
         }
     }
 }
