@@ -232,6 +232,15 @@ pub fn time_function(
             TimeFunction::Table { times, values }
         }
     };
+    if let TimeFunction::Harmonic { frequency_hz, .. } = tf {
+        if !(2.0 * std::f64::consts::PI * frequency_hz).is_finite() {
+            // sin(inf t) is NaN: the run would fail at its first step
+            return Err(ctx.err(
+                &key("frequency"),
+                format!("frequency {frequency_hz:e} Hz overflows the phase 2 pi f t"),
+            ));
+        }
+    }
     if let TimeFunction::Ramp { t0, t1, .. } | TimeFunction::Pulse { t0, t1, .. } = tf {
         if t1 <= t0 {
             return Err(ctx.err(
