@@ -486,6 +486,12 @@ pub fn run_model(
         Err(payload) => return Err(finish_after_panic(&mut rec, s.t, &*payload, results_path)),
     };
     if let Some(e) = rec.error.take() {
+        // a row or frame could not be written: still mark the file (best effort; the first
+        // error is the one reported)
+        if let Some(w) = rec.writer.take() {
+            let message = format!("writing the results failed: {e}");
+            let _ = w.finish(&RunStatus::Failed { t: s.t, message });
+        }
         return Err(e.into());
     }
     let (status, rejected) = match result {
