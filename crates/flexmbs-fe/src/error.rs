@@ -29,6 +29,21 @@ pub enum FeError {
         /// Hint for the user.
         hint: String,
     },
+    /// More zero-energy modes than the rigid-body modes the supports allow: a mechanism
+    /// ([`crate::mechanism`]).
+    #[error("{found} of the {computed} lowest modes have zero energy (omega^2 below {tolerance:e} of the largest K_ii/M_ii) where a {kind} body has {expected}: the model is a mechanism, these are not elastic modes. Causes: hourglass modes of reduced-integration elements (hex20r with a single element across a section: use at least 2 divisions across or hex20), parts not connected to each other, or supports that do not stop every rigid-body motion (one fixed solid node is a pin)")]
+    Mechanism {
+        /// Zero-energy modes found.
+        found: usize,
+        /// Modes computed.
+        computed: usize,
+        /// Rigid-body modes expected (6 free-free, 0 supported).
+        expected: usize,
+        /// `free-free` or `supported`.
+        kind: &'static str,
+        /// [`crate::mechanism::ZERO_ENERGY_TOLERANCE`].
+        tolerance: f64,
+    },
     /// The eigen solver did not converge.
     #[error("eigen solver did not converge: {0}")]
     EigenNotConverged(String),

@@ -142,6 +142,14 @@ pub enum GeometricError {
         /// Body name.
         body: String,
     },
+    /// The static problem has supports but `K` is still singular: a mechanism.
+    #[error("the static unit-load problem of '{body}' is singular although {held} nodes are held: the supports do not stop every rigid-body motion (a single solid node is a pin), or the mesh has a zero-energy mechanism (hourglass modes of reduced-integration elements with one element across a section: use hex20 or more divisions; disconnected parts)")]
+    Mechanism {
+        /// Body name.
+        body: String,
+        /// Number of fixed and support nodes.
+        held: usize,
+    },
     /// A load pattern with an axis index out of range (or `a > b` for centrifugal patterns).
     #[error("invalid inertial load pattern {pattern:?} (axes 0..3, centrifugal a <= b)")]
     BadPattern {
@@ -406,7 +414,19 @@ pub fn static_solve(
     let chol = match SparseCholesky::factor(&kf) {
         Ok(c) => c,
         Err(FeError::NotPositiveDefinite { .. }) => {
-            return Err(GeometricError::NoSupports { body: body.into() })
+            let mut nodes: Vec<NodeIdx> = sys.map.fixed_nodes.clone();
+            nodes.extend_from_slice(supports);
+            nodes.sort_unstable();
+            nodes.dedup();
+            let held = nodes.len();
+            return Err(if held == 0 {
+                GeometricError::NoSupports { body: body.into() }
+            } else {
+                GeometricError::Mechanism {
+                    body: body.into(),
+                    held,
+                }
+            });
         }
         Err(e) => return Err(e.into()),
     };

@@ -16,6 +16,7 @@ pub mod geometric;
 #[cfg(test)]
 mod geometric_tests;
 pub mod material;
+pub mod mechanism;
 pub mod mesh;
 pub mod modes;
 pub mod reduction;

@@ -113,6 +113,7 @@ impl ReducedBody {
 
 use crate::assembly::{entries, sparse_from_triplets};
 use crate::eigen::{dense_generalized, lowest_modes, EigenEvent, EigenOptions, SparseCholesky};
+use crate::mechanism::{count_zero_energy, spectrum_scale, ZERO_ENERGY_TOLERANCE};
 use crate::modes::{count_rigid, frequencies_hz, label_modes, project_dense};
 use crate::system::FeSystem;
 use crate::{FeError, Mesh, SparseMatrix};
@@ -134,6 +135,9 @@ pub struct ModalResult {
 /// Lowest `n_modes` eigenpairs of `K phi = omega^2 M phi` of a constrained system, labelled.
 /// For a structure without fixed nodes, six more modes are computed so that `n_modes` elastic modes remain
 /// after the rigid-body modes.
+///
+/// A body has 6 zero-energy modes (no fixed nodes) or none; more among the computed ones
+/// ([`crate::mechanism::count_zero_energy`]) are a mechanism and give [`FeError::Mechanism`].
 pub fn modal_analysis(
     sys: &FeSystem,
     n_modes: usize,
@@ -147,6 +151,17 @@ pub fn modal_analysis(
         ..opts.clone()
     };
     let sol = lowest_modes(&sys.k, &sys.m, &o, progress)?;
+    let expected = if free { 6 } else { 0 };
+    let found = count_zero_energy(&sol.omega2, spectrum_scale(&sys.k, &sys.m));
+    if found > expected {
+        return Err(FeError::Mechanism {
+            found,
+            computed: sol.omega2.len(),
+            expected,
+            kind: if free { "free-free" } else { "supported" },
+            tolerance: ZERO_ENERGY_TOLERANCE,
+        });
+    }
     let labels = label_modes(sys, sol.vectors.as_ref(), &sol.omega2);
     let n_rigid = count_rigid(&labels);
     Ok(ModalResult {
@@ -259,7 +274,12 @@ pub fn craig_bampton(
     });
     let chol = SparseCholesky::factor(&k_ii).map_err(|_| FeError::NotPositiveDefinite {
         what: "K_II (stiffness with the interface fixed)".into(),
-        hint: ": the interface does not fix the body's rigid-body motion".into(),
+        hint:
+            ": with the interface held the body still moves without strain energy: the interface \
+               does not stop every rigid-body motion, or the mesh is a mechanism (hourglass modes \
+               of hex20r with one element across a section: use 2 or more divisions across or \
+               hex20; parts not connected to each other)"
+                .into(),
     })?;
     let mut psi = k_ib.to_dense();
     chol.solve_in_place(psi.as_mut());

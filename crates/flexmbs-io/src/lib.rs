@@ -17,6 +17,7 @@ mod model_locate;
 pub mod plot;
 pub mod results;
 pub mod seed;
+pub mod test_tools;
 pub mod toml_locate;
 pub mod vtk;
 

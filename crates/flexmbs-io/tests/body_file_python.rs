@@ -175,7 +175,10 @@ fn h5dump_and_h5ls_read_written_file() {
     let out = match Command::new("h5dump").arg(&path).output() {
         Ok(o) => o,
         Err(e) => {
-            eprintln!("SKIPPED h5dump_and_h5ls_read_written_file: h5dump not runnable ({e}); apt-get install hdf5-tools");
+            flexmbs_io::test_tools::skip_for_missing_tool(
+                "h5dump_and_h5ls_read_written_file",
+                &format!("h5dump not runnable ({e}); apt-get install hdf5-tools"),
+            );
             return;
         }
     };

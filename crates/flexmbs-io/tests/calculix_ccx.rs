@@ -9,8 +9,8 @@ use faer::Mat;
 use flexmbs_fe::{SparseMatrix, UnitSystem};
 use flexmbs_io::calculix::matrices::sparse_times_dense;
 use flexmbs_io::calculix::{
-    ccx_available, matrix_export_deck, read_ccx_matrices, read_dat_frequencies, read_frd, read_inp,
-    run_ccx, CcxMatrices,
+    matrix_export_deck, read_ccx_matrices, read_dat_frequencies, read_frd, read_inp, run_ccx,
+    CcxMatrices,
 };
 use flexmbs_io::IoError;
 use std::collections::{HashMap, HashSet};
@@ -20,12 +20,9 @@ fn workdir(name: &str) -> PathBuf {
     std::env::temp_dir().join(format!("flexmbs_ccx_{}_{name}", std::process::id()))
 }
 
-fn skip_without_ccx() -> bool {
-    if ccx_available().is_none() {
-        println!("SKIP: ccx not found (install calculix-ccx or set FLEXMBS_CCX)");
-        return true;
-    }
-    false
+/// True (after printing why) if ccx is missing; fails instead under `FLEXMBS_REQUIRE_TOOLS=1`.
+fn skip_without_ccx(test: &str) -> bool {
+    flexmbs_io::test_tools::ccx_or_skip(test).is_none()
 }
 
 fn fro(a: &SparseMatrix) -> f64 {
@@ -50,7 +47,7 @@ fn clamped_export(dir: &std::path::Path) -> CcxMatrices {
 
 #[test]
 fn matrix_export_rigid_body_checks_and_clamping() {
-    if skip_without_ccx() {
+    if skip_without_ccx("matrix_export_rigid_body_checks_and_clamping") {
         return;
     }
     let dir = workdir("mat");
@@ -128,7 +125,7 @@ fn matrix_export_rigid_body_checks_and_clamping() {
 
 #[test]
 fn frequency_run_dat_frd_and_matrices_agree() {
-    if skip_without_ccx() {
+    if skip_without_ccx("frequency_run_dat_frd_and_matrices_agree") {
         return;
     }
     let dir = workdir("freq");
@@ -194,7 +191,7 @@ fn frequency_run_dat_frd_and_matrices_agree() {
 
 #[test]
 fn failing_deck_is_reported() {
-    if skip_without_ccx() {
+    if skip_without_ccx("failing_deck_is_reported") {
         return;
     }
     let dir = workdir("fail");

@@ -15,7 +15,7 @@ use flexmbs_fe::geometric::{inertial_loads, static_solve, stress_stiffness_matri
 use flexmbs_fe::mesh::generate::box_mesh;
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::{ElementKind, Material, UnitSystem};
-use flexmbs_io::calculix::{ccx_available, read_dat_frequencies, run_ccx};
+use flexmbs_io::calculix::{read_dat_frequencies, run_ccx};
 use flexmbs_io::inp_writer::mesh_to_inp;
 
 const OMEGA: f64 = 100.0;
@@ -33,8 +33,11 @@ fn dense(a: &flexmbs_fe::SparseMatrix) -> Mat<f64> {
 
 #[test]
 fn stress_stiffened_frequencies_match_calculix_perturbation_step() {
-    if ccx_available().is_none() {
-        println!("SKIP: ccx not found (install calculix-ccx or set FLEXMBS_CCX)");
+    if flexmbs_io::test_tools::ccx_or_skip(
+        "stress_stiffened_frequencies_match_calculix_perturbation_step",
+    )
+    .is_none()
+    {
         return;
     }
     let material = Material {

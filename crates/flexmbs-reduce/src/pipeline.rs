@@ -378,6 +378,16 @@ pub(crate) fn prepare_keeping_mass(
     progress(Stage::Started("meshing".into()));
     let mesh = build_mesh(spec, base)?;
     let bc = boundary_conditions(&mesh, &spec.boundary)?;
+    if !matches!(
+        spec.mesh,
+        MeshSpec::Calculix {
+            matrices: CcxMatrices::Ccx,
+            ..
+        }
+    ) {
+        // CalculiX's matrices may couple parts through its equations (*EQUATION, *TIE)
+        check_connected(spec, &mesh, &bc)?;
+    }
     let mass = match spec.reduction.mass {
         MassName::Lumped => MassKind::Lumped,
         MassName::Consistent => MassKind::Consistent,
@@ -448,6 +458,68 @@ fn describe_source(spec: &FeBodySpec, base: &Path) -> String {
     }
 }
 
+/// Key path of the mesh source of `spec`: where mesh-wide problems are reported.
+fn mesh_key(spec: &FeBodySpec) -> &'static str {
+    match spec.mesh {
+        MeshSpec::Calculix { .. } => "body.mesh.deck",
+        MeshSpec::Seed { .. } => "body.mesh.dir",
+        _ => "body.mesh",
+    }
+}
+
+/// The structure must be one connected part ([`flexmbs_fe::mechanism::mesh_parts`]): parts that
+/// share no node, rigid interface or support move apart without strain energy.
+fn check_connected(
+    spec: &FeBodySpec,
+    mesh: &Mesh,
+    bc: &BoundaryConditions,
+) -> Result<(), PipelineError> {
+    let parts = flexmbs_fe::mechanism::mesh_parts(mesh, bc);
+    if parts.len() < 2 {
+        return Ok(());
+    }
+    let sizes: Vec<String> = parts.iter().map(|p| p.len().to_string()).collect();
+    let id = |p: &Vec<NodeIdx>| mesh.node_ids[p[0]];
+    Err(PipelineError::Model {
+        path: mesh_key(spec).into(),
+        message: format!(
+            "the mesh has {} parts not connected to each other ({} nodes; e.g. node {} and node \
+             {} share no element, rigid interface or support): each part would move on its own \
+             without strain energy, which no elastic mode can describe; join the parts (shared \
+             nodes, a rigid interface) or model them as separate bodies",
+            parts.len(),
+            sizes.join(" + "),
+            id(&parts[0]),
+            id(&parts[1])
+        ),
+    })
+}
+
+/// A located error for a mechanism found by the modal analysis ([`FeError::Mechanism`]): at the
+/// element type when the mesh has reduced-integration hex20r elements (hourglass modes), at the
+/// supports when it has fixed nodes, at the mesh otherwise.
+fn mechanism_error(spec: &FeBodySpec, body: &PreparedBody, e: FeError) -> PipelineError {
+    let hex20r = body
+        .mesh
+        .elements
+        .iter()
+        .any(|el| el.kind == ElementKind::Hex20R);
+    let (path, cause) = match &spec.mesh {
+        MeshSpec::Calculix { .. } | MeshSpec::Seed { .. } => (mesh_key(spec), ""),
+        _ if hex20r => (
+            "body.mesh.element",
+            "the mesh has hex20r elements (reduced integration): with one element across a \
+             section their hourglass modes have zero energy; ",
+        ),
+        _ if !body.bc.fixed.is_empty() => ("body.boundary.fixed", ""),
+        _ => ("body.mesh", ""),
+    };
+    PipelineError::Model {
+        path: path.into(),
+        message: format!("{cause}{e}"),
+    }
+}
+
 /// Eigen solver options from the spec.
 pub fn eigen_options(spec: &FeBodySpec) -> EigenOptions {
     let r = &spec.reduction;
@@ -501,7 +573,10 @@ pub fn run_modal(
     modal_analysis(&body.system, n_modes, &eigen_options(spec), &mut |e| {
         progress(Stage::Eigen(e))
     })
-    .map_err(fe("modal analysis"))
+    .map_err(|e| match e {
+        FeError::Mechanism { .. } => mechanism_error(spec, body, e),
+        e => fe("modal analysis")(e),
+    })
 }
 
 /// The reduced body the spec asks for.
@@ -555,7 +630,13 @@ pub fn run_reduction(
                 provenance,
                 &mut |e| progress(Stage::Eigen(e)),
             )
-            .map_err(fe("Craig-Bampton reduction"))
+            .map_err(|e| match e {
+                // K_II singular: a mechanism with the interface held
+                FeError::NotPositiveDefinite { ref what, .. } if what.starts_with("K_II") => {
+                    mechanism_error(spec, body, e)
+                }
+                e => fe("Craig-Bampton reduction")(e),
+            })
         }
     }
 }

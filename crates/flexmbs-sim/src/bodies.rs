@@ -66,6 +66,17 @@ const NO_FE_MODEL: &str = "geometric stiffening needs an FE model file (.toml wi
      mesh or a CalculiX deck) or a reduced-body file (.fmb.h5) with stored geometric stiffness \
      as `source`; a seed folder has no FE mesh and system";
 
+/// Error of an ffr body whose source has no modes (a reduced-body file or seed folder written
+/// without them): the FFR equations need at least one elastic coordinate.
+const NO_MODES_IN_SOURCE: &str = "the body has no modes (0 elastic coordinates): an ffr body \
+     needs at least one; reduce it again with `modes >= 1` (`flexmbs reduce`), or make it a \
+     rigid body (`type = \"rigid\"` with `mass` and `inertia`)";
+
+/// Error of `modes = 0` or `modes = []`.
+const NO_MODES_SELECTED: &str = "no mode selected: an ffr body needs at least one elastic mode \
+     (`modes = n` with n >= 1 or a non-empty list); a body without elastic modes is a rigid body \
+     (`type = \"rigid\"` with `mass` and `inertia`)";
+
 /// Error of `rotary_inertia = true` without a beam mesh.
 const NO_BEAM_MESH: &str = "node rotary inertias need an FE model file (.toml) with a beam mesh \
      (nodes with rotational DOFs) or a reduced-body file (.fmb.h5) that stores them";
@@ -386,6 +397,9 @@ fn ffr_body(
             _ => return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL)),
         }
     }
+    if loaded.reduced.num_modes() == 0 {
+        return Err(ctx.err(&key, NO_MODES_IN_SOURCE));
+    }
     let rotary = node_rotary_inertias(ctx, p, b, kind, &loaded)?;
     let geometric = geometric_stiffness(ctx, p, b, kind, &loaded)?;
     let interfaces = loaded.fe.as_ref().map(named_interfaces).unwrap_or_default();
@@ -545,6 +559,13 @@ fn set_damping(ctx: &Ctx, dk: &str, d: &DampingSpec, body: &mut FfrBody) -> Resu
                 "give exactly one of `rayleigh = [alpha, beta]` and `modal = [zeta, ...]`",
             ))
         }
+    }
+    if body.d_ff.iter().any(|v| !v.is_finite()) {
+        // e.g. alpha = 1e300: d_ff overflows and the first step would fail on NaN
+        return Err(ctx.err(
+            dk,
+            "the modal damping matrix overflows (non-finite entries): the coefficients are far too large",
+        ));
     }
     Ok(())
 }
@@ -730,6 +751,9 @@ fn mode_columns(
             cols
         }
     };
+    if cols.is_empty() {
+        return Err(ctx.err(&format!("{p}.modes"), NO_MODES_SELECTED));
+    }
     Ok(cols)
 }
 

@@ -655,8 +655,19 @@ fn spec_has_joints(mf: &ModelFile) -> bool {
     !mf.joint.is_empty()
 }
 
-/// Unique names across bodies, frames and joints; `ground` is reserved.
+/// Unique names across bodies, frames and joints; `ground` is reserved. The model name must be a
+/// plain file name (it names the animation and CSV files).
 fn check_names(ctx: &Ctx, mf: &ModelFile) -> Result<(), SimError> {
+    let model = &mf.model.name;
+    if !crate::config::is_plain_file_stem(model) {
+        return Err(ctx.err(
+            "model.name",
+            format!(
+                "invalid model name `{model}`: {}",
+                crate::config::PLAIN_FILE_STEM
+            ),
+        ));
+    }
     let mut seen: HashMap<&str, String> = HashMap::new();
     let items = mf
         .body

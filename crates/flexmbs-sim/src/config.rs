@@ -262,6 +262,15 @@ pub fn time_function(
             }
         }
     };
+    if let TimeFunction::Harmonic { frequency_hz, .. } = tf {
+        if !(2.0 * std::f64::consts::PI * frequency_hz).is_finite() {
+            // sin(inf t) is NaN: the run would fail at its first step
+            return Err(ctx.err(
+                &key("frequency"),
+                format!("frequency {frequency_hz:e} Hz overflows the phase 2 pi f t"),
+            ));
+        }
+    }
     if let TimeFunction::Ramp { t0, t1, .. }
     | TimeFunction::Pulse { t0, t1, .. }
     | TimeFunction::Move { t0, t1, .. } = tf
@@ -517,6 +526,12 @@ pub(crate) fn output_config(
     };
     let mut plots = Vec::new();
     for (name, list) in &o.plots {
+        if !is_plain_file_stem(name) {
+            return Err(ctx.err(
+                &format!("output.plots.{name}"),
+                format!("invalid plot name `{name}`: {PLAIN_FILE_STEM}"),
+            ));
+        }
         check(list, &format!("output.plots.{name}"))?;
         if list.is_empty() {
             return Err(ctx.err(
@@ -535,6 +550,20 @@ pub(crate) fn output_config(
         plots,
         csv: o.csv.clone(),
     })
+}
+
+/// What a name that becomes a file name in the output folder (model name, plot names) may be.
+pub(crate) const PLAIN_FILE_STEM: &str = "it names a file in the output folder, so it must be \
+     a non-empty plain file name (not `.` or `..`, no `/`, `\\` or control characters)";
+
+/// True if `name` can be used as a file name stem inside the output folder: not empty, not `.`
+/// or `..`, no path separator, no control character.
+pub(crate) fn is_plain_file_stem(name: &str) -> bool {
+    !(name.is_empty()
+        || name == "."
+        || name == ".."
+        || name.contains(['/', '\\'])
+        || name.chars().any(char::is_control))
 }
 
 /// Largest estimated size of the output rows a run keeps in memory (the results writer holds

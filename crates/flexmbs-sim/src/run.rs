@@ -22,6 +22,7 @@ use flexmbs_io::results::{
     ResultsLayout, ResultsRow, ResultsWriter, RunStatus, SignalSpec,
 };
 use std::ops::ControlFlow;
+use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -132,6 +133,49 @@ pub enum RunError {
         /// The results file (status `failed`).
         results: PathBuf,
     },
+    /// A bug: the integration panicked. The results file holds the rows written before and has
+    /// status `failed`.
+    #[error("internal error at t = {t} s: {message} (a bug in flexmbs; please report it with the model file); results so far in {}", results.display())]
+    Internal {
+        /// Time of the last accepted step.
+        t: f64,
+        /// The panic message.
+        message: String,
+        /// The results file (status `failed`).
+        results: PathBuf,
+    },
+}
+
+/// Finishes the animation and the results file (status `failed`) after a panic inside the
+/// integration, so that the rows written so far stay readable and the file does not stay
+/// `running`; returns the error to report.
+fn finish_after_panic(
+    rec: &mut Recorder,
+    t: f64,
+    payload: &(dyn std::any::Any + Send),
+    results: PathBuf,
+) -> RunError {
+    let message = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into());
+    let flushed = rec.anim.as_mut().map_or(Ok(()), AnimationWriter::flush);
+    let finished = rec.writer.take().map_or(Ok(()), |w| {
+        w.finish(&RunStatus::Failed {
+            t,
+            message: format!("internal error: {message}"),
+        })
+        .map(|_| ())
+    });
+    match flushed.and(finished) {
+        Ok(()) => RunError::Internal {
+            t,
+            message,
+            results,
+        },
+        Err(e) => e.into(),
+    }
 }
 
 /// Time, step size and residual of a solver error.
@@ -441,8 +485,20 @@ pub fn run_model(
     let mut s = cm.initial.clone();
     let mut ws = Workspace::with_linear_solver(m, cm.linear_solver);
     let stop = opts.stop.clone();
-    let result = integrate(cm, &mut s, &mut ws, &mut rec, &stop, progress);
+    // a panic (a bug) still leaves a finished results file with status `failed`
+    let result = match std::panic::catch_unwind(AssertUnwindSafe(|| {
+        integrate(cm, &mut s, &mut ws, &mut rec, &stop, progress)
+    })) {
+        Ok(result) => result,
+        Err(payload) => return Err(finish_after_panic(&mut rec, s.t, &*payload, results_path)),
+    };
     if let Some(e) = rec.error.take() {
+        // a row or frame could not be written: still mark the file (best effort; the first
+        // error is the one reported)
+        if let Some(w) = rec.writer.take() {
+            let message = format!("writing the results failed: {e}");
+            let _ = w.finish(&RunStatus::Failed { t: s.t, message });
+        }
         return Err(e.into());
     }
     let (status, rejected) = match result {

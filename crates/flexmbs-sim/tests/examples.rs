@@ -15,9 +15,12 @@ fn all_examples_compile() {
             if path
                 .file_name()
                 .is_some_and(|f| f.to_string_lossy().starts_with("calculix"))
-                && flexmbs_io::calculix::ccx_available().is_none()
+                && flexmbs_io::test_tools::ccx_or_skip(&format!(
+                    "all_examples_compile ({})",
+                    path.display()
+                ))
+                .is_none()
             {
-                eprintln!("SKIPPED {}: ccx (CalculiX) not installed", path.display());
                 n += 1;
                 continue;
             }

@@ -5,7 +5,6 @@
 mod common;
 
 use flexmbs_core::ffr::{reduced_body_to_si, FfrBody, RotaryInertia, RotationParam};
-use flexmbs_io::calculix::ccx_available;
 use flexmbs_io::results::{read_results, RunStatus};
 use flexmbs_sim::bodies::load_reduced_with_fe;
 use flexmbs_sim::compile_model;
@@ -275,8 +274,8 @@ fn consistent_and_lumped_solid_body_both_run() {
 /// FE frequency (0.5 %). Skipped, with the reason printed, without `ccx`.
 #[test]
 fn consistent_ccx_body_matches_modal_frequency() {
-    if ccx_available().is_none() {
-        eprintln!("SKIPPED: ccx (CalculiX) not installed; apt-get install calculix-ccx");
+    if flexmbs_io::test_tools::ccx_or_skip("consistent_ccx_body_matches_modal_frequency").is_none()
+    {
         return;
     }
     let dir = common::work_dir("mass", "ccx");

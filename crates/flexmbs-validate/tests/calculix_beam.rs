@@ -9,9 +9,7 @@ use flexmbs_fe::eigen::EigenOptions;
 use flexmbs_fe::reduction::{craig_bampton, modal_analysis, CraigBamptonOptions, Provenance};
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::UnitSystem;
-use flexmbs_io::calculix::{
-    ccx_available, import_matrices, read_dat_frequencies, read_inp, run_ccx,
-};
+use flexmbs_io::calculix::{import_matrices, read_dat_frequencies, read_inp, run_ccx};
 use flexmbs_io::model::read_fe_model;
 use flexmbs_reduce::pipeline::{prepare, run_modal};
 use std::path::{Path, PathBuf};
@@ -21,10 +19,7 @@ fn examples() -> PathBuf {
 }
 
 fn ccx_frequencies() -> Option<Vec<f64>> {
-    if ccx_available().is_none() {
-        eprintln!("SKIPPED: ccx (CalculiX) not installed; apt-get install calculix-ccx");
-        return None;
-    }
+    flexmbs_io::test_tools::ccx_or_skip("ccx_frequencies")?;
     let dir = std::env::temp_dir().join(format!("flexmbs-test-ccx-freq-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let run = run_ccx(&examples().join("calculix/beam_freq.inp"), &dir).expect("ccx frequency run");
@@ -81,8 +76,7 @@ fn imported_calculix_matrices_reproduce_calculix_frequencies() {
 
 #[test]
 fn guyan_tip_stiffness_of_calculix_matrices() {
-    if ccx_available().is_none() {
-        eprintln!("SKIPPED: ccx (CalculiX) not installed; apt-get install calculix-ccx");
+    if flexmbs_io::test_tools::ccx_or_skip("guyan_tip_stiffness_of_calculix_matrices").is_none() {
         return;
     }
     let deck = examples().join("calculix/beam_mat_free.inp");

@@ -3,7 +3,6 @@
 //! clamped by the deck's `*BOUNDARY`). Skipped, with the reason printed, without `ccx`.
 
 use flexmbs_core::ffr::{consistent_mass_to_si, reduced_body_to_si, FfrBody, RotationParam};
-use flexmbs_io::calculix::ccx_available;
 use flexmbs_io::model::read_fe_model;
 use flexmbs_reduce::full_mass::reduce_with_mass;
 use flexmbs_validate::complex_beam_ccx::isotropy_deviation;
@@ -16,8 +15,7 @@ use std::path::Path;
 /// the frequencies equal the recipe's CalculiX values (16.73174, 104.6634 Hz, 1e-6).
 #[test]
 fn ccx_beam_consistent_invariants() {
-    if ccx_available().is_none() {
-        eprintln!("SKIPPED: ccx (CalculiX) not installed; apt-get install calculix-ccx");
+    if flexmbs_io::test_tools::ccx_or_skip("ccx_beam_consistent_invariants").is_none() {
         return;
     }
     let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/calculix_beam.toml");

@@ -45,8 +45,8 @@ impl FfrBody {
             }
             *o = acc;
         }
-        // m_ff v_f column by column (contiguous columns)
-        for (col, x) in inv.m_ff.as_slice().chunks_exact(nf).zip(v_f) {
+        // m_ff v_f column by column (contiguous columns; none without modes)
+        for (col, x) in inv.m_ff.as_slice().chunks_exact(nf.max(1)).zip(v_f) {
             for (o, m) in out_f.iter_mut().zip(col) {
                 *o += m * x;
             }

@@ -149,31 +149,10 @@ pub fn temp_dir(tag: &str) -> PathBuf {
     d
 }
 
-/// Whether `python3` can import all `modules`; prints the reason when not.
+/// Whether `python3` can import all `modules`; when not, the test skips with the reason printed,
+/// or fails under `FLEXMBS_REQUIRE_TOOLS=1` ([`flexmbs_io::test_tools::python_or_skip`]).
 pub fn python_has(modules: &[&str], test: &str) -> bool {
-    let code = modules
-        .iter()
-        .map(|m| format!("import {m}"))
-        .collect::<Vec<_>>()
-        .join("; ");
-    match Command::new("python3").args(["-c", &code]).output() {
-        Ok(o) if o.status.success() => true,
-        Ok(o) => {
-            eprintln!(
-                "SKIPPED {test}: python3 cannot import {modules:?} (pip install {}): {}",
-                modules.join(" "),
-                String::from_utf8_lossy(&o.stderr)
-                    .lines()
-                    .last()
-                    .unwrap_or("")
-            );
-            false
-        }
-        Err(e) => {
-            eprintln!("SKIPPED {test}: python3 not runnable: {e}");
-            false
-        }
-    }
+    flexmbs_io::test_tools::python_or_skip(test, modules)
 }
 
 /// Runs `python3 -c code args...` and returns stdout; panics with stderr if it fails.
