@@ -1,5 +1,6 @@
 //! Editable [`ModelSpec`] (builder) and the immutable compiled [`Model`].
 
+use crate::contact::{Contact, ContactState};
 use crate::element::{Element, FrameKinematics, LocalFrame};
 use crate::error::ModelError;
 use crate::ids::{BodyId, FrameId, JointId, LoadId, NodeId};
@@ -67,6 +68,7 @@ pub struct ModelSpec {
     frames: Vec<Frame>,
     joints: Vec<Joint>,
     loads: Vec<Load>,
+    contacts: Vec<Contact>,
 }
 
 impl Default for ModelSpec {
@@ -85,6 +87,7 @@ impl ModelSpec {
             frames: Vec::new(),
             joints: Vec::new(),
             loads: Vec::new(),
+            contacts: Vec::new(),
         }
     }
 
@@ -246,8 +249,15 @@ impl ModelSpec {
         LoadId(self.loads.len() - 1)
     }
 
+    /// Adds a contact between two contours ([`crate::contact`]); its pair, contours and law are
+    /// checked by [`Self::compile`].
+    pub fn add_contact(&mut self, contact: Contact) -> usize {
+        self.contacts.push(contact);
+        self.contacts.len() - 1
+    }
+
     /// Validates the description and builds the immutable model.
-    pub fn compile(self) -> Result<Model, ModelError> {
+    pub fn compile(mut self) -> Result<Model, ModelError> {
         let (nodes, nq, nu) = layout_nodes(&self.nodes);
         let mut users = vec![0usize; nodes.len()];
         let mut bodies = Vec::with_capacity(self.bodies.len());
@@ -402,6 +412,7 @@ impl ModelSpec {
                 reason: "must be finite",
             });
         }
+        crate::contact::check_contacts(&self.frames, &mut self.contacts)?;
         let frame_cols = self
             .frames
             .iter()
@@ -421,6 +432,7 @@ impl ModelSpec {
             joints: self.joints,
             joint_rows,
             loads: self.loads,
+            contacts: self.contacts,
             nq,
             nu,
             nc,
@@ -519,6 +531,8 @@ pub struct Model {
     pub joint_rows: Vec<usize>,
     /// Loads.
     pub loads: Vec<Load>,
+    /// Contacts ([`crate::contact`]; each pair in the dispatch table's order).
+    pub contacts: Vec<Contact>,
     /// Total position coordinates.
     pub nq: usize,
     /// Total velocity coordinates.
@@ -531,6 +545,7 @@ impl Model {
     /// State at `t = 0` with every element in its reference configuration, at rest.
     pub fn initial_state(&self) -> State {
         let mut s = State::zeros(self.nq, self.nu, self.nc);
+        s.contacts = vec![ContactState::default(); self.contacts.len()];
         for b in &self.bodies {
             let (nq, nu) = (b.element.nq(), b.element.nu());
             b.element.reference_coordinates(

@@ -140,7 +140,8 @@ pub enum RunError {
 fn error_point(e: &SolverError) -> (f64, f64, f64) {
     match *e {
         SolverError::NewtonFailed { t, h, residual, .. }
-        | SolverError::NonFinite { t, h, residual, .. } => (t, h, residual),
+        | SolverError::NonFinite { t, h, residual, .. }
+        | SolverError::ContactSolve { t, h, residual, .. } => (t, h, residual),
         SolverError::Singular { t, h, .. } | SolverError::Element { t, h, .. } => (t, h, f64::NAN),
         SolverError::StepTooSmall { t, h, error, .. } => (t, h, error),
         SolverError::ConstraintsUnsupported { .. }

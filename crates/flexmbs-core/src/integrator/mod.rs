@@ -10,11 +10,13 @@
 
 mod dopri5;
 mod genalpha;
+mod moreau;
 mod statics;
 mod stepper;
 
 pub use dopri5::{Dopri5, Dopri5Settings};
 pub use genalpha::{AdaptiveSettings, GenAlpha, GenAlphaParams, GenAlphaSettings};
+pub use moreau::{MoreauSettings, MoreauStepper};
 pub use statics::{StaticStats, Statics, StaticsSettings};
 pub use stepper::{
     drive, Dopri5Stepper, GenAlphaStepper, StaticsStepper, StepAttempt, StepControl, Stepper,

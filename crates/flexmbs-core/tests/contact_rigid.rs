@@ -1,0 +1,378 @@
+//! Rigid contact with the Moreau time-stepper against analytic answers: a ball bouncing on a
+//! plane (Newton impact), a block sliding to rest and sticking (Coulomb friction), a sphere rolling
+//! or slipping down an incline, and a penalty (regularized) contact's artificial energy.
+use flexmbs_core::contact::{
+    Contact, ContactLaw, PlaneContour, PointContour, SphereContour, TangentDirections,
+};
+use flexmbs_core::integrator::{drive, MoreauSettings, MoreauStepper, StepStats, Stepper};
+use flexmbs_core::load::LoadCoordinates;
+use flexmbs_core::{
+    BodyId, Load, Model, ModelSpec, RigidBody, RotationParam, State, TimeFunction, Workspace,
+};
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use std::ops::ControlFlow;
+
+const G: f64 = 9.81;
+
+/// Runs a Moreau stepper with step `h` to `t_end`, calling `f` after every step.
+fn run(
+    model: &Model,
+    s: &mut State,
+    settings: MoreauSettings,
+    h: f64,
+    t_end: f64,
+    mut f: impl FnMut(&State, &StepStats),
+) {
+    let mut ws = Workspace::new(model);
+    let mut st = MoreauStepper::new(settings);
+    st.initialize(model, s, &mut ws).unwrap();
+    let control = st.control(h);
+    drive(&mut st, model, s, &mut ws, control, t_end, |s, stats| {
+        f(s, stats);
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+}
+
+/// A ball (mass 1, radius `r`, quaternion) above the ground plane z = 0, gravity -z.
+fn ball_on_plane(law: ContactLaw, r: f64, height: f64) -> (Model, State, BodyId) {
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, 0.0, -G));
+    let i = 0.4 * r * r;
+    let ball = RigidBody::new(1.0, Matrix3::from_diagonal_element(i))
+        .with_rotation(RotationParam::Quaternion);
+    let b = spec.add_body("ball", ball);
+    let centre = spec.add_frame("centre", b, Vector3::zeros(), Matrix3::identity());
+    let ground = spec.add_ground_frame("ground", Vector3::zeros(), Matrix3::identity());
+    spec.add_contact(Contact::new(
+        "bounce",
+        SphereContour {
+            frame: centre,
+            radius: r,
+        },
+        PlaneContour { frame: ground },
+        law,
+    ));
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_pose(
+        &mut s,
+        b,
+        Vector3::new(0.0, 0.0, height + r),
+        Matrix3::identity(),
+    );
+    (model, s, b)
+}
+
+/// Ball dropped from gap `h0`: rebound heights `C_R^2 h0` and impact times
+/// `t_1 = sqrt(2 h0 / g)`, `t_2 = t_1 + 2 C_R v_1 / g`; energy never grows by more than 0.1 %
+/// of `m g h0`, and `C_R = 1` conserves it to the step's accuracy.
+#[test]
+fn bouncing_ball_newton_impact() {
+    let (h0, r, h) = (1.0, 0.1, 1e-4);
+    let v1 = (2.0 * G * h0).sqrt();
+    let t1 = (2.0 * h0 / G).sqrt();
+    for cr in [0.0, 0.5, 1.0] {
+        let (model, mut s, b) = ball_on_plane(ContactLaw::unilateral(cr), r, h0);
+        let mut impacts = Vec::new(); // (time from free flight before the step)
+        let mut prev = (0.0, h0, 0.0); // (t, gap, vz) at the start of the step
+        let mut apex_after_first = f64::NEG_INFINITY;
+        let (mut e0, mut e_end, mut gain) = (f64::NAN, 0.0, f64::NEG_INFINITY);
+        run(
+            &model,
+            &mut s,
+            MoreauSettings::default(),
+            h,
+            (1.1 + 2.0 * cr) * t1,
+            |s, st| {
+                let q = model.body_q(b, &s.q);
+                let (gap, vz) = (q[2] - r, model.body_u(b, &s.u)[2]);
+                let e = st.energy.total();
+                if e0.is_nan() {
+                    e0 = e; // free flight is exact: the first step keeps the energy
+                }
+                gain = gain.max(e - e0);
+                e_end = e;
+                if prev.2 < 0.0 && vz > prev.2 + 0.5 * G * h {
+                    // free-flight root of gap + v tau - g tau^2 / 2 from the step's start
+                    let (g0, v0) = (prev.1, prev.2);
+                    let tau = (v0 + (v0 * v0 + 2.0 * G * g0).sqrt()) / G;
+                    impacts.push(prev.0 + tau);
+                }
+                if !impacts.is_empty() && impacts.len() < 2 {
+                    apex_after_first = apex_after_first.max(gap);
+                }
+                prev = (s.t, gap, vz);
+            },
+        );
+        let scale = G * h0;
+        assert!(
+            (impacts[0] - t1).abs() < 1e-9,
+            "C_R {cr}: t1 {} vs {t1}",
+            impacts[0]
+        );
+        // the impact is resolved at the step's midpoint: position error <= the step's travel
+        let tol_h = (1.0 + cr) * v1 * h;
+        let rebound = cr * cr * h0;
+        assert!(
+            (apex_after_first - rebound).abs() <= tol_h,
+            "C_R {cr}: rebound {apex_after_first} vs {rebound} (tol {tol_h})"
+        );
+        if cr > 0.0 {
+            let t2 = t1 + 2.0 * cr * v1 / G;
+            assert!(
+                (impacts[1] - t2).abs() <= 2.0 * h,
+                "C_R {cr}: t2 {} vs {t2}",
+                impacts[1]
+            );
+        } else {
+            assert_eq!(impacts.len(), 1, "C_R 0: the ball stays down");
+        }
+        assert!(gain <= 1e-3 * scale, "C_R {cr}: energy gain {gain}");
+        if cr == 1.0 {
+            let drift = (e_end - e0).abs() / scale;
+            assert!(drift < 1e-3, "C_R 1: energy drift {drift}");
+            println!("C_R = 1: relative energy change {drift:.2e} after two impacts");
+        }
+        println!(
+            "C_R = {cr}: t1 = {:.6}, rebound {apex_after_first:.6} (exact {rebound})",
+            impacts[0]
+        );
+    }
+}
+
+/// A 0.2 x 0.2 x 0.1 box (mass 1) resting on the ground on four corner points with spatial
+/// Coulomb friction `mu`, pushed by a constant horizontal force `push` (N, along x).
+fn block(mu: f64, push: f64) -> (Model, State, BodyId) {
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, 0.0, -G));
+    let (a, c) = (0.1, 0.05);
+    let i = Matrix3::from_diagonal(&Vector3::new(
+        (4.0 * a * a + 4.0 * c * c) / 12.0,
+        (4.0 * a * a + 4.0 * c * c) / 12.0,
+        8.0 * a * a / 12.0,
+    ));
+    let b = spec.add_body("block", RigidBody::new(1.0, i));
+    let ground = spec.add_ground_frame("ground", Vector3::zeros(), Matrix3::identity());
+    let law = ContactLaw::unilateral(0.0).with_coulomb(mu, TangentDirections::Spatial);
+    for (k, (x, y)) in [(a, a), (a, -a), (-a, a), (-a, -a)].into_iter().enumerate() {
+        let f = spec.add_frame(
+            &format!("corner{k}"),
+            b,
+            Vector3::new(x, y, -c),
+            Matrix3::identity(),
+        );
+        spec.add_contact(Contact::new(
+            &format!("c{k}"),
+            PointContour { frame: f },
+            PlaneContour { frame: ground },
+            law,
+        ));
+    }
+    let centre = spec.add_frame("centre", b, Vector3::zeros(), Matrix3::identity());
+    if push != 0.0 {
+        spec.add_load(Load::Force {
+            frame: centre,
+            vector: Vector3::new(push, 0.0, 0.0),
+            time: TimeFunction::Constant(1.0),
+            coordinates: LoadCoordinates::Global,
+        });
+    }
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_pose(&mut s, b, Vector3::new(0.0, 0.0, c), Matrix3::identity());
+    (model, s, b)
+}
+
+/// Sliding from `v0` to rest: stopping distance `v0^2 / (2 mu g)` at `t = v0 / (mu g)`, then at
+/// rest (no tipping: the four normal impulses carry the pitching moment of friction).
+#[test]
+fn block_slides_to_rest() {
+    let (mu, v0, h) = (0.3, 2.0, 1e-4);
+    let (model, mut s, b) = block(mu, 0.0);
+    model.set_body_velocity(&mut s, b, Vector3::new(v0, 0.0, 0.0), Vector3::zeros());
+    let t_stop = v0 / (mu * G);
+    let mut stopped_at = f64::NAN;
+    let mut max_tilt: f64 = 0.0;
+    run(
+        &model,
+        &mut s,
+        MoreauSettings::default(),
+        h,
+        t_stop + 0.3,
+        |s, _| {
+            let (q, u) = (model.body_q(b, &s.q), model.body_u(b, &s.u));
+            max_tilt = max_tilt.max(q[3].abs()).max(q[4].abs());
+            if stopped_at.is_nan() && u[0].abs() < 1e-12 {
+                stopped_at = s.t;
+            }
+        },
+    );
+    let q = model.body_q(b, &s.q);
+    let d = v0 * v0 / (2.0 * mu * G);
+    // constant deceleration is integrated exactly; the last step stops within mu g h^2
+    assert!((q[0] - d).abs() < 1e-6 * d, "distance {} vs {d}", q[0]);
+    assert!(
+        (stopped_at - t_stop).abs() <= h,
+        "stop at {stopped_at} vs {t_stop}"
+    );
+    assert!(max_tilt < 1e-9, "tilt {max_tilt}");
+    assert!((q[2] - 0.05).abs() < 1e-9, "height {}", q[2]);
+    println!(
+        "block: distance {} (exact {d}), stopped at {stopped_at} (exact {t_stop})",
+        q[0]
+    );
+}
+
+/// A horizontal push below `mu m g` leaves the block stuck; above it the block accelerates at
+/// `F / m - mu g`.
+#[test]
+fn block_sticks_below_friction_limit() {
+    let (mu, h, t) = (0.3, 1e-3, 1.0);
+    for (ratio, moving) in [(0.5, false), (0.99, false), (1.5, true)] {
+        let (model, mut s, b) = block(mu, ratio * mu * G);
+        run(&model, &mut s, MoreauSettings::default(), h, t, |_, _| {});
+        let x = model.body_q(b, &s.q)[0];
+        let expected = if moving {
+            0.5 * (ratio - 1.0) * mu * G * t * t
+        } else {
+            0.0
+        };
+        assert!(
+            (x - expected).abs() < 1e-9 + 1e-9 * expected,
+            "F = {ratio} mu m g: x {x} vs {expected}"
+        );
+    }
+}
+
+/// A solid sphere released on an incline of angle `alpha`: it rolls with `5/7 g sin(alpha)` when
+/// `mu >= 2/7 tan(alpha)` (contact point at rest), and slips with `g (sin - mu cos)` otherwise.
+#[test]
+fn sphere_on_incline_rolls_or_slips() {
+    let (alpha, r, h, t_end) = (0.35_f64, 0.1, 1e-3, 0.5);
+    let mu_crit = 2.0 / 7.0 * alpha.tan();
+    for (mu, rolling) in [(1.2 * mu_crit, true), (0.5 * mu_crit, false)] {
+        let mut spec = ModelSpec::new();
+        spec.set_gravity(Vector3::new(0.0, 0.0, -G));
+        let ball = RigidBody::new(1.0, Matrix3::from_diagonal_element(0.4 * r * r))
+            .with_rotation(RotationParam::Quaternion);
+        let b = spec.add_body("ball", ball);
+        let centre = spec.add_frame("centre", b, Vector3::zeros(), Matrix3::identity());
+        let rot = Rotation3::from_axis_angle(&Vector3::y_axis(), alpha).into_inner();
+        let slope = spec.add_ground_frame("slope", Vector3::zeros(), rot);
+        let law = ContactLaw::unilateral(0.0).with_coulomb(mu, TangentDirections::Spatial);
+        let sphere = SphereContour {
+            frame: centre,
+            radius: r,
+        };
+        spec.add_contact(Contact::new(
+            "c",
+            sphere,
+            PlaneContour { frame: slope },
+            law,
+        ));
+        let model = spec.compile().unwrap();
+        let mut s = model.initial_state();
+        let (n, down) = (rot.column(2).into_owned(), rot.column(0).into_owned());
+        // touching (1e-12 into the plane, so the first step's midpoint is closed)
+        model.set_body_pose(&mut s, b, (r - 1e-12) * n, Matrix3::identity());
+        let mut max_slip: f64 = 0.0;
+        run(
+            &model,
+            &mut s,
+            MoreauSettings::default(),
+            h,
+            t_end,
+            |s, _| {
+                let (u, c) = (model.body_u(b, &s.u), s.contacts[0]);
+                let _ = u;
+                max_slip = max_slip.max(c.gap_velocity.abs());
+            },
+        );
+        let pos = Vector3::from_column_slice(&model.body_q(b, &s.q)[..3]);
+        let vel = Vector3::from_column_slice(&model.body_u(b, &s.u)[..3]);
+        let a = if rolling {
+            5.0 / 7.0 * G * alpha.sin()
+        } else {
+            G * (alpha.sin() - mu * alpha.cos())
+        };
+        let (dist, speed) = (down.dot(&(pos - r * n)), down.dot(&vel));
+        assert!(
+            (speed - a * t_end).abs() < 1e-8 * a,
+            "mu {mu}: v {speed} vs {}",
+            a * t_end
+        );
+        assert!(
+            (dist - 0.5 * a * t_end * t_end).abs() < 1e-8 * a,
+            "mu {mu}: s {dist} vs {}",
+            0.5 * a * t_end * t_end
+        );
+        assert!(max_slip < 1e-9, "normal rate {max_slip}");
+        println!(
+            "incline mu = {mu:.4}: a = {:.8} (exact {a:.8})",
+            speed / t_end
+        );
+    }
+}
+
+/// Penalty contact (k = 1e5 N/m, no damping): a ball dropped from about 0.1 m rebounds; the
+/// energy after the bounce differs from before (the artificial energy of the regularization in
+/// the time discretization). Its size depends on where the steps fall relative to the contact's
+/// start and end, so the envelope over eight drop heights is taken: it shrinks with the step.
+#[test]
+fn penalty_contact_artificial_energy_shrinks_with_step() {
+    let (r, k) = (0.05, 1e5);
+    let mut envelope = Vec::new();
+    for h in [4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5] {
+        let mut worst: f64 = 0.0;
+        for j in 0..8 {
+            let h0 = 0.1 * (1.0 + 0.0123 * j as f64);
+            let rel = penalty_bounce_energy(r, k, h0, h) / (G * h0);
+            worst = worst.max(rel.abs());
+        }
+        println!("penalty h = {h:.1e}: artificial energy up to {worst:.3e} of m g h0");
+        envelope.push(worst);
+    }
+    for w in envelope.windows(2) {
+        assert!(
+            w[1] < w[0],
+            "artificial energy must shrink with the step: {envelope:?}"
+        );
+    }
+    assert!(envelope[envelope.len() - 1] < 1e-4, "{envelope:?}");
+}
+
+/// Energy after minus before one bounce of a ball on a penalty contact (kinetic + gravity +
+/// contact spring), and a check of the dynamic penetration `sqrt(2 m g h0 / k)`.
+fn penalty_bounce_energy(r: f64, k: f64, h0: f64, h: f64) -> f64 {
+    let (model, mut s, b) = ball_on_plane(ContactLaw::regularized(k, 0.0), r, h0);
+    let t_end = 2.0 * (2.0 * h0 / G).sqrt(); // after the bounce, before the next
+    let mut ws = Workspace::new(&model);
+    let energy = |s: &State, ws: &mut Workspace| {
+        let (e, _, _) = flexmbs_core::integrator::monitor(&model, s, ws);
+        e.total() + flexmbs_core::contact::regularized_energy(&model, &ws.sys.frames)
+    };
+    let e0 = energy(&s, &mut ws);
+    let mut max_pen: f64 = 0.0;
+    run(
+        &model,
+        &mut s,
+        MoreauSettings::default(),
+        h,
+        t_end,
+        |s, _| {
+            max_pen = max_pen.max(r - model.body_q(b, &s.q)[2]);
+        },
+    );
+    assert!(
+        model.body_u(b, &s.u)[2] > 0.0,
+        "h {h}: rising after the bounce"
+    );
+    // dynamic penetration (gravity during the contact neglected: m g / k = 1 % of it)
+    let pen = (2.0 * G * h0 / k).sqrt();
+    assert!(
+        (max_pen - pen).abs() < 0.03 * pen,
+        "penetration {max_pen} vs {pen}"
+    );
+    energy(&s, &mut ws) - e0
+}
