@@ -361,12 +361,12 @@ fn sweep_block(
                 let dmax = (r..r + tangents).map(diag).fold(0.0, f64::max);
                 if dmax > 0.0 {
                     let mut x = [0.0; 2];
-                    for k in 0..tangents {
-                        x[k] = lambda[r + k] - omega / dmax * rate(lambda, r + k);
+                    for (k, xk) in x.iter_mut().enumerate().take(tangents) {
+                        *xk = lambda[r + k] - omega / dmax * rate(lambda, r + k);
                     }
                     prox_disc(&mut x[..tangents], bound);
-                    for k in 0..tangents {
-                        set(lambda, r + k, x[k]);
+                    for (k, xk) in x.iter().enumerate().take(tangents) {
+                        set(lambda, r + k, *xk);
                     }
                 }
             }
