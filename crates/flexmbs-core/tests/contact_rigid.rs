@@ -376,3 +376,49 @@ fn penalty_bounce_energy(r: f64, k: f64, h0: f64, h: f64) -> f64 {
     );
     energy(&s, &mut ws) - e0
 }
+
+/// Step-size control (step halving, gap-based refinement): the ball's impacts are resolved to
+/// the penetration bound, so the rebound heights `C_R^2 h0`, `C_R^4 h0` are met to about
+/// `max_penetration` with far fewer steps than the fixed-step run needs for `(1 + C_R) v h`.
+#[test]
+fn bouncing_ball_with_step_size_control() {
+    use flexmbs_core::integrator::{MoreauSscSettings, MoreauSscStepper};
+    let (h0, r, cr) = (1.0, 0.1, 0.5);
+    let (model, mut s, b) = ball_on_plane(ContactLaw::unilateral(cr), r, h0);
+    let settings = MoreauSscSettings::default();
+    let mut ws = Workspace::new(&model);
+    let mut st = MoreauSscStepper::new(settings);
+    st.initialize(&model, &mut s, &mut ws).unwrap();
+    let t1 = (2.0 * h0 / G).sqrt();
+    let t_end = t1 * (1.0 + 2.0 * cr + 2.0 * cr * cr) + 0.05;
+    let (mut apexes, mut rising) = (Vec::new(), false);
+    let control = st.control();
+    drive(&mut st, &model, &mut s, &mut ws, control, t_end, |s, _| {
+        let (gap, vz) = (model.body_q(b, &s.q)[2] - r, model.body_u(b, &s.u)[2]);
+        if vz > 0.0 {
+            rising = true;
+        } else if rising {
+            // the apex lies in the last step, in ballistic flight: gap + vz^2 / (2 g)
+            apexes.push(gap + vz * vz / (2.0 * G));
+            rising = false;
+        }
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    let stats = st.statistics();
+    println!(
+        "SSC: {} steps, {} rejected, apexes {apexes:?}",
+        stats.accepted, stats.rejected
+    );
+    assert!(apexes.len() >= 2, "{apexes:?}");
+    for (k, apex) in apexes.iter().take(2).enumerate() {
+        let exact = cr.powi(2 * (k as i32 + 1)) * h0;
+        // each impact is resolved at a penetration <= max_penetration = 1e-6, which shifts the
+        // rebound by at most (1 + C_R) 1e-6 per impact (flight in between is exact)
+        assert!(
+            (apex - exact).abs() < 2.0 * 1.5e-6,
+            "apex {k}: {apex} vs {exact}"
+        );
+    }
+    assert!(stats.accepted < 1000, "{} steps", stats.accepted);
+}

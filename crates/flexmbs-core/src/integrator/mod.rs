@@ -16,7 +16,7 @@ mod stepper;
 
 pub use dopri5::{Dopri5, Dopri5Settings};
 pub use genalpha::{AdaptiveSettings, GenAlpha, GenAlphaParams, GenAlphaSettings};
-pub use moreau::{MoreauSettings, MoreauStepper};
+pub use moreau::{MoreauSettings, MoreauSscSettings, MoreauSscStepper, MoreauStepper};
 pub use statics::{StaticStats, Statics, StaticsSettings};
 pub use stepper::{
     drive, Dopri5Stepper, GenAlphaStepper, StaticsStepper, StepAttempt, StepControl, Stepper,

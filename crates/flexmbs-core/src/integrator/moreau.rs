@@ -234,7 +234,7 @@ impl Stepper for MoreauStepper {
 
 impl MoreauStepper {
     /// One step of size `h` (module documentation), the state advanced.
-    fn advance(
+    pub(super) fn advance(
         &mut self,
         model: &Model,
         s: &mut State,
@@ -376,3 +376,5 @@ impl MoreauStepper {
 }
 
 mod problem;
+mod ssc;
+pub use ssc::{MoreauSscSettings, MoreauSscStepper};
