@@ -537,8 +537,20 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             free_length_from_initial.push(id.0);
         }
     }
+    crate::contacts::add_contacts(&ctx, &mf.contact, &frame, &mut spec)?;
     let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
+    if !mf.contact.is_empty() && !matches!(solver, SolverConfig::Moreau { .. }) {
+        return Err(ctx.err(
+            "solver.type",
+            "the model has contacts: they are solved by `type = \"moreau\"` only",
+        ));
+    }
     let mut model = spec.compile().map_err(|source| {
+        if let ModelError::InvalidContact { contact, reason } = &source {
+            if let Some(i) = mf.contact.iter().position(|c| &c.name == contact) {
+                return ctx.err(&format!("contact[{i}]"), reason.clone());
+            }
+        }
         if let ModelError::SameOwner { item } = &source {
             let joint = mf.joint.iter().position(|j| &j.name == item);
             if let Some(i) = joint {

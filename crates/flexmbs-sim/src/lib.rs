@@ -7,6 +7,7 @@
 pub mod bodies;
 pub mod compile;
 pub mod config;
+pub mod contacts;
 pub mod error;
 pub mod initial;
 pub mod locate;

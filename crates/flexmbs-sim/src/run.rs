@@ -393,6 +393,10 @@ pub fn run_model(
         SolverConfig::GenAlpha { .. } => "generalized-alpha",
         SolverConfig::Dopri5 { .. } => "dopri5",
         SolverConfig::Statics { .. } => "statics",
+        SolverConfig::Moreau {
+            adaptive: Some(_), ..
+        } => "moreau (adaptive)",
+        SolverConfig::Moreau { .. } => "moreau",
     };
     let version = format!("flexmbs {}", env!("CARGO_PKG_VERSION"));
     let writer = ResultsWriter::create(
@@ -557,6 +561,18 @@ fn stepper_of(solver: &SolverConfig) -> Result<(Box<dyn Stepper>, StepControl, f
             let solver = Statics::new(*settings);
             (Box::new(StaticsStepper::new(solver)), solver.control(), 1.0)
         }
+        SolverConfig::Moreau { h, t_end, adaptive } => match adaptive {
+            None => {
+                let stepper = integrator::MoreauStepper::new(Default::default());
+                let control = stepper.control(*h);
+                (Box::new(stepper), control, *t_end)
+            }
+            Some(settings) => {
+                let stepper = integrator::MoreauSscStepper::new(*settings);
+                let control = stepper.control();
+                (Box::new(stepper), control, *t_end)
+            }
+        },
     })
 }
 
