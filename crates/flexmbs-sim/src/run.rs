@@ -199,6 +199,7 @@ impl<'a> Recorder<'a> {
             s.t,
             &self.frames,
             &s.lambda,
+            &s.contacts,
             &mut self.signals,
         );
         // energies of the output row from the state itself (the integrator computes none per

@@ -32,7 +32,7 @@ fn all_examples_compile() {
             n += 1;
         }
     }
-    assert_eq!(n, 7, "expected 7 example models");
+    assert_eq!(n, 8, "expected 8 example models");
     // FE body files are not multibody models
     let fe = std::fs::read_to_string(dir.join("parts/rod.toml")).unwrap();
     assert!(!flexmbs_sim::is_multibody_model(&fe));
