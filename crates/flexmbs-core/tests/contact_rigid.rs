@@ -144,6 +144,11 @@ fn bouncing_ball_newton_impact() {
 /// A 0.2 x 0.2 x 0.1 box (mass 1) resting on the ground on four corner points with spatial
 /// Coulomb friction `mu`, pushed by a constant horizontal force `push` (N, along x).
 fn block(mu: f64, push: f64) -> (Model, State, BodyId) {
+    block_with(mu, push, TangentDirections::Spatial)
+}
+
+/// [`block`] with spatial or planar (along the ground's x axis) friction.
+fn block_with(mu: f64, push: f64, directions: TangentDirections) -> (Model, State, BodyId) {
     let mut spec = ModelSpec::new();
     spec.set_gravity(Vector3::new(0.0, 0.0, -G));
     let (a, c) = (0.1, 0.05);
@@ -154,7 +159,7 @@ fn block(mu: f64, push: f64) -> (Model, State, BodyId) {
     ));
     let b = spec.add_body("block", RigidBody::new(1.0, i));
     let ground = spec.add_ground_frame("ground", Vector3::zeros(), Matrix3::identity());
-    let law = ContactLaw::unilateral(0.0).with_coulomb(mu, TangentDirections::Spatial);
+    let law = ContactLaw::unilateral(0.0).with_coulomb(mu, directions);
     for (k, (x, y)) in [(a, a), (a, -a), (-a, a), (-a, -a)].into_iter().enumerate() {
         let f = spec.add_frame(
             &format!("corner{k}"),
@@ -188,8 +193,13 @@ fn block(mu: f64, push: f64) -> (Model, State, BodyId) {
 /// rest (no tipping: the four normal impulses carry the pitching moment of friction).
 #[test]
 fn block_slides_to_rest() {
+    block_slides_to_rest_with(TangentDirections::Spatial);
+    block_slides_to_rest_with(TangentDirections::Planar);
+}
+
+fn block_slides_to_rest_with(directions: TangentDirections) {
     let (mu, v0, h) = (0.3, 2.0, 1e-4);
-    let (model, mut s, b) = block(mu, 0.0);
+    let (model, mut s, b) = block_with(mu, 0.0, directions);
     model.set_body_velocity(&mut s, b, Vector3::new(v0, 0.0, 0.0), Vector3::zeros());
     let t_stop = v0 / (mu * G);
     let mut stopped_at = f64::NAN;
@@ -219,7 +229,7 @@ fn block_slides_to_rest() {
     assert!(max_tilt < 1e-9, "tilt {max_tilt}");
     assert!((q[2] - 0.05).abs() < 1e-9, "height {}", q[2]);
     println!(
-        "block: distance {} (exact {d}), stopped at {stopped_at} (exact {t_stop})",
+        "block ({directions:?}): distance {} (exact {d}), stopped at {stopped_at} (exact {t_stop})",
         q[0]
     );
 }
@@ -421,4 +431,69 @@ fn bouncing_ball_with_step_size_control() {
         );
     }
     assert!(stats.accepted < 1000, "{} steps", stats.accepted);
+}
+
+/// A uniform disc (circle contour, planar friction) on a 20 degree incline rolls with
+/// `a = 2/3 g sin(alpha)` (`I = m r^2 / 2`) when `mu >= tan(alpha) / 3`, and slips with
+/// `g (sin - mu cos)` below.
+#[test]
+fn disc_on_incline_rolls_or_slips() {
+    use flexmbs_core::contact::CircleContour;
+    let (alpha, r, h, t_end) = (0.35_f64, 0.2, 1e-3, 0.5);
+    let mu_crit = alpha.tan() / 3.0;
+    for (mu, rolling) in [(1.2 * mu_crit, true), (0.5 * mu_crit, false)] {
+        let mut spec = ModelSpec::new();
+        spec.set_gravity(Vector3::new(0.0, 0.0, -G));
+        let i_axis = 0.5 * r * r;
+        let disc = RigidBody::new(
+            1.0,
+            Matrix3::from_diagonal(&Vector3::new(0.5 * i_axis, i_axis, 0.5 * i_axis)),
+        )
+        .with_rotation(RotationParam::Quaternion);
+        let b = spec.add_body("disc", disc);
+        // circle in the x-z plane of the body (its axis, the frame's z, along the body's y)
+        let axis_y = Rotation3::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2);
+        let rim = spec.add_frame("rim", b, Vector3::zeros(), axis_y.into_inner());
+        let rot = Rotation3::from_axis_angle(&Vector3::y_axis(), alpha).into_inner();
+        let slope = spec.add_ground_frame("slope", Vector3::zeros(), rot);
+        let law = ContactLaw::unilateral(0.0).with_coulomb(mu, TangentDirections::Planar);
+        let circle = CircleContour {
+            frame: rim,
+            radius: r,
+        };
+        spec.add_contact(Contact::new(
+            "c",
+            circle,
+            PlaneContour { frame: slope },
+            law,
+        ));
+        let model = spec.compile().unwrap();
+        let mut s = model.initial_state();
+        let (n, down) = (rot.column(2).into_owned(), rot.column(0).into_owned());
+        model.set_body_pose(&mut s, b, (r - 1e-12) * n, Matrix3::identity());
+        run(
+            &model,
+            &mut s,
+            MoreauSettings::default(),
+            h,
+            t_end,
+            |_, _| {},
+        );
+        let vel = Vector3::from_column_slice(&model.body_u(b, &s.u)[..3]);
+        let a = if rolling {
+            2.0 / 3.0 * G * alpha.sin()
+        } else {
+            G * (alpha.sin() - mu * alpha.cos())
+        };
+        let speed = down.dot(&vel);
+        assert!(
+            (speed - a * t_end).abs() < 1e-8 * a,
+            "mu {mu}: v {speed} vs {}",
+            a * t_end
+        );
+        println!(
+            "disc mu = {mu:.4}: a = {:.10} (exact {a:.10})",
+            speed / t_end
+        );
+    }
 }

@@ -361,4 +361,17 @@ fn moreau_steps_do_not_allocate() {
         s.contacts
     );
     assert_eq!(n, 0, "Moreau steps allocated {n} times");
+    // with step-size control (saved states copied in place)
+    use flexmbs_core::integrator::{MoreauSscSettings, MoreauSscStepper};
+    let mut ssc = MoreauSscStepper::new(MoreauSscSettings::default());
+    ssc.initialize(&model, &mut s, &mut ws).unwrap();
+    ssc.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    ON.with(|c| c.set(true));
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..20 {
+        ssc.step(&model, &mut s, &mut ws, 1e-4).unwrap();
+    }
+    let n = ALLOCS.load(Ordering::SeqCst) - before;
+    ON.with(|c| c.set(false));
+    assert_eq!(n, 0, "adaptive Moreau steps allocated {n} times");
 }
