@@ -149,6 +149,12 @@ fn block(mu: f64, push: f64) -> (Model, State, BodyId) {
 
 /// [`block`] with spatial or planar (along the ground's x axis) friction.
 fn block_with(mu: f64, push: f64, directions: TangentDirections) -> (Model, State, BodyId) {
+    let law = ContactLaw::unilateral(0.0).with_coulomb(mu, directions);
+    block_law(law, push)
+}
+
+/// [`block`] with any contact law at the corners.
+fn block_law(law: ContactLaw, push: f64) -> (Model, State, BodyId) {
     let mut spec = ModelSpec::new();
     spec.set_gravity(Vector3::new(0.0, 0.0, -G));
     let (a, c) = (0.1, 0.05);
@@ -159,7 +165,6 @@ fn block_with(mu: f64, push: f64, directions: TangentDirections) -> (Model, Stat
     ));
     let b = spec.add_body("block", RigidBody::new(1.0, i));
     let ground = spec.add_ground_frame("ground", Vector3::zeros(), Matrix3::identity());
-    let law = ContactLaw::unilateral(0.0).with_coulomb(mu, directions);
     for (k, (x, y)) in [(a, a), (a, -a), (-a, a), (-a, -a)].into_iter().enumerate() {
         let f = spec.add_frame(
             &format!("corner{k}"),
@@ -494,6 +499,47 @@ fn disc_on_incline_rolls_or_slips() {
         println!(
             "disc mu = {mu:.4}: a = {:.10} (exact {a:.10})",
             speed / t_end
+        );
+    }
+}
+
+/// Penalty corners (k = 1e6 N/m, near-critical damping) with regularized friction (slip
+/// velocity 1e-3 m/s) or set-valued Coulomb friction bounded by the penalty force: the block
+/// slides to rest within 1 % of `v0^2 / (2 mu g)` (the regularization's error: the static
+/// penetration m g / k and the creep below the slip velocity).
+#[test]
+fn block_on_penalty_contacts_slides_to_rest() {
+    let (mu, v0, h) = (0.3, 2.0, 1e-4);
+    let d = v0 * v0 / (2.0 * mu * G);
+    let normal = ContactLaw::regularized(1e6, 500.0);
+    for law in [
+        normal.with_regularized_friction(mu, 1e-3, TangentDirections::Spatial),
+        normal.with_coulomb(mu, TangentDirections::Spatial),
+    ] {
+        let (model, mut s, b) = block_law(law, 0.0);
+        // resting at the static penetration m g / (4 k) per corner
+        model.set_body_pose(
+            &mut s,
+            b,
+            Vector3::new(0.0, 0.0, 0.05 - G / 4e6),
+            Matrix3::identity(),
+        );
+        model.set_body_velocity(&mut s, b, Vector3::new(v0, 0.0, 0.0), Vector3::zeros());
+        let settings = MoreauSettings::default();
+        let mut sweeps = 0;
+        run(&model, &mut s, settings, h, v0 / (mu * G) + 0.3, |_, st| {
+            sweeps = sweeps.max(st.iterations);
+        });
+        println!("largest prox sweeps per step: {sweeps}");
+        let x = model.body_q(b, &s.q)[0];
+        assert!(
+            (x - d).abs() < 1e-2 * d,
+            "{:?}: distance {x} vs {d}",
+            law.friction
+        );
+        println!(
+            "penalty block {:?}: distance {x:.6} (exact {d:.6})",
+            law.friction
         );
     }
 }

@@ -33,7 +33,10 @@ pub struct MoreauSettings {
     pub relaxation: f64,
     /// The prox iteration stops when the largest impulse change of a sweep is at most this
     /// times the impulse scale (the largest impulse, or the impulse that stops the free
-    /// velocity of a row). Default 1e-12.
+    /// velocity of a row), or when the relative velocities of the rows changed in the sweep by
+    /// at most this times their scale (the largest free or initial rate): redundant contacts
+    /// (a block on four corners) leave the impulses free to wander where the velocities have
+    /// converged. Default 1e-12.
     pub tolerance: f64,
     /// Most Gauss-Seidel sweeps per step before [`SolverError::ContactSolve`]. Default 10000.
     pub max_iterations: usize,
@@ -99,6 +102,8 @@ struct Buffers {
     b: Vec<f64>,
     gamma_s: Vec<f64>,
     lambda: Vec<f64>,
+    /// Impulses before the last sweep.
+    lambda_prev: Vec<f64>,
     blocks: Vec<Block>,
     geometry: Vec<ContactGeometry>,
     /// Regularized normal force per contact.
@@ -122,6 +127,7 @@ impl Buffers {
             b: v(m),
             gamma_s: v(m),
             lambda: v(m),
+            lambda_prev: v(m),
             blocks: Vec::with_capacity(nc + nk),
             geometry: vec![ContactGeometry::ZERO; nk],
             normal_force: v(nk),

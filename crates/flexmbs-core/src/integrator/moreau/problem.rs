@@ -129,8 +129,12 @@ impl MoreauStepper {
                 scale0 = scale0.max(b.b[i].abs() / d(i, i));
             }
         }
+        // velocity scale: the largest free or initial rate of a row
+        let v_scale = (0..m).fold(0.0_f64, |a, i| a.max(b.b[i].abs()).max(b.gamma_s[i].abs()));
+        let tol = self.settings.tolerance;
         let mut change = 0.0;
         for sweep in 1..=self.settings.max_iterations {
+            b.lambda_prev[..m].copy_from_slice(&b.lambda[..m]);
             change = 0.0_f64;
             for blk in &b.blocks {
                 change = change.max(sweep_block(
@@ -145,9 +149,21 @@ impl MoreauStepper {
             }
             let lam_max = b.lambda[..m].iter().fold(0.0_f64, |a, x| a.max(x.abs()));
             let scale = lam_max.max(scale0);
-            if change <= self.settings.tolerance * scale {
+            if change <= tol * scale {
                 let rel = if scale > 0.0 { change / scale } else { 0.0 };
                 return Ok((sweep, rel));
+            }
+            // change of the rates D (Lambda - Lambda_prev)
+            let mut rate_change: f64 = 0.0;
+            for i in 0..m {
+                let row = &b.delassus[i * m..(i + 1) * m];
+                let dr: f64 = (0..m)
+                    .map(|j| row[j] * (b.lambda[j] - b.lambda_prev[j]))
+                    .sum();
+                rate_change = rate_change.max(dr.abs());
+            }
+            if rate_change <= tol * v_scale {
+                return Ok((sweep, change / scale));
             }
         }
         let lam_max = b.lambda[..m].iter().fold(0.0_f64, |a, x| a.max(x.abs()));
