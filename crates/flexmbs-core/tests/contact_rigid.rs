@@ -323,8 +323,9 @@ fn sphere_on_incline_rolls_or_slips() {
             0.5 * a * t_end * t_end
         );
         assert!(max_slip < 1e-9, "normal rate {max_slip}");
+        let rel = (speed / t_end - a).abs() / a;
         println!(
-            "incline mu = {mu:.4}: a = {:.8} (exact {a:.8})",
+            "incline mu = {mu:.4}: a = {:.8} (exact {a:.8}), {rel:.1e}",
             speed / t_end
         );
     }
@@ -537,8 +538,9 @@ fn block_on_penalty_contacts_slides_to_rest() {
             "{:?}: distance {x} vs {d}",
             law.friction
         );
+        let rel = (x - d).abs() / d;
         println!(
-            "penalty block {:?}: distance {x:.6} (exact {d:.6})",
+            "penalty block {:?}: distance {x:.9} (exact {d:.9}), {rel:.1e}",
             law.friction
         );
     }
