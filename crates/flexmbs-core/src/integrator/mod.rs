@@ -4,6 +4,9 @@
 //!   Bruls 2007), fixed or adaptive step.
 //! - [`Dopri5`]: explicit adaptive Dormand-Prince 5(4) for unconstrained systems.
 //! - [`Statics`]: static equilibrium by Newton with load stepping.
+//! - [`MoreauStepper`] / [`MoreauSscStepper`]: Moreau midpoint time-stepping for set-valued
+//!   contact ([`crate::contact`]) and joints on velocity level, fixed step or with step-size
+//!   control.
 //!
 //! All three are [`Stepper`]s, run by one driver [`drive`] (fixed or adaptive steps, output
 //! callback with `ControlFlow`).
