@@ -185,26 +185,42 @@ fn law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<ContactLaw, SimError> {
         FrictionName::Regularized => allowed.extend(["mu", "directions", "slip_velocity"]),
     }
     let what = format!(
-        "this normal law and friction ({:?}, {:?})",
-        c.normal, friction
+        "this normal law and friction ({:?}, {friction:?})",
+        c.normal
     )
     .to_lowercase();
     ctx.only(p, &what, &present, &allowed)?;
-    let nonneg = |q: &Option<Quantity>, dim, key: &str, required: bool| -> Result<f64, SimError> {
-        let path = format!("{p}.{key}");
-        match q {
-            None if required => Err(ctx.err(p, format!("needs `{key}`"))),
-            None => Ok(0.0),
-            Some(q) => {
-                let v = ctx.q(q, dim, &path)?;
-                if v < 0.0 {
-                    return Err(ctx.err(&path, format!("must be >= 0, got {v}")));
-                }
-                Ok(v)
+    Ok(ContactLaw {
+        normal: normal_law(ctx, c, p)?,
+        friction: friction_law(ctx, c, p, friction)?,
+    })
+}
+
+/// A quantity >= 0 at `p.key` (absent: 0, or an error at `p` if `required`).
+fn nonneg(
+    ctx: &Ctx,
+    q: &Option<Quantity>,
+    dim: Dimension,
+    p: &str,
+    key: &str,
+    required: bool,
+) -> Result<f64, SimError> {
+    let path = format!("{p}.{key}");
+    match q {
+        None if required => Err(ctx.err(p, format!("needs `{key}`"))),
+        None => Ok(0.0),
+        Some(q) => {
+            let v = ctx.q(q, dim, &path)?;
+            if v < 0.0 {
+                return Err(ctx.err(&path, format!("must be >= 0, got {v}")));
             }
+            Ok(v)
         }
-    };
-    let normal = match c.normal {
+    }
+}
+
+fn normal_law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<NormalLaw, SimError> {
+    Ok(match c.normal {
         NormalName::Unilateral => {
             let e = c.restitution.unwrap_or(0.0);
             if !(0.0..=1.0).contains(&e) {
@@ -215,14 +231,29 @@ fn law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<ContactLaw, SimError> {
         }
         NormalName::Bilateral => NormalLaw::Bilateral,
         NormalName::Regularized => {
-            let stiffness = nonneg(&c.stiffness, Dimension::Stiffness, "stiffness", true)?;
+            let stiffness = nonneg(
+                ctx,
+                &c.stiffness,
+                Dimension::Stiffness,
+                p,
+                "stiffness",
+                true,
+            )?;
             if stiffness == 0.0 {
                 return Err(ctx.err(&format!("{p}.stiffness"), "must be > 0"));
             }
-            let damping = nonneg(&c.damping, Dimension::Damping, "damping", false)?;
+            let damping = nonneg(ctx, &c.damping, Dimension::Damping, p, "damping", false)?;
             NormalLaw::Regularized { stiffness, damping }
         }
-    };
+    })
+}
+
+fn friction_law(
+    ctx: &Ctx,
+    c: &ContactSpec,
+    p: &str,
+    friction: FrictionName,
+) -> Result<Friction, SimError> {
     let directions = match c.directions.unwrap_or(DirectionsName::Spatial) {
         DirectionsName::Planar => TangentDirections::Planar,
         DirectionsName::Spatial => TangentDirections::Spatial,
@@ -234,7 +265,7 @@ fn law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<ContactLaw, SimError> {
         }
         Ok(mu)
     };
-    let friction = match friction {
+    Ok(match friction {
         FrictionName::None => Friction::None,
         FrictionName::Coulomb => Friction::Coulomb {
             mu: mu()?,
@@ -248,7 +279,14 @@ fn law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<ContactLaw, SimError> {
                     "regularized friction needs `normal = \"regularized\"`",
                 ));
             }
-            let v = nonneg(&c.slip_velocity, Dimension::Velocity, "slip_velocity", true)?;
+            let v = nonneg(
+                ctx,
+                &c.slip_velocity,
+                Dimension::Velocity,
+                p,
+                "slip_velocity",
+                true,
+            )?;
             if v == 0.0 {
                 return Err(ctx.err(&format!("{p}.slip_velocity"), "must be > 0"));
             }
@@ -258,6 +296,5 @@ fn law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<ContactLaw, SimError> {
                 directions,
             }
         }
-    };
-    Ok(ContactLaw { normal, friction })
+    })
 }

@@ -8,7 +8,7 @@
 //!   contact ([`crate::contact`]) and joints on velocity level, fixed step or with step-size
 //!   control.
 //!
-//! All three are [`Stepper`]s, run by one driver [`drive`] (fixed or adaptive steps, output
+//! All are [`Stepper`]s, run by one driver [`drive`] (fixed or adaptive steps, output
 //! callback with `ControlFlow`).
 
 mod dopri5;
