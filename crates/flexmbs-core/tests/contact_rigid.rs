@@ -545,3 +545,66 @@ fn block_on_penalty_contacts_slides_to_rest() {
         );
     }
 }
+
+/// Bilateral contact: a ball hanging under a tilted frictionless ceiling (normal pointing down,
+/// gravity pulling away from it) is held on it with a pulling (negative) normal impulse and slides
+/// with `a = g sin(alpha)`; the gap rate is zero, so the gap stays at its initial value.
+#[test]
+fn bilateral_contact_holds_a_ball_under_a_ceiling() {
+    use flexmbs_core::contact::NormalLaw;
+    let (alpha, r, h, t_end) = (0.3_f64, 0.1, 1e-3, 0.5);
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, 0.0, -G));
+    let ball = RigidBody::new(1.0, Matrix3::from_diagonal_element(0.4 * r * r))
+        .with_rotation(RotationParam::Quaternion);
+    let b = spec.add_body("ball", ball);
+    let centre = spec.add_frame("centre", b, Vector3::zeros(), Matrix3::identity());
+    // ceiling: normal -z turned by alpha about y
+    let rot = (Rotation3::from_axis_angle(&Vector3::y_axis(), alpha)
+        * Rotation3::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI))
+    .into_inner();
+    let ceiling = spec.add_ground_frame("ceiling", Vector3::zeros(), rot);
+    let law = ContactLaw {
+        normal: NormalLaw::Bilateral,
+        friction: flexmbs_core::contact::Friction::None,
+    };
+    let sphere = SphereContour {
+        frame: centre,
+        radius: r,
+    };
+    spec.add_contact(Contact::new(
+        "hold",
+        sphere,
+        PlaneContour { frame: ceiling },
+        law,
+    ));
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    let n = rot.column(2).into_owned();
+    model.set_body_pose(&mut s, b, r * n, Matrix3::identity());
+    let (mut max_gap, mut pulling) = (0.0_f64, true);
+    run(
+        &model,
+        &mut s,
+        MoreauSettings::default(),
+        h,
+        t_end,
+        |s, _| {
+            let c = s.contacts[0];
+            max_gap = max_gap.max(c.gap.abs());
+            pulling &= c.impulse[0] < 0.0;
+        },
+    );
+    let vel = Vector3::from_column_slice(&model.body_u(b, &s.u)[..3]);
+    let slope = rot.column(0).into_owned(); // downhill along the ceiling
+    let a = G * alpha.sin();
+    let along = slope.dot(&vel).abs();
+    assert!(
+        (along - a * t_end).abs() < 1e-9 * a,
+        "v {along} vs {}",
+        a * t_end
+    );
+    assert!(n.dot(&vel).abs() < 1e-12, "normal velocity {}", n.dot(&vel));
+    assert!(max_gap < 1e-12, "gap {max_gap}");
+    assert!(pulling, "the bilateral contact must pull");
+}
