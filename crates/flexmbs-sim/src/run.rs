@@ -204,7 +204,9 @@ impl<'a> Recorder<'a> {
         );
         // energies of the output row from the state itself (the integrator computes none per
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
-        let e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);
+        let mut e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);
+        // penalty (regularized) contacts store energy like springs
+        e.springs += flexmbs_core::contact::regularized_energy(m, &self.frames);
         let total = e.total();
         if self.energy0.is_none() {
             self.meter_work(s);

@@ -285,7 +285,9 @@ impl MoreauStepper {
                 residual,
             });
         }
-        let (energy, g_max, g_dot_max) = monitor(model, s, ws);
+        let (mut energy, g_max, g_dot_max) = monitor(model, s, ws);
+        // penalty contacts store energy like springs (frames evaluated at the end by `monitor`)
+        energy.springs += crate::contact::regularized_energy(model, &ws.sys.frames);
         Ok(StepStats {
             t: s.t,
             h,
