@@ -239,6 +239,13 @@ pub fn describe_solver(solver: &SolverConfig) -> String {
             "statics, {}",
             count(settings.load_steps, "load step", "load steps")
         ),
+        SolverConfig::Moreau { h, t_end, adaptive } => match adaptive {
+            None => format!("moreau, h {h:e} s, t_end {t_end} s"),
+            Some(a) => format!(
+                "moreau adaptive, h in [{:e}, {:e}] s, rtol {:e}, atol {:e}, t_end {t_end} s",
+                a.h_min, a.h_max, a.rtol, a.atol
+            ),
+        },
     }
 }
 

@@ -74,6 +74,15 @@ pub enum ModelError {
         /// What is wrong.
         reason: String,
     },
+    /// A contact with an unsupported contour pair, bad contour or law parameters, or both
+    /// contours on one owner.
+    #[error("contact `{contact}`: {reason}")]
+    InvalidContact {
+        /// Contact name.
+        contact: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A state vector of the wrong length was given.
     #[error("{what} has length {got}, expected {expected}")]
     DimensionMismatch {
@@ -207,6 +216,18 @@ pub enum SolverError {
         integrator: &'static str,
         /// Number of constraint rows.
         nc: usize,
+    },
+    /// The velocity-level contact problem of a time step (prox iteration) did not converge.
+    #[error("contact problem not solved at t = {t} (step {h}): impulse change {residual:e} after {iterations} iterations")]
+    ContactSolve {
+        /// Time at the start of the step.
+        t: f64,
+        /// Step size.
+        h: f64,
+        /// Last change of the impulses (relative to their scale).
+        residual: f64,
+        /// Iterations done.
+        iterations: usize,
     },
     /// An invalid integrator or solver setting.
     #[error("invalid setting `{name}` = {value}: {reason}")]

@@ -52,6 +52,7 @@
 #![warn(missing_docs)]
 
 pub mod algebra;
+pub mod contact;
 pub mod element;
 pub mod error;
 pub mod ffr;

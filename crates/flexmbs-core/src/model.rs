@@ -1,5 +1,6 @@
 //! Editable [`ModelSpec`] (builder) and the immutable compiled [`Model`].
 
+use crate::contact::{Contact, ContactState};
 use crate::element::{Element, FrameKinematics, LocalFrame};
 use crate::error::ModelError;
 use crate::ids::{BodyId, FrameId, JointId, LoadId, NodeId};
@@ -69,6 +70,7 @@ pub struct ModelSpec {
     loads: Vec<Load>,
     /// The initial state, resolved in [`ModelSpec::compile`] (`spec_initial.rs`).
     pub(crate) initial: crate::spec_initial::InitialSpec,
+    contacts: Vec<Contact>,
 }
 
 impl Default for ModelSpec {
@@ -88,6 +90,7 @@ impl ModelSpec {
             joints: Vec::new(),
             loads: Vec::new(),
             initial: Default::default(),
+            contacts: Vec::new(),
         }
     }
 
@@ -249,6 +252,13 @@ impl ModelSpec {
         LoadId(self.loads.len() - 1)
     }
 
+    /// Adds a contact between two contours ([`crate::contact`]); its pair, contours and law are
+    /// checked by [`Self::compile`].
+    pub fn add_contact(&mut self, contact: Contact) -> usize {
+        self.contacts.push(contact);
+        self.contacts.len() - 1
+    }
+
     /// Validates the description and builds the immutable model.
     pub fn compile(mut self) -> Result<Model, ModelError> {
         let initial = std::mem::take(&mut self.initial);
@@ -406,6 +416,7 @@ impl ModelSpec {
                 reason: "must be finite",
             });
         }
+        crate::contact::check_contacts(&self.frames, &mut self.contacts)?;
         let frame_cols = self
             .frames
             .iter()
@@ -425,6 +436,7 @@ impl ModelSpec {
             joints: self.joints,
             joint_rows,
             loads: self.loads,
+            contacts: self.contacts,
             nq,
             nu,
             nc,
@@ -526,6 +538,8 @@ pub struct Model {
     pub joint_rows: Vec<usize>,
     /// Loads.
     pub loads: Vec<Load>,
+    /// Contacts ([`crate::contact`]; each pair in the dispatch table's order).
+    pub contacts: Vec<Contact>,
     /// Total position coordinates.
     pub nq: usize,
     /// Total velocity coordinates.
@@ -547,6 +561,7 @@ impl Model {
     /// State at `t = 0` with every element in its reference configuration, at rest.
     pub fn reference_state(&self) -> State {
         let mut s = State::zeros(self.nq, self.nu, self.nc);
+        s.contacts = vec![ContactState::default(); self.contacts.len()];
         for b in &self.bodies {
             let (nq, nu) = (b.element.nq(), b.element.nu());
             b.element.reference_coordinates(

@@ -21,6 +21,9 @@ pub struct State {
     pub a: Vec<f64>,
     /// Lagrange multipliers (nc), one per constraint row.
     pub lambda: Vec<f64>,
+    /// State of each contact of the model ([`crate::contact::ContactState`]; empty from
+    /// [`State::zeros`], sized by [`crate::Model::initial_state`]).
+    pub contacts: Vec<crate::contact::ContactState>,
 }
 
 impl State {
@@ -33,6 +36,7 @@ impl State {
             u_dot: vec![0.0; nu],
             a: vec![0.0; nu],
             lambda: vec![0.0; nc],
+            contacts: Vec::new(),
         }
     }
 }

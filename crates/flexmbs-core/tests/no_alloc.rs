@@ -276,3 +276,116 @@ fn steps_do_not_allocate() {
          backend)"
     );
 }
+
+/// Moreau time-stepping: a hinged rod (joint rows, position projection) whose sphere rests on
+/// a plane with Coulomb friction (prox iteration), plus a free ball on a penalty contact
+/// with regularized friction.
+#[test]
+fn moreau_steps_do_not_allocate() {
+    use flexmbs_core::contact::{
+        Contact, ContactLaw, PlaneContour, SphereContour, TangentDirections,
+    };
+    use flexmbs_core::integrator::{MoreauSettings, MoreauStepper, Stepper};
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, 0.0, -9.81));
+    let rod = spec.add_body(
+        "rod",
+        RigidBody::new(1.0, Matrix3::from_diagonal_element(0.1)),
+    );
+    let hinge = spec.add_ground_frame("hinge", Vector3::new(0.0, 0.0, 0.1), Matrix3::identity());
+    let top = spec.add_frame(
+        "top",
+        rod,
+        Vector3::new(-0.5, 0.0, 0.0),
+        Matrix3::identity(),
+    );
+    spec.add_joint(Joint::new(
+        "pin",
+        hinge,
+        top,
+        [true, true, true, true, false, true],
+    ));
+    let tip = spec.add_frame("tip", rod, Vector3::new(0.5, 0.0, 0.0), Matrix3::identity());
+    let ground = spec.add_ground_frame("ground", Vector3::zeros(), Matrix3::identity());
+    let law = ContactLaw::unilateral(0.3).with_coulomb(0.4, TangentDirections::Spatial);
+    let sphere = SphereContour {
+        frame: tip,
+        radius: 0.1,
+    };
+    spec.add_contact(Contact::new(
+        "tip",
+        sphere,
+        PlaneContour { frame: ground },
+        law,
+    ));
+    let ball = spec.add_body(
+        "ball",
+        RigidBody::new(1.0, Matrix3::from_diagonal_element(0.004)),
+    );
+    let centre = spec.add_frame("centre", ball, Vector3::zeros(), Matrix3::identity());
+    let soft = ContactLaw::regularized(1e4, 10.0).with_regularized_friction(
+        0.3,
+        1e-3,
+        TangentDirections::Planar,
+    );
+    let ball_sphere = SphereContour {
+        frame: centre,
+        radius: 0.1,
+    };
+    spec.add_contact(Contact::new(
+        "ball",
+        ball_sphere,
+        PlaneContour { frame: ground },
+        soft,
+    ));
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_pose(
+        &mut s,
+        BodyId(0),
+        Vector3::new(0.5, 0.0, 0.1),
+        Matrix3::identity(),
+    );
+    model.set_body_pose(
+        &mut s,
+        BodyId(1),
+        Vector3::new(2.0, 0.0, 0.099),
+        Matrix3::identity(),
+    );
+    model.set_body_velocity(
+        &mut s,
+        BodyId(1),
+        Vector3::new(1.0, 0.0, 0.0),
+        Vector3::zeros(),
+    );
+    let mut ws = Workspace::new(&model);
+    let mut st = MoreauStepper::new(MoreauSettings::default());
+    st.initialize(&model, &mut s, &mut ws).unwrap();
+    st.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    ON.with(|c| c.set(true));
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..20 {
+        st.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    }
+    let n = ALLOCS.load(Ordering::SeqCst) - before;
+    ON.with(|c| c.set(false));
+    assert!(
+        s.contacts[0].active && s.contacts[1].impulse[0] > 0.0,
+        "{:?}",
+        s.contacts
+    );
+    assert_eq!(n, 0, "Moreau steps allocated {n} times");
+    // with step-size control (saved states copied in place)
+    use flexmbs_core::integrator::{MoreauSscSettings, MoreauSscStepper};
+    let mut ssc = MoreauSscStepper::new(MoreauSscSettings::default());
+    ssc.initialize(&model, &mut s, &mut ws).unwrap();
+    ssc.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+    ON.with(|c| c.set(true));
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for _ in 0..20 {
+        ssc.step(&model, &mut s, &mut ws, 1e-4).unwrap();
+    }
+    let n = ALLOCS.load(Ordering::SeqCst) - before;
+    ON.with(|c| c.set(false));
+    assert_eq!(n, 0, "adaptive Moreau steps allocated {n} times");
+}

@@ -576,8 +576,20 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     for id in free_length_from_initial {
         spec.set_spring_unstressed_initially(id);
     }
+    crate::contacts::add_contacts(&ctx, &mf.contact, &frame, &mut spec)?;
     let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
+    if !mf.contact.is_empty() && !matches!(solver, SolverConfig::Moreau { .. }) {
+        return Err(ctx.err(
+            "solver.type",
+            "the model has contacts: they are solved by `type = \"moreau\"` only",
+        ));
+    }
     let model = spec.compile().map_err(|source| {
+        if let ModelError::InvalidContact { contact, reason } = &source {
+            if let Some(i) = mf.contact.iter().position(|c| &c.name == contact) {
+                return ctx.err(&format!("contact[{i}]"), reason.clone());
+            }
+        }
         if let ModelError::SameOwner { item } = &source {
             let joint = mf.joint.iter().position(|j| &j.name == item);
             if let Some(i) = joint {

@@ -6,7 +6,8 @@ use crate::schema::{ModelFile, OrientationSpec, SolverType, TimeSpec, TimeType};
 use crate::signals::{series_names, Signal};
 use crate::units::{Dimension, Quantity};
 use flexmbs_core::integrator::{
-    AdaptiveSettings, Dopri5Settings, GenAlphaSettings, NewtonSettings, StaticsSettings,
+    AdaptiveSettings, Dopri5Settings, GenAlphaSettings, MoreauSscSettings, NewtonSettings,
+    StaticsSettings,
 };
 use flexmbs_core::{Model, MotionLaw, TimeFunction};
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
@@ -36,6 +37,15 @@ pub enum SolverConfig {
         /// Settings.
         settings: StaticsSettings,
     },
+    /// Moreau time-stepping, fixed step `h` or with step-size control.
+    Moreau {
+        /// Step (first step when adaptive).
+        h: f64,
+        /// End time.
+        t_end: f64,
+        /// Step-size control.
+        adaptive: Option<MoreauSscSettings>,
+    },
 }
 
 /// Error of adaptive generalized-alpha with `rho_inf = 1` on a model with joints.
@@ -48,7 +58,9 @@ impl SolverConfig {
     /// End time (0 for statics).
     pub fn t_end(&self) -> f64 {
         match self {
-            SolverConfig::GenAlpha { t_end, .. } | SolverConfig::Dopri5 { t_end, .. } => *t_end,
+            SolverConfig::GenAlpha { t_end, .. }
+            | SolverConfig::Dopri5 { t_end, .. }
+            | SolverConfig::Moreau { t_end, .. } => *t_end,
             SolverConfig::Statics { .. } => 0.0,
         }
     }
@@ -460,6 +472,48 @@ pub(crate) fn solver_config(
                 t_end: t_end()?,
             })
         }
+        SolverType::Moreau => {
+            ctx.only("solver", "moreau", &present, &["t_end", "h", "adaptive"])?;
+            let t_end = t_end()?;
+            let h = positive(
+                s.h.as_ref()
+                    .ok_or_else(|| ctx.err("solver", "moreau needs the step `h`"))?,
+                "solver.h",
+            )?;
+            let adaptive = match &s.adaptive {
+                None => None,
+                Some(a) => {
+                    let mut c = MoreauSscSettings {
+                        h_init: h,
+                        ..MoreauSscSettings::default()
+                    };
+                    if let Some(q) = &a.h_min {
+                        c.h_min = positive(q, "solver.adaptive.h_min")?;
+                    }
+                    if let Some(q) = &a.h_max {
+                        c.h_max = positive(q, "solver.adaptive.h_max")?;
+                    }
+                    for (v, k, dst) in
+                        [(a.rtol, "rtol", &mut c.rtol), (a.atol, "atol", &mut c.atol)]
+                    {
+                        if let Some(v) = v {
+                            if v.is_nan() || v <= 0.0 {
+                                return Err(ctx.err(
+                                    &format!("solver.adaptive.{k}"),
+                                    format!("must be > 0, got {v}"),
+                                ));
+                            }
+                            *dst = v;
+                        }
+                    }
+                    if c.h_min > c.h_max {
+                        return Err(ctx.err("solver.adaptive.h_min", "h_min must not exceed h_max"));
+                    }
+                    Some(c)
+                }
+            };
+            Ok(SolverConfig::Moreau { h, t_end, adaptive })
+        }
         SolverType::Statics => {
             ctx.only("solver", "statics", &present, &["load_steps", "newton"])?;
             let load_steps = s.load_steps.unwrap_or(1);
@@ -588,8 +642,15 @@ pub(crate) fn check_output_size(
             t_end,
             adaptive: None,
             ..
+        }
+        | SolverConfig::Moreau {
+            h,
+            t_end,
+            adaptive: None,
         } => (*t_end, Some(*h)),
-        SolverConfig::GenAlpha { t_end, .. } | SolverConfig::Dopri5 { t_end, .. } => (*t_end, None),
+        SolverConfig::GenAlpha { t_end, .. }
+        | SolverConfig::Dopri5 { t_end, .. }
+        | SolverConfig::Moreau { t_end, .. } => (*t_end, None),
         SolverConfig::Statics { .. } => return Ok(()),
     };
     let (rows, key) = match (output.every, h) {

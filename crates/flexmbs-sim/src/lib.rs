@@ -8,6 +8,7 @@ mod animation_points;
 pub mod bodies;
 pub mod compile;
 pub mod config;
+pub mod contacts;
 pub mod drives;
 pub mod error;
 pub mod fe_frames;

@@ -182,7 +182,8 @@ fn finish_after_panic(
 fn error_point(e: &SolverError) -> (f64, f64, f64) {
     match *e {
         SolverError::NewtonFailed { t, h, residual, .. }
-        | SolverError::NonFinite { t, h, residual, .. } => (t, h, residual),
+        | SolverError::NonFinite { t, h, residual, .. }
+        | SolverError::ContactSolve { t, h, residual, .. } => (t, h, residual),
         SolverError::Singular { t, h, .. } | SolverError::Element { t, h, .. } => (t, h, f64::NAN),
         SolverError::StepTooSmall { t, h, error, .. } => (t, h, error),
         SolverError::ConstraintsUnsupported { .. }
@@ -242,11 +243,14 @@ impl<'a> Recorder<'a> {
             s.t,
             &self.frames,
             &s.lambda,
+            &s.contacts,
             &mut self.signals,
         );
         // energies of the output row from the state itself (the integrator computes none per
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
-        let e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);
+        let mut e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);
+        // penalty (regularized) contacts store energy like springs
+        e.springs += flexmbs_core::contact::regularized_energy(m, &self.frames);
         let total = e.total();
         if self.energy0.is_none() {
             self.meter_work(s);
@@ -411,6 +415,10 @@ pub fn run_model(
         SolverConfig::GenAlpha { .. } => "generalized-alpha",
         SolverConfig::Dopri5 { .. } => "dopri5",
         SolverConfig::Statics { .. } => "statics",
+        SolverConfig::Moreau {
+            adaptive: Some(_), ..
+        } => "moreau (adaptive)",
+        SolverConfig::Moreau { .. } => "moreau",
     };
     let version = format!("flexmbs {}", env!("CARGO_PKG_VERSION"));
     let writer = ResultsWriter::create(
@@ -592,6 +600,18 @@ fn stepper_of(solver: &SolverConfig) -> Result<(Box<dyn Stepper>, StepControl, f
             let solver = Statics::new(*settings);
             (Box::new(StaticsStepper::new(solver)), solver.control(), 1.0)
         }
+        SolverConfig::Moreau { h, t_end, adaptive } => match adaptive {
+            None => {
+                let stepper = integrator::MoreauStepper::new(Default::default());
+                let control = stepper.control(*h);
+                (Box::new(stepper), control, *t_end)
+            }
+            Some(settings) => {
+                let stepper = integrator::MoreauSscStepper::new(*settings);
+                let control = stepper.control();
+                (Box::new(stepper), control, *t_end)
+            }
+        },
     })
 }
 

@@ -31,6 +31,9 @@ pub struct ModelFile {
     /// Loads (`[[load]]`).
     #[serde(default)]
     pub load: Vec<LoadSpec>,
+    /// Contacts (`[[contact]]`, `moreau` solver).
+    #[serde(default)]
+    pub contact: Vec<crate::contacts::ContactSpec>,
     /// Output selection.
     #[serde(default)]
     pub output: OutputSpec,
@@ -58,6 +61,8 @@ pub enum SolverType {
     Dopri5,
     /// Static equilibrium with load steps.
     Statics,
+    /// Moreau time-stepping (set-valued contacts and impacts), fixed step or adaptive.
+    Moreau,
 }
 
 /// `[solver]`.

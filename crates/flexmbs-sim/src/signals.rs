@@ -44,6 +44,11 @@ pub enum SignalKind {
     /// Torque the joint exerts on its frame `b` about the origin of `b`, in the axes of frame
     /// `a` (N m); a prescribed motion contributes the drive torque.
     JointTorque(usize),
+    /// Normal gap of a contact (m) at the last step's midpoint (moreau solver).
+    ContactGap(usize),
+    /// Impulses of a contact in the last step, normal and two tangents (N s; regularized laws:
+    /// force times step).
+    ContactImpulse(usize),
 }
 
 /// A requested output signal.
@@ -62,7 +67,8 @@ pub struct Signal {
 const XYZ: [&str; 3] = ["x", "y", "z"];
 
 /// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation`
-/// (every body has a frame named like the body) and `<joint>.force|torque|reaction`.
+/// (every body has a frame named like the body), `<joint>.force|torque|reaction` and
+/// `<contact>.gap|impulse`.
 pub fn parse_signals(
     ctx: &Ctx,
     list: &[String],
@@ -93,7 +99,26 @@ pub fn parse_signals(
                 ))
             })
         };
-        let (unit, components, kind) = if what == "force" || what == "torque" {
+        let contact = model.contacts.iter().position(|c| c.name == item);
+        let (unit, components, kind) = if let Some(c) = contact {
+            match what {
+                "gap" => (
+                    "m".to_string(),
+                    vec!["n".to_string()],
+                    SignalKind::ContactGap(c),
+                ),
+                "impulse" => (
+                    "N s".to_string(),
+                    ["n", "t1", "t2"].iter().map(|c| c.to_string()).collect(),
+                    SignalKind::ContactImpulse(c),
+                ),
+                _ => {
+                    return Err(err(format!(
+                        "unknown quantity `{what}` of contact `{item}` (gap, impulse)"
+                    )))
+                }
+            }
+        } else if what == "force" || what == "torque" {
             let j = joint_index(item)?;
             if what == "force" {
                 ("N".to_string(), xyz(), SignalKind::JointForce(j))
@@ -171,6 +196,7 @@ pub fn evaluate_signals(
     t: f64,
     frames: &[FrameKinematics],
     lambda: &[f64],
+    contacts: &[flexmbs_core::contact::ContactState],
     out: &mut Vec<f64>,
 ) {
     let wrench = |j: usize| {
@@ -207,6 +233,10 @@ pub fn evaluate_signals(
             SignalKind::Reaction { row, rows } => out.extend(&lambda[*row..row + rows]),
             SignalKind::JointForce(j) => out.extend(wrench(*j).0.iter()),
             SignalKind::JointTorque(j) => out.extend(wrench(*j).1.iter()),
+            SignalKind::ContactGap(c) => out.push(contacts.get(*c).map_or(f64::NAN, |c| c.gap)),
+            SignalKind::ContactImpulse(c) => {
+                out.extend(contacts.get(*c).map_or([f64::NAN; 3], |c| c.impulse))
+            }
         }
     }
 }

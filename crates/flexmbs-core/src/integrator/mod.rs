@@ -4,17 +4,22 @@
 //!   Bruls 2007), fixed or adaptive step.
 //! - [`Dopri5`]: explicit adaptive Dormand-Prince 5(4) for unconstrained systems.
 //! - [`Statics`]: static equilibrium by Newton with load stepping.
+//! - [`MoreauStepper`] / [`MoreauSscStepper`]: Moreau midpoint time-stepping for set-valued
+//!   contact ([`crate::contact`]) and joints on velocity level, fixed step or with step-size
+//!   control.
 //!
-//! All three are [`Stepper`]s, run by one driver [`drive`] (fixed or adaptive steps, output
+//! All are [`Stepper`]s, run by one driver [`drive`] (fixed or adaptive steps, output
 //! callback with `ControlFlow`).
 
 mod dopri5;
 mod genalpha;
+mod moreau;
 mod statics;
 mod stepper;
 
 pub use dopri5::{Dopri5, Dopri5Settings};
 pub use genalpha::{AdaptiveSettings, GenAlpha, GenAlphaParams, GenAlphaSettings};
+pub use moreau::{MoreauSettings, MoreauSscSettings, MoreauSscStepper, MoreauStepper};
 pub use statics::{StaticStats, Statics, StaticsSettings};
 pub use stepper::{
     drive, Dopri5Stepper, GenAlphaStepper, StaticsStepper, StepAttempt, StepControl, Stepper,

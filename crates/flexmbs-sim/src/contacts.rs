@@ -1,0 +1,300 @@
+//! `[[contact]]` tables of a model file: two contours on frames and the contact law
+//! (`docs/model-file.md`, "`[[contact]]`"), compiled into [`flexmbs_core::contact::Contact`]s.
+//! Contacts are solved by the `moreau` solver only.
+
+use crate::compile::Ctx;
+use crate::error::SimError;
+use crate::units::{Dimension, Quantity};
+use flexmbs_core::contact::{
+    CircleContour, Contact, ContactLaw, Contour, Friction, NormalLaw, PlaneContour, PointContour,
+    SphereContour, TangentDirections,
+};
+use flexmbs_core::{FrameId, ModelSpec};
+use serde::Deserialize;
+
+/// `[[contact]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Name.
+    pub name: String,
+    /// First contour.
+    pub a: ContourSpec,
+    /// Second contour.
+    pub b: ContourSpec,
+    /// Normal law.
+    pub normal: NormalName,
+    /// Coefficient of restitution (unilateral), default 0.
+    pub restitution: Option<f64>,
+    /// Stiffness (regularized).
+    pub stiffness: Option<Quantity>,
+    /// Damping (regularized), default 0.
+    pub damping: Option<Quantity>,
+    /// Friction law, default none.
+    pub friction: Option<FrictionName>,
+    /// Friction coefficient.
+    pub mu: Option<f64>,
+    /// Slip velocity of full friction (regularized friction).
+    pub slip_velocity: Option<Quantity>,
+    /// Friction directions, default spatial.
+    pub directions: Option<DirectionsName>,
+}
+
+/// A contour: `{ type, frame, radius }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContourSpec {
+    /// Contour type.
+    #[serde(rename = "type")]
+    pub kind: ContourName,
+    /// Frame the contour is fixed to.
+    pub frame: String,
+    /// Radius (sphere, circle).
+    pub radius: Option<Quantity>,
+}
+
+/// Contour types.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContourName {
+    /// Frame origin.
+    Point,
+    /// Sphere at the frame origin.
+    Sphere,
+    /// Plane through the origin, normal = frame z.
+    Plane,
+    /// Circle in the frame's x-y plane.
+    Circle,
+}
+
+/// Normal laws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NormalName {
+    /// Set-valued unilateral with Newton impact.
+    Unilateral,
+    /// Set-valued bilateral.
+    Bilateral,
+    /// Spring-damper penalty.
+    Regularized,
+}
+
+/// Friction laws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FrictionName {
+    /// Frictionless.
+    None,
+    /// Set-valued Coulomb.
+    Coulomb,
+    /// Regularized Coulomb.
+    Regularized,
+}
+
+/// Friction directions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DirectionsName {
+    /// `t_1` only.
+    Planar,
+    /// Both tangents.
+    Spatial,
+}
+
+/// Adds the contacts of the file to `spec`; `frame` resolves a frame name at a key path.
+pub(crate) fn add_contacts(
+    ctx: &Ctx,
+    contacts: &[ContactSpec],
+    frame: &dyn Fn(&str, String) -> Result<FrameId, SimError>,
+    spec: &mut ModelSpec,
+) -> Result<(), SimError> {
+    for (i, c) in contacts.iter().enumerate() {
+        let p = format!("contact[{i}]");
+        let a = contour(ctx, &c.a, &format!("{p}.a"), frame)?;
+        let b = contour(ctx, &c.b, &format!("{p}.b"), frame)?;
+        let law = law(ctx, c, &p)?;
+        spec.add_contact(Contact {
+            name: c.name.clone(),
+            contour_a: a,
+            contour_b: b,
+            law,
+        });
+    }
+    Ok(())
+}
+
+fn contour(
+    ctx: &Ctx,
+    c: &ContourSpec,
+    p: &str,
+    frame: &dyn Fn(&str, String) -> Result<FrameId, SimError>,
+) -> Result<Box<dyn Contour>, SimError> {
+    let f = frame(&c.frame, format!("{p}.frame"))?;
+    let radius = || -> Result<f64, SimError> {
+        let q = c.radius.as_ref().ok_or_else(|| {
+            ctx.err(
+                p,
+                format!("a {:?} contour needs `radius`", c.kind).to_lowercase(),
+            )
+        })?;
+        let r = ctx.q(q, Dimension::Length, &format!("{p}.radius"))?;
+        if r <= 0.0 {
+            return Err(ctx.err(&format!("{p}.radius"), format!("must be > 0, got {r} m")));
+        }
+        Ok(r)
+    };
+    let uses_radius = matches!(c.kind, ContourName::Sphere | ContourName::Circle);
+    if !uses_radius && c.radius.is_some() {
+        return Err(ctx.err(
+            &format!("{p}.radius"),
+            "only sphere and circle contours have a radius",
+        ));
+    }
+    Ok(match c.kind {
+        ContourName::Point => Box::new(PointContour { frame: f }),
+        ContourName::Plane => Box::new(PlaneContour { frame: f }),
+        ContourName::Sphere => Box::new(SphereContour {
+            frame: f,
+            radius: radius()?,
+        }),
+        ContourName::Circle => Box::new(CircleContour {
+            frame: f,
+            radius: radius()?,
+        }),
+    })
+}
+
+fn law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<ContactLaw, SimError> {
+    let present = [
+        ("restitution", c.restitution.is_some()),
+        ("stiffness", c.stiffness.is_some()),
+        ("damping", c.damping.is_some()),
+        ("mu", c.mu.is_some()),
+        ("slip_velocity", c.slip_velocity.is_some()),
+        ("directions", c.directions.is_some()),
+    ];
+    let friction = c.friction.unwrap_or(FrictionName::None);
+    let mut allowed = match c.normal {
+        NormalName::Unilateral => vec!["restitution"],
+        NormalName::Bilateral => vec![],
+        NormalName::Regularized => vec!["stiffness", "damping"],
+    };
+    match friction {
+        FrictionName::None => {}
+        FrictionName::Coulomb => allowed.extend(["mu", "directions"]),
+        FrictionName::Regularized => allowed.extend(["mu", "directions", "slip_velocity"]),
+    }
+    let what = format!(
+        "this normal law and friction ({:?}, {friction:?})",
+        c.normal
+    )
+    .to_lowercase();
+    ctx.only(p, &what, &present, &allowed)?;
+    Ok(ContactLaw {
+        normal: normal_law(ctx, c, p)?,
+        friction: friction_law(ctx, c, p, friction)?,
+    })
+}
+
+/// A quantity >= 0 at `p.key` (absent: 0, or an error at `p` if `required`).
+fn nonneg(
+    ctx: &Ctx,
+    q: &Option<Quantity>,
+    dim: Dimension,
+    p: &str,
+    key: &str,
+    required: bool,
+) -> Result<f64, SimError> {
+    let path = format!("{p}.{key}");
+    match q {
+        None if required => Err(ctx.err(p, format!("needs `{key}`"))),
+        None => Ok(0.0),
+        Some(q) => {
+            let v = ctx.q(q, dim, &path)?;
+            if v < 0.0 {
+                return Err(ctx.err(&path, format!("must be >= 0, got {v}")));
+            }
+            Ok(v)
+        }
+    }
+}
+
+fn normal_law(ctx: &Ctx, c: &ContactSpec, p: &str) -> Result<NormalLaw, SimError> {
+    Ok(match c.normal {
+        NormalName::Unilateral => {
+            let e = c.restitution.unwrap_or(0.0);
+            if !(0.0..=1.0).contains(&e) {
+                let path = format!("{p}.restitution");
+                return Err(ctx.err(&path, format!("must be in [0, 1], got {e}")));
+            }
+            NormalLaw::Unilateral { restitution: e }
+        }
+        NormalName::Bilateral => NormalLaw::Bilateral,
+        NormalName::Regularized => {
+            let stiffness = nonneg(
+                ctx,
+                &c.stiffness,
+                Dimension::Stiffness,
+                p,
+                "stiffness",
+                true,
+            )?;
+            if stiffness == 0.0 {
+                return Err(ctx.err(&format!("{p}.stiffness"), "must be > 0"));
+            }
+            let damping = nonneg(ctx, &c.damping, Dimension::Damping, p, "damping", false)?;
+            NormalLaw::Regularized { stiffness, damping }
+        }
+    })
+}
+
+fn friction_law(
+    ctx: &Ctx,
+    c: &ContactSpec,
+    p: &str,
+    friction: FrictionName,
+) -> Result<Friction, SimError> {
+    let directions = match c.directions.unwrap_or(DirectionsName::Spatial) {
+        DirectionsName::Planar => TangentDirections::Planar,
+        DirectionsName::Spatial => TangentDirections::Spatial,
+    };
+    let mu = || -> Result<f64, SimError> {
+        let mu = c.mu.ok_or_else(|| ctx.err(p, "friction needs `mu`"))?;
+        if !(mu >= 0.0 && mu.is_finite()) {
+            return Err(ctx.err(&format!("{p}.mu"), format!("must be >= 0, got {mu}")));
+        }
+        Ok(mu)
+    };
+    Ok(match friction {
+        FrictionName::None => Friction::None,
+        FrictionName::Coulomb => Friction::Coulomb {
+            mu: mu()?,
+            directions,
+        },
+        FrictionName::Regularized => {
+            if c.normal != NormalName::Regularized {
+                let path = format!("{p}.friction");
+                return Err(ctx.err(
+                    &path,
+                    "regularized friction needs `normal = \"regularized\"`",
+                ));
+            }
+            let v = nonneg(
+                ctx,
+                &c.slip_velocity,
+                Dimension::Velocity,
+                p,
+                "slip_velocity",
+                true,
+            )?;
+            if v == 0.0 {
+                return Err(ctx.err(&format!("{p}.slip_velocity"), "must be > 0"));
+            }
+            Friction::Regularized {
+                mu: mu()?,
+                slip_velocity: v,
+                directions,
+            }
+        }
+    })
+}
