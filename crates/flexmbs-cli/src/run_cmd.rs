@@ -14,13 +14,15 @@ use std::time::Instant;
 /// Exit code of an interrupted run (128 + SIGINT).
 pub const EXIT_INTERRUPTED: i32 = 130;
 
-/// Installs the Ctrl-C handler: the first Ctrl-C sets `stop`, the second aborts at once.
+/// Installs the handler of Ctrl-C (SIGINT) and of SIGTERM and SIGHUP (`timeout`, container stops,
+/// job schedulers, a closed terminal): the first signal sets `stop` (the run finishes its step and
+/// writes its results with status interrupted), the second aborts at once.
 fn install_ctrl_c(stop: Arc<AtomicBool>) {
     let count = AtomicUsize::new(0);
     let res = ctrlc::set_handler(move || {
         if count.fetch_add(1, Ordering::SeqCst) == 0 {
             stop.store(true, Ordering::SeqCst);
-            eprintln!("\ninterrupt: finishing the current step and writing results (Ctrl-C again to abort)");
+            eprintln!("\ninterrupt: finishing the current step and writing results (interrupt again to abort)");
         } else {
             std::process::exit(EXIT_INTERRUPTED);
         }

@@ -46,7 +46,21 @@ animation = false
 #[cfg(unix)]
 #[test]
 fn sigint_interrupts_run_with_results_kept() {
-    let dir = std::env::temp_dir().join(format!("flexmbs-ctrlc-{}", std::process::id()));
+    interrupt_with("INT");
+}
+
+/// `timeout`, container stops and job schedulers send SIGTERM, a closed terminal SIGHUP: both end
+/// the run like Ctrl-C (status interrupted, final state written, exit code 130).
+#[cfg(unix)]
+#[test]
+fn sigterm_and_sighup_interrupt_run_with_results_kept() {
+    interrupt_with("TERM");
+    interrupt_with("HUP");
+}
+
+#[cfg(unix)]
+fn interrupt_with(signal: &str) {
+    let dir = std::env::temp_dir().join(format!("flexmbs-ctrlc-{signal}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let model = dir.join("long.toml");
@@ -70,12 +84,12 @@ fn sigint_interrupts_run_with_results_kept() {
     }
     std::thread::sleep(Duration::from_millis(500));
     let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+        .args([&format!("-{signal}"), &child.id().to_string()])
         .status()
         .unwrap();
     assert!(kill.success());
     let status = child.wait().unwrap();
-    assert_eq!(status.code(), Some(130), "exit status {status:?}");
+    assert_eq!(status.code(), Some(130), "SIG{signal}: exit status {status:?}");
     let r = read_results(&results).unwrap();
     let RunStatus::Interrupted { t } = r.status else {
         panic!("status {:?}", r.status);
