@@ -66,6 +66,7 @@ pub mod power;
 pub mod rigid;
 pub mod rotation;
 pub mod state;
+pub mod superelement;
 pub mod system;
 pub mod time_function;
 

@@ -1,0 +1,127 @@
+//! Craig-Bampton data of a straight 3D beam segment from the FE beam element
+//! ([`flexmbs_fe::element::beam::beam_local`]): the segment along its local x axis, meshed with an
+//! even number of elements (a mesh node at the centre of mass), interface points at both ends
+//! (6 DOF each), static constraint modes `Ψ = −K_II⁻¹ K_IB` and optionally fixed-interface normal
+//! modes (seed 001 §3.1).
+
+use super::{Interface, SuperelementData, SuperelementError};
+use flexmbs_fe::element::beam::beam_local;
+use flexmbs_fe::element::MassKind;
+use flexmbs_fe::mesh::{BeamSection, BeamTheory};
+use flexmbs_fe::Material;
+use nalgebra::{DMatrix, Matrix3, Vector3};
+
+/// Where the floating frame of the segment sits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrameLocation {
+    /// At the undeformed centre of mass (the segment's midpoint), seed 001's choice.
+    #[default]
+    CentreOfMass,
+    /// At the first interface point (the "traditional" variant, seed 001 §5.2).
+    FirstInterface,
+}
+
+/// A uniform straight beam segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BeamSegmentSpec {
+    /// Length (m).
+    pub length: f64,
+    /// Material.
+    pub material: Material,
+    /// Cross-section (local y, z axes = segment y, z).
+    pub section: BeamSection,
+    /// Beam theory of the FE elements.
+    pub theory: BeamTheory,
+    /// FE elements along the segment (rounded up to an even number).
+    pub elements: usize,
+    /// Fixed-interface normal modes kept (0: static modes only).
+    pub internal_modes: usize,
+    /// Floating-frame location.
+    pub frame: FrameLocation,
+}
+
+/// The Craig-Bampton data of a beam segment along x (interfaces at its ends, axes parallel to the
+/// segment's).
+pub fn beam_segment(spec: &BeamSegmentSpec) -> Result<SuperelementData, SuperelementError> {
+    let ne = spec.elements.max(2).div_ceil(2) * 2;
+    let nn = ne + 1;
+    let ndof = 6 * nn;
+    let le = spec.length / ne as f64;
+    let (ke, me) = beam_local(
+        le,
+        &spec.material,
+        &spec.section,
+        spec.theory,
+        MassKind::Consistent,
+    );
+    let (mut k, mut m) = (
+        DMatrix::<f64>::zeros(ndof, ndof),
+        DMatrix::<f64>::zeros(ndof, ndof),
+    );
+    for e in 0..ne {
+        for i in 0..12 {
+            for j in 0..12 {
+                k[(6 * e + i, 6 * e + j)] += ke[(i, j)];
+                m[(6 * e + i, 6 * e + j)] += me[(i, j)];
+            }
+        }
+    }
+    let boundary: Vec<usize> = (0..6).chain(6 * ne..6 * nn).collect();
+    let interior: Vec<usize> = (6..6 * ne).collect();
+    let (nb, ni) = (boundary.len(), interior.len());
+    let pick = |a: &DMatrix<f64>, r: &[usize], c: &[usize]| {
+        DMatrix::from_fn(r.len(), c.len(), |i, j| a[(r[i], c[j])])
+    };
+    let k_ii = pick(&k, &interior, &interior);
+    let k_ib = pick(&k, &interior, &boundary);
+    let m_ii = pick(&m, &interior, &interior);
+    let not_pd = |what: &'static str| SuperelementError::NotSymmetric { what };
+    let chol_k = k_ii.clone().cholesky().ok_or(not_pd("K_II"))?;
+    let psi = -chol_k.solve(&k_ib);
+    let nm = spec.internal_modes.min(ni);
+    let phi_i = if nm > 0 {
+        let l = m_ii.cholesky().ok_or(not_pd("M_II"))?.l();
+        let l_inv = l.clone().try_inverse().ok_or(not_pd("M_II"))?;
+        let a = &l_inv * &k_ii * l_inv.transpose();
+        let eig = ((&a + a.transpose()) * 0.5).symmetric_eigen();
+        let mut order: Vec<usize> = (0..ni).collect();
+        order.sort_by(|&x, &y| eig.eigenvalues[x].total_cmp(&eig.eigenvalues[y]));
+        let y = DMatrix::from_fn(ni, nm, |i, j| eig.eigenvectors[(i, order[j])]);
+        l_inv.transpose() * y
+    } else {
+        DMatrix::zeros(ni, 0)
+    };
+    let n = nb + nm;
+    let mut v = DMatrix::<f64>::zeros(ndof, n);
+    for (a, &p) in boundary.iter().enumerate() {
+        v[(p, a)] = 1.0;
+    }
+    for (r, &p) in interior.iter().enumerate() {
+        for c in 0..nb {
+            v[(p, c)] = psi[(r, c)];
+        }
+        for c in 0..nm {
+            v[(p, nb + c)] = phi_i[(r, c)];
+        }
+    }
+    let sym = |a: DMatrix<f64>| (&a + a.transpose()) * 0.5;
+    let m_cb = sym(v.transpose() * &m * &v);
+    let k_cb = sym(v.transpose() * &k * &v);
+    let (frame_node, origin) = match spec.frame {
+        FrameLocation::CentreOfMass => (ne / 2, 0.5 * spec.length),
+        FrameLocation::FirstInterface => (0, 0.0),
+    };
+    let phi_cb = v.rows(6 * frame_node, 6).into_owned();
+    let at = |x: f64| Interface {
+        position: Vector3::new(x - origin, 0.0, 0.0),
+        rotation: Matrix3::identity(),
+    };
+    Ok(SuperelementData {
+        interfaces: vec![at(0.0), at(spec.length)],
+        internal_modes: nm,
+        m_cb,
+        k_cb,
+        phi_cb,
+        centre_of_mass: Vector3::new(0.5 * spec.length - origin, 0.0, 0.0),
+    })
+}
