@@ -32,6 +32,64 @@ impl Superelement {
     }
 }
 
+impl Superelement {
+    /// Adds the fictitious forces `−C v` of `T = ½ vᵀ Pᵀ M_CB P v` to `h` (Lagrange equations
+    /// with the body-frame angular velocities of the nodes as quasi-velocities):
+    /// `h_C = Pᵀ M_CB Ω̃ w − Pᵀ Ω̃ μ + (Z_r P)ᵀ Σ_b μ_b × w_b + [ω̄_k × (Pᵀ μ)_k]` with
+    /// `w = P v`, `μ = M_CB w`, `Ω = Z_r w` the floating frame's angular velocity (frame axes),
+    /// `Ω̃` its cross product on every 3-block of the interface coordinates.
+    fn add_fictitious_forces(&self, e: &mut SuperelementEval, u: &[f64], h: &mut [f64]) {
+        let (n, ni) = (self.n(), self.n_interfaces());
+        self.frame_variation(e);
+        self.local_velocity(e, u);
+        e.work.mom.gemv(1.0, &self.data.m_cb, &e.work.vel, 0.0);
+        let omega = Vector3::new(
+            (0..n).map(|i| e.work.zp[(3, i)] * u[i]).sum(),
+            (0..n).map(|i| e.work.zp[(4, i)] * u[i]).sum(),
+            (0..n).map(|i| e.work.zp[(5, i)] * u[i]).sum(),
+        );
+        // tmp = Ω̃ w, then local force c = M_CB Ω̃ w − Ω̃ μ; g_φ = Σ μ_b × w_b
+        e.work.tmp.fill(0.0);
+        let mut g_phi = Vector3::zeros();
+        for b in 0..2 * ni {
+            let wb = e.work.vel.fixed_rows::<3>(3 * b).into_owned();
+            let mb = e.work.mom.fixed_rows::<3>(3 * b).into_owned();
+            e.work
+                .tmp
+                .fixed_rows_mut::<3>(3 * b)
+                .copy_from(&omega.cross(&wb));
+            g_phi += mb.cross(&wb);
+        }
+        e.work
+            .a
+            .column_mut(0)
+            .gemv(1.0, &self.data.m_cb, &e.work.tmp, 0.0);
+        for b in 0..2 * ni {
+            let mb = e.work.mom.fixed_rows::<3>(3 * b).into_owned();
+            let c = omega.cross(&mb);
+            for i in 0..3 {
+                e.work.a[(3 * b + i, 0)] -= c[i];
+            }
+        }
+        for (j, hj) in h.iter_mut().enumerate() {
+            *hj += (0..n).map(|i| e.p[(i, j)] * e.work.a[(i, 0)]).sum::<f64>()
+                + (0..3)
+                    .map(|r| e.work.zp[(3 + r, j)] * g_phi[r])
+                    .sum::<f64>();
+        }
+        for k in 0..ni {
+            let c = self.vel_index[6 * k + 3];
+            let wbar = Vector3::new(u[c], u[c + 1], u[c + 2]);
+            let ptm =
+                e.node_r[k].transpose() * e.rj * e.work.mom.fixed_rows::<3>(6 * k + 3).into_owned();
+            let add = wbar.cross(&ptm);
+            for i in 0..3 {
+                h[c + i] += add[i];
+            }
+        }
+    }
+}
+
 impl Element for Superelement {
     fn node_kinds(&self) -> &[NodeKind] {
         &self.kinds
@@ -141,13 +199,13 @@ impl Element for Superelement {
         }
     }
 
-    /// `h = −Pᵀ (w − M_CB G R_jᵀ g)`: the elastic forces (4.12) and gravity; the fictitious
-    /// forces are neglected ([`super::FictitiousForces::Neglected`]).
+    /// `h = −Pᵀ (w − M_CB G R_jᵀ g)`: the elastic forces (4.12) and gravity, plus the fictitious
+    /// forces of [`super::FictitiousForces::FromMcb`] if selected.
     fn forces(
         &self,
         _t: f64,
         _q: &[f64],
-        _u: &[f64],
+        u: &[f64],
         gravity: &Vector3<f64>,
         scratch: &mut ElementScratch,
         h: &mut [f64],
@@ -159,6 +217,9 @@ impl Element for Superelement {
             *hj = -(0..self.n())
                 .map(|i| e.p[(i, j)] * (e.w[i] - e.f_g[i]))
                 .sum::<f64>();
+        }
+        if self.fictitious == super::FictitiousForces::FromMcb {
+            self.add_fictitious_forces(e, u, h);
         }
     }
 
@@ -222,15 +283,19 @@ impl Element for Superelement {
     #[allow(clippy::too_many_arguments)]
     fn force_tangents(
         &self,
-        _t: f64,
-        _q: &[f64],
-        _u: &[f64],
+        t: f64,
+        q: &[f64],
+        u: &[f64],
         gravity: &Vector3<f64>,
         scratch: &mut ElementScratch,
         dh_dq: MatMut<'_, f64>,
         mut dh_du: MatMut<'_, f64>,
-        _fd: &mut TangentScratch,
+        fd: &mut TangentScratch,
     ) {
+        if self.fictitious == super::FictitiousForces::FromMcb {
+            crate::element::finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, fd);
+            return;
+        }
         let e = scratch.get_mut::<SuperelementEval>();
         self.force_tangent(e, gravity, dh_dq);
         for j in 0..self.n() {

@@ -10,8 +10,11 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, UnitQuaternion, Vector3, Vect
 
 /// Newton iterations of the floating-frame recovery before it is declared failed.
 const MAX_FRAME_ITERATIONS: usize = 30;
-/// Convergence of the frame recovery: `|Δx_j| / length + |Δφ_j|` below this.
+/// Convergence of the frame recovery: `|Δx_j| / length + |Δφ_j|` below this, or below
+/// [`FRAME_ROUNDOFF`] and no longer falling (the round-off floor of the local coordinates).
 const FRAME_TOLERANCE: f64 = 1e-14;
+/// Steps below this that stop falling quadratically are at the round-off floor.
+const FRAME_ROUNDOFF: f64 = 1e-10;
 
 /// The evaluated state of a [`Superelement`] (its [`crate::ElementScratch`]).
 #[derive(Debug, Clone)]
@@ -68,8 +71,12 @@ pub(super) struct TangentWork {
     pub a: DMatrix<f64>,
     pub b: DMatrix<f64>,
     pub c: DMatrix<f64>,
-    /// Local velocities `P u`.
+    /// Local velocities `w = P u`.
     pub vel: DVector<f64>,
+    /// Local momenta `μ = M_CB w`.
+    pub mom: DVector<f64>,
+    /// A local work vector.
+    pub tmp: DVector<f64>,
 }
 
 impl SuperelementEval {
@@ -105,6 +112,8 @@ impl SuperelementEval {
                 b: sq(),
                 c: sq(),
                 vel: DVector::zeros(n),
+                mom: DVector::zeros(n),
+                tmp: DVector::zeros(n),
             },
         }
     }
@@ -217,6 +226,7 @@ impl Superelement {
         self.read_nodes(q, e);
         self.frame_guess(e);
         e.iterations = 0;
+        let mut last_step = f64::INFINITY;
         loop {
             self.local_coordinates(q, e)?;
             let mut c = Vector6::zeros();
@@ -235,9 +245,10 @@ impl Superelement {
                     iterations: e.iterations,
                 });
             }
-            if step < FRAME_TOLERANCE {
+            if step < FRAME_TOLERANCE || (step < FRAME_ROUNDOFF && step > 0.1 * last_step) {
                 return Ok(());
             }
+            last_step = step;
             e.x_j += e.rj * d.fixed_rows::<3>(0);
             e.r_j *= UnitQuaternion::from_scaled_axis(d.fixed_rows::<3>(3).into_owned());
             e.rj = e.r_j.to_rotation_matrix().into_inner();

@@ -52,6 +52,10 @@ pub enum FictitiousForces {
     /// the accelerations alone).
     #[default]
     Neglected,
+    /// The velocity terms of the Lagrange equations of the kinetic energy
+    /// `T = ½ vᵀ Pᵀ M_CB P v` that the mass matrix (4.9) implies (`docs/engine.md`): with these
+    /// the body conserves `T + V`; their tangent is taken by finite differences.
+    FromMcb,
 }
 
 /// Bad superelement data.

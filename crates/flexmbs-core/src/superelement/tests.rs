@@ -126,3 +126,120 @@ fn tangent_equals_finite_difference_jacobian() {
         }
     }
 }
+
+/// The fictitious forces of `T = ½ vᵀ M(q) v` satisfy the power identity of the Lagrange
+/// equations, `vᵀ h_C = −½ vᵀ (dM/dt) v` (gyroscopic part does no work), with `dM/dt` by
+/// central differences along `q ⊕ ±ε v`.
+#[test]
+fn fictitious_forces_satisfy_the_power_identity() {
+    let data = tube_segment(0.3, 2, FrameLocation::CentreOfMass);
+    let with = Superelement::new(data.clone())
+        .unwrap()
+        .with_fictitious_forces(FictitiousForces::FromMcb);
+    let without = Superelement::new(data).unwrap();
+    let (q, _) = deformed_state(&with, 0.3);
+    let n = with.nu();
+    let u: Vec<f64> = (0..n).map(|i| ((i * 7 % 11) as f64 - 5.0) * 0.3).collect();
+    let g = Vector3::zeros();
+    let h_of = |se: &Superelement| {
+        let mut s = se.evaluated(&q, &u).unwrap();
+        let mut h = vec![0.0; n];
+        se.forces(0.0, &q, &u, &g, &mut s, &mut h);
+        h
+    };
+    let (h1, h0) = (h_of(&with), h_of(&without));
+    let power: f64 = (0..n).map(|i| u[i] * (h1[i] - h0[i])).sum();
+    let ke = |dq: f64| {
+        let dv: Vec<f64> = u.iter().map(|x| x * dq).collect();
+        let mut qp = vec![0.0; q.len()];
+        with.integrate_position(&q, &dv, &mut qp);
+        let mut s = with.evaluated(&qp, &u).unwrap();
+        with.kinetic_energy(&qp, &u, &mut s)
+    };
+    let eps = 1e-6;
+    let dt_m = (ke(eps) - ke(-eps)) / (2.0 * eps); // ½ vᵀ (dM/dt) v
+    println!("vᵀ h_C = {power:e}, −½ vᵀ Ṁ v = {:e}", -dt_m);
+    assert!(
+        (power + dt_m).abs() < 1e-6 * dt_m.abs().max(1e-3),
+        "{power} vs {}",
+        -dt_m
+    );
+}
+
+/// One interface point with the floating frame on it is a rigid body: with
+/// [`FictitiousForces::FromMcb`] the forces are the exact rigid-body velocity terms about a point
+/// off the centre of mass, `h_t = −m R (ω̄ × (ω̄ × c))`, `h_r = −ω̄ × J ω̄` (`J` about the point).
+#[test]
+fn one_interface_point_is_a_rigid_body_with_exact_gyroscopic_forces() {
+    use nalgebra::{DMatrix, Matrix3};
+    let (m, c) = (2.5, Vector3::new(0.3, -0.1, 0.2));
+    let j_c = Matrix3::new(0.4, 0.05, -0.02, 0.05, 0.3, 0.01, -0.02, 0.01, 0.2);
+    let cs = crate::rotation::skew(&c);
+    let j = j_c - m * cs * cs; // about the point
+    let mut m_cb = DMatrix::zeros(6, 6);
+    m_cb.view_mut((0, 0), (3, 3))
+        .copy_from(&(Matrix3::identity() * m));
+    m_cb.view_mut((0, 3), (3, 3)).copy_from(&(-m * cs));
+    m_cb.view_mut((3, 0), (3, 3)).copy_from(&(m * cs));
+    m_cb.view_mut((3, 3), (3, 3)).copy_from(&j);
+    let data = SuperelementData {
+        interfaces: vec![Interface {
+            position: Vector3::zeros(),
+            rotation: Matrix3::identity(),
+        }],
+        internal_modes: 0,
+        m_cb,
+        k_cb: DMatrix::zeros(6, 6),
+        phi_cb: DMatrix::identity(6, 6),
+        centre_of_mass: c,
+    };
+    let se = Superelement::new(data)
+        .unwrap()
+        .with_fictitious_forces(FictitiousForces::FromMcb);
+    let (mut q, mut u) = (vec![0.0; 7], vec![0.0; 6]);
+    let r = Rotation3::from_scaled_axis(Vector3::new(0.3, -0.8, 0.5));
+    se.set_pose(&mut q, &Vector3::new(1.0, 2.0, -1.0), r.matrix());
+    u.copy_from_slice(&[0.4, -1.0, 2.0, 3.0, -5.0, 7.0]);
+    let mut s = se.evaluated(&q, &u).unwrap();
+    let mut h = vec![0.0; 6];
+    se.forces(0.0, &q, &u, &Vector3::zeros(), &mut s, &mut h);
+    let w = Vector3::new(u[3], u[4], u[5]);
+    let h_t = -m * r.matrix() * w.cross(&w.cross(&c));
+    let h_r = -w.cross(&(j * w));
+    let exact = [h_t[0], h_t[1], h_t[2], h_r[0], h_r[1], h_r[2]];
+    for i in 0..6 {
+        assert!(
+            (h[i] - exact[i]).abs() < 1e-12 * 100.0,
+            "{h:?} vs {exact:?}"
+        );
+    }
+}
+
+/// Exact matrices: the elastic forces are minus the gradient of `½ q_locᵀ K_CB q_loc` along
+/// `q ⊕ dv` (central differences).
+#[test]
+fn exact_elastic_forces_are_the_gradient_of_the_strain_energy() {
+    let se = Superelement::new(tube_segment(0.3, 2, FrameLocation::CentreOfMass)).unwrap();
+    let (q, u) = deformed_state(&se, 0.3);
+    let n = se.nu();
+    let mut s = se.evaluated(&q, &u).unwrap();
+    let mut h = vec![0.0; n];
+    se.forces(0.0, &q, &u, &Vector3::zeros(), &mut s, &mut h);
+    let scale = h.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    for j in 0..n {
+        let energy = |e: f64| {
+            let mut dv = vec![0.0; n];
+            dv[j] = e;
+            let mut qp = vec![0.0; q.len()];
+            se.integrate_position(&q, &dv, &mut qp);
+            se.elastic_energy(&qp)
+        };
+        let grad = (energy(1e-6) - energy(-1e-6)) / 2e-6;
+        assert!(
+            (h[j] + grad).abs() < 1e-6 * scale,
+            "{j}: {} vs {}",
+            h[j],
+            -grad
+        );
+    }
+}
