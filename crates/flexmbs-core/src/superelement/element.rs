@@ -190,8 +190,8 @@ impl Element for Superelement {
     /// `M = Pᵀ M_CB P` (4.9).
     fn mass_matrix(&self, _q: &[f64], scratch: &mut ElementScratch, mut m: MatMut<'_, f64>) {
         let e = scratch.get_mut::<SuperelementEval>();
-        e.work.a.gemm(1.0, &self.data.m_cb, &e.p, 0.0);
-        e.work.b.gemm_tr(1.0, &e.p, &e.work.a, 0.0);
+        super::product_into(&mut e.work.a, &self.data.m_cb, &e.p, false);
+        super::product_into(&mut e.work.b, &e.p, &e.work.a, true);
         for i in 0..self.n() {
             for j in 0..self.n() {
                 m[(i, j)] = e.work.b[(i, j)];
@@ -326,13 +326,23 @@ impl Element for Superelement {
         scratch: &mut ElementScratch,
     ) -> f64 {
         let e = scratch.get_mut::<SuperelementEval>();
-        let shift = self.m_g.transpose() * &e.q_loc;
+        let mut shift = Vector3::zeros();
+        for c in 0..3 {
+            shift[c] = (0..self.n()).map(|i| self.m_g[(i, c)] * e.q_loc[i]).sum();
+        }
         let first_moment =
             self.mass * e.x_j + e.rj * (self.mass * self.data.centre_of_mass + shift);
         -gravity.dot(&first_moment)
     }
 
-    /// `½ q_locᵀ K_CB q_loc` (recovers the floating frame in a fresh evaluation: allocates).
+    /// `½ q_locᵀ K_CB q_loc` of the evaluated state.
+    fn elastic_energy_evaluated(&self, _q: &[f64], scratch: &mut ElementScratch) -> f64 {
+        let e = scratch.get_mut::<SuperelementEval>();
+        0.5 * e.q_loc.dot(&e.s)
+    }
+
+    /// `½ q_locᵀ K_CB q_loc` (recovers the floating frame in a fresh evaluation: allocates; the
+    /// energy output uses [`Element::elastic_energy_evaluated`]).
     fn elastic_energy(&self, q: &[f64]) -> f64 {
         let mut e = SuperelementEval::new(self);
         match self.evaluate(q, &mut e) {

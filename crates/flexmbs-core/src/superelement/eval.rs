@@ -143,10 +143,7 @@ impl Superelement {
     /// origin the mean of the origins the interfaces imply with it (`x_k − R_j x_k0`).
     fn frame_guess(&self, e: &mut SuperelementEval) {
         let ni = self.n_interfaces();
-        let implied = |k: usize| {
-            let (_, r0) = self.interface_reference(k);
-            e.node_p[k] * UnitQuaternion::from_matrix(r0).inverse()
-        };
+        let implied = |k: usize| e.node_p[k] * self.r0_inv[k];
         let (a, b) = (implied(0), implied(ni - 1));
         let half = 0.5 * log_quaternion(&(a.inverse() * b));
         e.r_j = a * UnitQuaternion::from_scaled_axis(half);
@@ -164,10 +161,10 @@ impl Superelement {
         let rj_inv = e.r_j.inverse();
         e.phi_rig.fill(0.0);
         for k in 0..self.n_interfaces() {
-            let (x0, r0) = self.interface_reference(k);
+            let (x0, _) = self.interface_reference(k);
             let r = rjt * (e.node_x[k] - e.x_j);
             let u = r - x0;
-            let rel = rj_inv * e.node_p[k] * UnitQuaternion::from_matrix(r0).inverse();
+            let rel = rj_inv * e.node_p[k] * self.r0_inv[k];
             let theta = log_quaternion(&rel);
             e.q_loc.fixed_rows_mut::<3>(6 * k).copy_from(&u);
             e.q_loc.fixed_rows_mut::<3>(6 * k + 3).copy_from(&theta);

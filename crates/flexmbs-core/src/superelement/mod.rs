@@ -207,6 +207,8 @@ pub struct Superelement {
     t0: DMatrix<f64>,
     /// A length for the frame-recovery tolerance (largest interface distance, at least 1e-3).
     length: f64,
+    /// `R_k0⁻¹` as unit quaternions.
+    r0_inv: Vec<nalgebra::UnitQuaternion<f64>>,
 }
 
 impl Superelement {
@@ -248,7 +250,13 @@ impl Superelement {
             .iter()
             .map(|i| i.position.norm())
             .fold(1e-3, f64::max);
+        let r0_inv = data
+            .interfaces
+            .iter()
+            .map(|i| nalgebra::UnitQuaternion::from_matrix(&i.rotation).inverse())
+            .collect();
         Ok(Self {
+            r0_inv,
             data,
             matrices: TransformMatrices::default(),
             fictitious: FictitiousForces::default(),
@@ -306,4 +314,25 @@ impl Superelement {
 /// `B⁻¹` of a 6 x 6 matrix, `None` if singular.
 fn invert6(b: &Matrix6<f64>) -> Option<Matrix6<f64>> {
     b.try_inverse()
+}
+
+/// `c = a b` (`transpose_a`: `c = aᵀ b`) by plain loops: nalgebra's `gemm` allocates packing
+/// buffers, and these products run inside time steps (sizes of a few dozen).
+fn product_into(c: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>, transpose_a: bool) {
+    let (rows, inner) = if transpose_a {
+        (a.ncols(), a.nrows())
+    } else {
+        (a.nrows(), a.ncols())
+    };
+    debug_assert_eq!((c.nrows(), c.ncols(), inner), (rows, b.ncols(), b.nrows()));
+    for j in 0..b.ncols() {
+        for i in 0..rows {
+            let mut s = 0.0;
+            for k in 0..inner {
+                let aik = if transpose_a { a[(k, i)] } else { a[(i, k)] };
+                s += aik * b[(k, j)];
+            }
+            c[(i, j)] = s;
+        }
+    }
 }

@@ -31,13 +31,14 @@ impl Superelement {
                 e.work.z[(i, j)] = (0..6).map(|r| e.b_inv[(i, r)] * e.phi_t[(r, j)]).sum();
             }
         }
-        e.work.zp.gemm(1.0, &e.work.z, &e.p, 0.0);
+        super::product_into(&mut e.work.zp, &e.work.z, &e.p, false);
     }
 
     /// `T`, `W = Λ T` and `W P` into `e.work`.
     fn local_variation(&self, e: &mut SuperelementEval) {
         let n = self.n();
-        e.work.t.gemm(-1.0, &e.phi_rig, &e.work.z, 0.0);
+        super::product_into(&mut e.work.t, &e.phi_rig, &e.work.z, false);
+        e.work.t.neg_mut();
         for i in 0..n {
             e.work.t[(i, i)] += 1.0;
         }
@@ -54,17 +55,17 @@ impl Superelement {
                 }
             }
         }
-        e.work.wp.gemm(1.0, &e.work.wm, &e.p, 0.0);
+        super::product_into(&mut e.work.wp, &e.work.wm, &e.p, false);
     }
 
     /// `L` of the module docs into `e.work.a`.
     fn force_variation(&self, e: &mut SuperelementEval) {
         match self.matrices {
             TransformMatrices::Approximated => {
-                e.work.a.gemm_tr(1.0, &self.t0, &self.data.k_cb, 0.0);
+                super::product_into(&mut e.work.a, &self.t0, &self.data.k_cb, true);
             }
             TransformMatrices::Exact => {
-                e.work.a.gemm_tr(1.0, &e.work.wm, &self.data.k_cb, 0.0);
+                super::product_into(&mut e.work.a, &e.work.wm, &self.data.k_cb, true);
                 let n = self.n();
                 for k in 0..self.n_interfaces() {
                     // Z_rᵀ F̂: columns of the translation of interface k
@@ -106,7 +107,7 @@ impl Superelement {
         self.local_variation(e);
         self.force_variation(e);
         // b = L W P − M_G g~ Z_r P  (local rows), then c = Pᵀ b
-        e.work.b.gemm(1.0, &e.work.a, &e.work.wp, 0.0);
+        super::product_into(&mut e.work.b, &e.work.a, &e.work.wp, false);
         let gs = skew(&g_loc);
         for j in 0..n {
             let zr = gs * Vector3::new(e.work.zp[(3, j)], e.work.zp[(4, j)], e.work.zp[(5, j)]);
@@ -115,7 +116,7 @@ impl Superelement {
                     self.m_g[(i, 0)] * zr[0] + self.m_g[(i, 1)] * zr[1] + self.m_g[(i, 2)] * zr[2];
             }
         }
-        e.work.c.gemm_tr(1.0, &e.p, &e.work.b, 0.0);
+        super::product_into(&mut e.work.c, &e.p, &e.work.b, true);
         self.add_rotation_variation(e);
         for j in 0..n {
             for i in 0..n {
