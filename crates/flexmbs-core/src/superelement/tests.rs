@@ -110,6 +110,27 @@ fn rigid_placement_has_no_deformation_and_the_mass_of_the_tube() {
     assert!((se.mass() - 2700.0 * a * 0.3).abs() < 1e-12 * se.mass());
 }
 
+/// The exact and approximated matrices give different forces at a deformed state (so the
+/// tangent test below checks two different functions).
+#[test]
+fn exact_and_approximated_forces_differ_at_a_deformed_state() {
+    let data = tube_segment(0.3, 0, FrameLocation::CentreOfMass);
+    let forces = |m: TransformMatrices| {
+        let se = Superelement::new(data.clone()).unwrap().with_matrices(m);
+        let (q, u) = deformed_state(&se, 0.3);
+        let mut s = se.evaluated(&q, &u).unwrap();
+        let mut h = vec![0.0; se.nu()];
+        se.forces(0.0, &q, &u, &Vector3::zeros(), &mut s, &mut h);
+        nalgebra::DVector::from_vec(h)
+    };
+    let (a, b) = (
+        forces(TransformMatrices::Exact),
+        forces(TransformMatrices::Approximated),
+    );
+    let rel = (&a - &b).amax() / a.amax();
+    assert!(rel > 1e-3, "{rel:e}");
+}
+
 #[test]
 fn tangent_equals_finite_difference_jacobian() {
     let g = Vector3::new(0.0, -9.81, 3.0);
@@ -242,4 +263,41 @@ fn exact_elastic_forces_are_the_gradient_of_the_strain_energy() {
             -grad
         );
     }
+}
+
+/// Bad data and unevaluable states give typed errors.
+#[test]
+fn bad_input_gives_typed_errors() {
+    let good = tube_segment(0.3, 0, FrameLocation::CentreOfMass);
+    let mut d = good.clone();
+    d.phi_cb.fill(0.0);
+    assert!(matches!(
+        Superelement::new(d),
+        Err(SuperelementError::SingularFrameCondition { .. })
+    ));
+    let mut d = good.clone();
+    d.m_cb = nalgebra::DMatrix::zeros(6, 6);
+    assert!(matches!(
+        Superelement::new(d),
+        Err(SuperelementError::Dimension { what: "M_CB", .. })
+    ));
+    let mut d = good.clone();
+    d.k_cb[(0, 1)] += 1.0;
+    assert!(matches!(
+        Superelement::new(d),
+        Err(SuperelementError::NotSymmetric { what: "K_CB" })
+    ));
+    let mut d = good.clone();
+    d.interfaces.clear();
+    assert!(matches!(
+        Superelement::new(d),
+        Err(SuperelementError::NoInterface)
+    ));
+    let se = Superelement::new(good).unwrap();
+    let (mut q, u) = deformed_state(&se, 0.3);
+    q[0] = f64::NAN;
+    assert!(matches!(
+        se.evaluated(&q, &u),
+        Err(crate::ElementError::InternalSolve { .. })
+    ));
 }
