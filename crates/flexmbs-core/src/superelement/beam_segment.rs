@@ -41,19 +41,23 @@ pub struct BeamSegmentSpec {
 }
 
 /// The Craig-Bampton data of a beam segment along x (interfaces at its ends, axes parallel to the
-/// segment's).
+/// segment's), consistent FE mass.
 pub fn beam_segment(spec: &BeamSegmentSpec) -> Result<SuperelementData, SuperelementError> {
+    Ok(beam_segment_basis(spec, MassKind::Consistent)?.0)
+}
+
+/// [`beam_segment`] with the FE mass `mass`, also returning the FE model it reduces: the
+/// Craig-Bampton basis `V` (6 DOF per FE node, node `i` at `x = i L / n_e` from the first
+/// interface; columns = the superelement's local coordinates) and the assembled FE mass matrix.
+pub fn beam_segment_basis(
+    spec: &BeamSegmentSpec,
+    mass: MassKind,
+) -> Result<(SuperelementData, DMatrix<f64>, DMatrix<f64>), SuperelementError> {
     let ne = spec.elements.max(2).div_ceil(2) * 2;
     let nn = ne + 1;
     let ndof = 6 * nn;
     let le = spec.length / ne as f64;
-    let (ke, me) = beam_local(
-        le,
-        &spec.material,
-        &spec.section,
-        spec.theory,
-        MassKind::Consistent,
-    );
+    let (ke, me) = beam_local(le, &spec.material, &spec.section, spec.theory, mass);
     let (mut k, mut m) = (
         DMatrix::<f64>::zeros(ndof, ndof),
         DMatrix::<f64>::zeros(ndof, ndof),
@@ -116,12 +120,13 @@ pub fn beam_segment(spec: &BeamSegmentSpec) -> Result<SuperelementData, Superele
         position: Vector3::new(x - origin, 0.0, 0.0),
         rotation: Matrix3::identity(),
     };
-    Ok(SuperelementData {
+    let data = SuperelementData {
         interfaces: vec![at(0.0), at(spec.length)],
         internal_modes: nm,
         m_cb,
         k_cb,
         phi_cb,
         centre_of_mass: Vector3::new(0.5 * spec.length - origin, 0.0, 0.0),
-    })
+    };
+    Ok((data, v, m))
 }

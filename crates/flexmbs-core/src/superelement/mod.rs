@@ -27,7 +27,7 @@ mod tangent;
 #[cfg(test)]
 mod tests;
 
-pub use beam_segment::{beam_segment, BeamSegmentSpec, FrameLocation};
+pub use beam_segment::{beam_segment, beam_segment_basis, BeamSegmentSpec, FrameLocation};
 pub use eval::SuperelementEval;
 
 use crate::NodeKind;
