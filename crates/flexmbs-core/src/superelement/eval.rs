@@ -280,6 +280,8 @@ impl Superelement {
         e.s.gemv(1.0, &self.data.k_cb, &e.q_loc, 0.0);
         match self.matrices {
             TransformMatrices::Exact => {
+                // y = Λᵀ s, then w = Λᵀ ŝ (the buffer is moved out of `e` while `e.lam` is
+                // read: no allocation, a zero-length vector holds its place)
                 e.w.copy_from(&e.s);
                 let mut y = std::mem::replace(&mut e.w, DVector::zeros(0));
                 e.lam_t_apply(&mut y);

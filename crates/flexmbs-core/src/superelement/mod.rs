@@ -303,8 +303,7 @@ impl Superelement {
         self.data.interfaces.len()
     }
 
-    /// The floating frame's rigid-body transformation of the undeformed interface `k`: the
-    /// transform `(position, rotation)` of a body placed with its floating frame at the origin.
+    /// Undeformed pose `(x_k0, R_k0)` of interface `k` in the floating frame.
     fn interface_reference(&self, k: usize) -> (&Vector3<f64>, &Matrix3<f64>) {
         let itf = &self.data.interfaces[k];
         (&itf.position, &itf.rotation)
