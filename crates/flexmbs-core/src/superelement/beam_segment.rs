@@ -53,15 +53,67 @@ pub fn beam_segment_basis(
     spec: &BeamSegmentSpec,
     mass: MassKind,
 ) -> Result<(SuperelementData, DMatrix<f64>, DMatrix<f64>), SuperelementError> {
-    let ne = spec.elements.max(2).div_ceil(2) * 2;
-    let nn = ne + 1;
-    let ndof = 6 * nn;
+    let ne = even_elements(spec);
+    beam_segment_with_interfaces(spec, mass, &[0, ne])
+}
+
+/// Number of FE elements of the segment: `spec.elements` rounded up to an even number (a node at
+/// the centre of mass), at least 2.
+pub fn even_elements(spec: &BeamSegmentSpec) -> usize {
+    spec.elements.max(2).div_ceil(2) * 2
+}
+
+/// [`beam_segment_basis`] with interface points at the FE nodes `interface_nodes` (indices
+/// `0..=n_e`, node `i` at `x = i L / n_e`; [`even_elements`]), in that order: any number of
+/// interfaces (seed 001 §8.4).
+pub fn beam_segment_with_interfaces(
+    spec: &BeamSegmentSpec,
+    mass: MassKind,
+    interface_nodes: &[usize],
+) -> Result<(SuperelementData, DMatrix<f64>, DMatrix<f64>), SuperelementError> {
+    let ne = even_elements(spec);
+    let (k, m) = assemble_beam(spec, mass, ne);
+    if interface_nodes.is_empty() || interface_nodes.iter().any(|&i| i > ne) {
+        return Err(SuperelementError::NoInterface);
+    }
+    let v = craig_bampton_basis(&k, &m, interface_nodes, spec.internal_modes)?;
+    let nm = v.ncols() - 6 * interface_nodes.len();
+    let sym = |a: DMatrix<f64>| (&a + a.transpose()) * 0.5;
+    let m_cb = sym(v.transpose() * &m * &v);
+    let k_cb = sym(v.transpose() * &k * &v);
+    let (frame_node, origin) = match spec.frame {
+        FrameLocation::CentreOfMass => (ne / 2, 0.5 * spec.length),
+        FrameLocation::FirstInterface => (
+            interface_nodes[0],
+            spec.length * interface_nodes[0] as f64 / ne as f64,
+        ),
+    };
+    let phi_cb = v.rows(6 * frame_node, 6).into_owned();
+    let at = |node: usize| Interface {
+        position: Vector3::new(spec.length * node as f64 / ne as f64 - origin, 0.0, 0.0),
+        rotation: Matrix3::identity(),
+    };
+    let data = SuperelementData {
+        interfaces: interface_nodes.iter().map(|&i| at(i)).collect(),
+        internal_modes: nm,
+        m_cb,
+        k_cb,
+        phi_cb,
+        centre_of_mass: Vector3::new(0.5 * spec.length - origin, 0.0, 0.0),
+    };
+    Ok((data, v, m))
+}
+
+/// Stiffness and mass of `ne` equal beam elements along x (6 DOF per node).
+fn assemble_beam(
+    spec: &BeamSegmentSpec,
+    mass: MassKind,
+    ne: usize,
+) -> (DMatrix<f64>, DMatrix<f64>) {
+    let ndof = 6 * (ne + 1);
     let le = spec.length / ne as f64;
     let (ke, me) = beam_local(le, &spec.material, &spec.section, spec.theory, mass);
-    let (mut k, mut m) = (
-        DMatrix::<f64>::zeros(ndof, ndof),
-        DMatrix::<f64>::zeros(ndof, ndof),
-    );
+    let (mut k, mut m) = (DMatrix::zeros(ndof, ndof), DMatrix::zeros(ndof, ndof));
     for e in 0..ne {
         for i in 0..12 {
             for j in 0..12 {
@@ -70,19 +122,34 @@ pub fn beam_segment_basis(
             }
         }
     }
-    let boundary: Vec<usize> = (0..6).chain(6 * ne..6 * nn).collect();
-    let interior: Vec<usize> = (6..6 * ne).collect();
+    (k, m)
+}
+
+/// The Craig-Bampton basis `V` (ndof x (6 N_b + m)): unit interface DOFs with the static modes
+/// `Ψ = −K_II⁻¹ K_IB` in the interior, then `m` mass-normalized fixed-interface modes.
+fn craig_bampton_basis(
+    k: &DMatrix<f64>,
+    m: &DMatrix<f64>,
+    interface_nodes: &[usize],
+    internal_modes: usize,
+) -> Result<DMatrix<f64>, SuperelementError> {
+    let ndof = k.nrows();
+    let boundary: Vec<usize> = interface_nodes
+        .iter()
+        .flat_map(|&i| 6 * i..6 * i + 6)
+        .collect();
+    let interior: Vec<usize> = (0..ndof).filter(|p| !boundary.contains(p)).collect();
     let (nb, ni) = (boundary.len(), interior.len());
     let pick = |a: &DMatrix<f64>, r: &[usize], c: &[usize]| {
         DMatrix::from_fn(r.len(), c.len(), |i, j| a[(r[i], c[j])])
     };
-    let k_ii = pick(&k, &interior, &interior);
-    let k_ib = pick(&k, &interior, &boundary);
-    let m_ii = pick(&m, &interior, &interior);
+    let k_ii = pick(k, &interior, &interior);
+    let k_ib = pick(k, &interior, &boundary);
+    let m_ii = pick(m, &interior, &interior);
     let not_pd = |what: &'static str| SuperelementError::NotSymmetric { what };
     let chol_k = k_ii.clone().cholesky().ok_or(not_pd("K_II"))?;
     let psi = -chol_k.solve(&k_ib);
-    let nm = spec.internal_modes.min(ni);
+    let nm = internal_modes.min(ni);
     let phi_i = if nm > 0 {
         let l = m_ii.cholesky().ok_or(not_pd("M_II"))?.l();
         let l_inv = l.clone().try_inverse().ok_or(not_pd("M_II"))?;
@@ -95,8 +162,7 @@ pub fn beam_segment_basis(
     } else {
         DMatrix::zeros(ni, 0)
     };
-    let n = nb + nm;
-    let mut v = DMatrix::<f64>::zeros(ndof, n);
+    let mut v = DMatrix::<f64>::zeros(ndof, nb + nm);
     for (a, &p) in boundary.iter().enumerate() {
         v[(p, a)] = 1.0;
     }
@@ -108,25 +174,5 @@ pub fn beam_segment_basis(
             v[(p, nb + c)] = phi_i[(r, c)];
         }
     }
-    let sym = |a: DMatrix<f64>| (&a + a.transpose()) * 0.5;
-    let m_cb = sym(v.transpose() * &m * &v);
-    let k_cb = sym(v.transpose() * &k * &v);
-    let (frame_node, origin) = match spec.frame {
-        FrameLocation::CentreOfMass => (ne / 2, 0.5 * spec.length),
-        FrameLocation::FirstInterface => (0, 0.0),
-    };
-    let phi_cb = v.rows(6 * frame_node, 6).into_owned();
-    let at = |x: f64| Interface {
-        position: Vector3::new(x - origin, 0.0, 0.0),
-        rotation: Matrix3::identity(),
-    };
-    let data = SuperelementData {
-        interfaces: vec![at(0.0), at(spec.length)],
-        internal_modes: nm,
-        m_cb,
-        k_cb,
-        phi_cb,
-        centre_of_mass: Vector3::new(0.5 * spec.length - origin, 0.0, 0.0),
-    };
-    Ok((data, v, m))
+    Ok(v)
 }

@@ -27,7 +27,10 @@ mod tangent;
 #[cfg(test)]
 mod tests;
 
-pub use beam_segment::{beam_segment, beam_segment_basis, BeamSegmentSpec, FrameLocation};
+pub use beam_segment::{
+    beam_segment, beam_segment_basis, beam_segment_with_interfaces, even_elements, BeamSegmentSpec,
+    FrameLocation,
+};
 pub use eval::SuperelementEval;
 
 use crate::NodeKind;

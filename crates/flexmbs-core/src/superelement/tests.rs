@@ -301,3 +301,68 @@ fn bad_input_gives_typed_errors() {
         Err(crate::ElementError::InternalSolve { .. })
     ));
 }
+
+/// Three interface points (a beam with interfaces at x = 0, L/4, L, floating frame at the centre
+/// of mass, an interior FE node): rigid placement is undeformed, the frame condition holds at a
+/// deformed state, and the tangent equals the finite-difference Jacobian (exact and approximated).
+#[test]
+fn three_interface_points() {
+    use flexmbs_fe::element::MassKind;
+    let spec = BeamSegmentSpec {
+        length: 0.4,
+        material: Material {
+            e: 70e9,
+            nu: 0.3,
+            rho: 2700.0,
+        },
+        section: BeamSection::tube(0.01, 0.001),
+        theory: BeamTheory::EulerBernoulli,
+        elements: 4,
+        internal_modes: 1,
+        frame: FrameLocation::CentreOfMass,
+    };
+    let (data, _, _) =
+        beam_segment_with_interfaces(&spec, MassKind::Consistent, &[0, 1, 4]).unwrap();
+    assert_eq!(data.interfaces.len(), 3);
+    for matrices in [TransformMatrices::Exact, TransformMatrices::Approximated] {
+        let se = Superelement::new(data.clone())
+            .unwrap()
+            .with_matrices(matrices);
+        assert_eq!(se.nu(), 19);
+        let (mut q, mut u) = (vec![0.0; se.nq()], vec![0.0; se.nu()]);
+        se.reference_coordinates(&mut q, &mut u);
+        let r = Rotation3::from_scaled_axis(Vector3::new(0.2, -0.9, 0.4));
+        se.set_pose(&mut q, &Vector3::new(0.3, 0.1, -0.2), r.matrix());
+        let mut s = se.evaluated(&q, &u).unwrap();
+        assert!(s.get_mut::<SuperelementEval>().q_loc.amax() < 1e-14);
+        // deform: move and turn every interface
+        for k in 0..3 {
+            let o = se.q_offset[k];
+            let p = crate::NodeKind::Pose;
+            let turn = Rotation3::from_scaled_axis(Vector3::new(0.1, 0.2 * k as f64, -0.3));
+            let rk = p.rotation(&q[o..o + 7]) * turn.matrix();
+            let xk = Vector3::new(q[o], q[o + 1], q[o + 2])
+                + Vector3::new(0.004, -0.006, 0.003) * k as f64;
+            p.set_pose(&mut q[o..o + 7], &xk, &rk);
+        }
+        let mut s = se.evaluated(&q, &u).unwrap();
+        let c = &se.data.phi_cb * &s.get_mut::<SuperelementEval>().q_loc;
+        assert!(c.amax() < 1e-13, "{c}");
+        let n = se.nu();
+        let (mut a, mut a_u) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
+        let (mut f, mut f_u) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
+        let g = Vector3::new(0.0, -9.81, 0.0);
+        let mut fd = TangentScratch::new(&se);
+        se.force_tangents(0.0, &q, &u, &g, &mut s, a.as_mut(), a_u.as_mut(), &mut fd);
+        finite_difference_tangents(&se, 0.0, &q, &u, &g, f.as_mut(), f_u.as_mut(), &mut fd);
+        let (mut err, mut scale) = (0.0_f64, 0.0_f64);
+        for i in 0..n {
+            for j in 0..n {
+                err = err.max((a[(i, j)] - f[(i, j)]).abs());
+                scale = scale.max(f[(i, j)].abs());
+            }
+        }
+        println!("{matrices:?}: {:e}", err / scale);
+        assert!(err < 1e-6 * scale, "{matrices:?}: {:e}", err / scale);
+    }
+}
