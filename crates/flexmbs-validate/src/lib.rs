@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod cantilever_static;
+pub mod cantilever_transient;
 pub mod complex_beam_ccx;
 pub mod complex_beam_frequencies;
 pub mod elastica;
@@ -54,6 +55,11 @@ pub fn cases() -> Vec<Case> {
             name: "cantilever_static",
             description: "seed 001 §5.1/5.3: cantilever tube under a vertical tip force, chains of superelements vs the elastica",
             run: cantilever_static::run,
+        },
+        Case {
+            name: "cantilever_transient",
+            description: "seed 001 §5.2: cantilever tube under a ramped tip force, 1/3/10 superelements, floating frame at the centre of mass or at the interface (qualitative)",
+            run: cantilever_transient::run,
         },
     ]
 }
