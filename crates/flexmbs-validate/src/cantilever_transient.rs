@@ -19,9 +19,12 @@ const L: f64 = 1.0;
 const FORCE: f64 = 2500.0;
 const T_END: f64 = 0.2;
 
+/// A tip history `(t, y)` and the error that ended the run early, if any.
+type Run = (Vec<(f64, f64)>, Option<String>);
+
 /// Tip vertical position `(t, y)` of a clamped chain of `n` superelements, or the error that
 /// ended the run with the part computed so far.
-fn simulate(n: usize, frame: FrameLocation, h: f64) -> Result<(Vec<(f64, f64)>, Option<String>)> {
+fn simulate(n: usize, frame: FrameLocation, h: f64) -> Result<Run> {
     let mut spec = ModelSpec::new();
     let nodes: Vec<_> = (0..=n)
         .map(|i| spec.add_node(&format!("n{i}"), NodeKind::Pose))
