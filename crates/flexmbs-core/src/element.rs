@@ -376,6 +376,12 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn elastic_energy(&self, _q: &[f64]) -> f64 {
         0.0
     }
+    /// [`Element::elastic_energy`] from the state evaluated in `scratch` (at `q`), as the energy
+    /// output calls it: elements whose strain energy needs the evaluation stage (superelements:
+    /// the recovered floating frame) override it. Default: [`Element::elastic_energy`].
+    fn elastic_energy_evaluated(&self, q: &[f64], _scratch: &mut ElementScratch) -> f64 {
+        self.elastic_energy(q)
+    }
     /// A fresh scratch evaluated at `(q, u)`: for set-up code and tests outside a time step
     /// (allocates). Time steps use the workspace's scratches.
     fn evaluated(&self, q: &[f64], u: &[f64]) -> Result<ElementScratch, ElementError> {

@@ -68,6 +68,7 @@ pub mod rigid;
 pub mod rotation;
 mod spec_initial;
 pub mod state;
+pub mod superelement;
 pub mod system;
 pub mod time_function;
 

@@ -523,7 +523,7 @@ pub fn energy(
         let (qb, ub) = body_slices(b, q, u);
         e.kinetic += b.element.kinetic_energy(qb, ub, s);
         e.gravity += b.element.gravity_potential(qb, &model.gravity, s);
-        e.elastic += b.element.elastic_energy(qb);
+        e.elastic += b.element.elastic_energy_evaluated(qb, s);
     }
     e.springs = model.loads.iter().map(|l| l.potential_energy(frames)).sum();
     e

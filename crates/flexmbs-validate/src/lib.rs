@@ -4,8 +4,11 @@
 //! `../shared/reference/benchmarks.md`).
 #![warn(missing_docs)]
 
+pub mod cantilever_static;
+pub mod cantilever_transient;
 pub mod complex_beam_ccx;
 pub mod complex_beam_frequencies;
+pub mod elastica;
 pub mod fe_cantilever_modes;
 pub mod result;
 pub mod rotating_beam;
@@ -47,6 +50,16 @@ pub fn cases() -> Vec<Case> {
             name: "rotating_beam",
             description: "seed 001 §5.2: rotating tube, FFR body with and without geometric stiffening vs a nonlinear finite-segment reference",
             run: rotating_beam::run,
+        },
+        Case {
+            name: "cantilever_static",
+            description: "seed 001 §5.1/5.3: cantilever tube under a vertical tip force, chains of superelements vs the elastica",
+            run: cantilever_static::run,
+        },
+        Case {
+            name: "cantilever_transient",
+            description: "seed 001 §5.2: cantilever tube under a ramped tip force, 1/3/10 superelements, floating frame at the centre of mass or at the interface (qualitative)",
+            run: cantilever_transient::run,
         },
     ]
 }
