@@ -89,7 +89,11 @@ fn interrupt_with(signal: &str) {
         .unwrap();
     assert!(kill.success());
     let status = child.wait().unwrap();
-    assert_eq!(status.code(), Some(130), "SIG{signal}: exit status {status:?}");
+    assert_eq!(
+        status.code(),
+        Some(130),
+        "SIG{signal}: exit status {status:?}"
+    );
     let r = read_results(&results).unwrap();
     let RunStatus::Interrupted { t } = r.status else {
         panic!("status {:?}", r.status);

@@ -376,6 +376,14 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn elastic_energy(&self, _q: &[f64]) -> f64 {
         0.0
     }
+    /// The size of the largest gross force terms whose difference the forces are (N): the
+    /// round-off of `h` is about `eps` times this, and Newton's round-off floor is judged against it
+    /// ([`crate::integrator::NewtonSettings`]). Elements whose forces come from differences of
+    /// absolute coordinates (superelements: stiffness times positions) return it; default 0 (the
+    /// forces themselves are the scale).
+    fn force_scale(&self, _q: &[f64]) -> f64 {
+        0.0
+    }
     /// [`Element::elastic_energy`] from the state evaluated in `scratch` (at `q`), as the energy
     /// output calls it: elements whose strain energy needs the evaluation stage (superelements:
     /// the recovered floating frame) override it. Default: [`Element::elastic_energy`].

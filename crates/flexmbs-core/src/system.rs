@@ -91,6 +91,18 @@ pub fn evaluate_kinematics(
     Ok(())
 }
 
+/// The largest [`crate::Element::force_scale`] of the bodies at `q` (0 if none has one).
+pub fn force_scale(model: &Model, q: &[f64]) -> f64 {
+    model
+        .bodies
+        .iter()
+        .map(|b| {
+            b.element
+                .force_scale(&q[b.q_offset..b.q_offset + b.element.nq()])
+        })
+        .fold(0.0, f64::max)
+}
+
 /// The body's (contiguous) element-local `q` and `u`.
 fn body_slices<'a>(b: &crate::model::Body, q: &'a [f64], u: &'a [f64]) -> (&'a [f64], &'a [f64]) {
     (

@@ -529,7 +529,10 @@ fn newton_residual(
     system::update_constraints(model, t1, sys);
     let r_acc = &mut b.rhs[..nu];
     saddle.mass_times_vector(model, &b.q_new, &b.u_dot_new, sys, r_acc);
-    let f_scale = super::max_abs(r_acc).max(super::max_abs(&sys.h));
+    // the terms r balances, and the gross terms whose differences the element forces are
+    let f_scale = super::max_abs(r_acc)
+        .max(super::max_abs(&sys.h))
+        .max(system::force_scale(model, &b.q_new));
     // -h, then + G^T lambda (column by column of G, rows in order)
     for (r, h) in r_acc.iter_mut().zip(&sys.h) {
         *r -= h;

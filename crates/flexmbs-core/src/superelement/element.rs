@@ -91,6 +91,22 @@ impl Superelement {
 }
 
 impl Element for Superelement {
+    /// `|K_CB|_∞ max_k |x_k|`: the elastic forces are `K_CB` times local coordinates that are
+    /// differences of absolute interface positions, so their round-off is about `eps` times this
+    /// (3.5e-9 N for a 0.1 m tube segment at x = 0.55 m).
+    fn force_scale(&self, q: &[f64]) -> f64 {
+        let k = &self.data.k_cb;
+        let k_inf = (0..k.nrows())
+            .map(|i| k.row(i).iter().map(|x| x.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        let x_max = self
+            .q_offset
+            .iter()
+            .map(|&o| Vector3::new(q[o], q[o + 1], q[o + 2]).norm())
+            .fold(0.0, f64::max);
+        k_inf * x_max
+    }
+
     fn node_kinds(&self) -> &[NodeKind] {
         &self.kinds
     }
