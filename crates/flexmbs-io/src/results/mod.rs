@@ -282,7 +282,7 @@ pub enum ResultsError {
         close: Vec<String>,
     },
     /// No series was named for a plot.
-    #[error("{path}: no series to plot (name at least one, see Results::series_names)")]
+    #[error("{path}: no series to plot (name at least one; `flexmbs plot RESULTS --list` lists them)")]
     NoSeries {
         /// Plot file asked for.
         path: PathBuf,
@@ -313,7 +313,7 @@ pub enum ResultsError {
 
 fn close_hint(close: &[String]) -> String {
     if close.is_empty() {
-        " (see Results::series_names for the list)".into()
+        " (`flexmbs plot RESULTS --list` lists the series)".into()
     } else {
         format!("; did you mean {}?", close.join(", "))
     }
