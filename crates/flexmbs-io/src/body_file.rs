@@ -34,6 +34,15 @@ pub const FILE_EXTENSION: &str = "fmb.h5";
 /// Errors of writing or reading a reduced-body file. Every variant names the file.
 #[derive(Debug, Error)]
 pub enum BodyFileError {
+    /// The output path holds something that is not a regular file (a symlink, device, FIFO or
+    /// folder): it is not replaced.
+    #[error("{path}: is {kind}; refusing to replace it (choose another output path)")]
+    UnsafeTarget {
+        /// The path.
+        path: PathBuf,
+        /// What is there.
+        kind: &'static str,
+    },
     /// The file could not be read or written at the operating-system level.
     #[error("{path}: {source}")]
     Io {
@@ -207,6 +216,12 @@ fn write_parts(
     }
     if let Some(r) = rotary_inertia {
         rotary::check(path, rotary::ROTARY_INERTIA, r, body.num_nodes())?;
+    }
+    if let Some(kind) = crate::output_safety::unsafe_target_kind(path) {
+        return Err(BodyFileError::UnsafeTarget {
+            path: path.to_path_buf(),
+            kind,
+        });
     }
     let bytes = h5::encode_body(path, body, geometric, rotary_inertia)?;
     let tmp = temporary_sibling(path);

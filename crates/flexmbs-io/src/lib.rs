@@ -14,6 +14,7 @@ pub mod inp_writer;
 pub mod model;
 pub mod model_check;
 mod model_locate;
+pub mod output_safety;
 pub mod plot;
 pub mod results;
 pub mod seed;

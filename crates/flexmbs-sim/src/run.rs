@@ -110,6 +110,9 @@ pub enum RunError {
     /// Writing or reading results failed.
     #[error(transparent)]
     Results(#[from] ResultsError),
+    /// Another run writes into the output folder (or its lock cannot be created).
+    #[error(transparent)]
+    Locked(#[from] flexmbs_io::output_safety::LockError),
     /// The output folder could not be created.
     #[error("cannot create the output folder {}: {source} (choose another with -o)", path.display())]
     Io {
@@ -389,6 +392,8 @@ pub fn run_model(
         path: out.clone(),
         source,
     })?;
+    // one run per output folder: a second one would interleave its files with ours
+    let _lock = flexmbs_io::output_safety::OutputLock::acquire(out)?;
     let m = &cm.model;
     let (coordinates, velocities, multipliers) = coordinate_names(m, &cm.bodies);
     let layout = ResultsLayout {

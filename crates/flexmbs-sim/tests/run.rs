@@ -700,3 +700,42 @@ fn static_start_refuses_initial_velocities() {
         "{msg}"
     );
 }
+
+/// One run per output folder: a folder locked by a live process is refused naming it; and an
+/// output file that is a symbolic link is refused, not replaced (its target stays as it was).
+#[cfg(unix)]
+#[test]
+fn output_folder_lock_and_symlinked_results_are_refused() {
+    use flexmbs_io::output_safety::LOCK_FILE;
+    let file = std::env::temp_dir().join("flexmbs-lock-model.toml");
+    let cm = flexmbs_sim::compile_model(CARDAN_SPIN, &file).unwrap();
+    let out = out_dir("locked");
+    std::fs::create_dir_all(&out).unwrap();
+    let mut child = std::process::Command::new("sleep")
+        .arg("5")
+        .spawn()
+        .unwrap();
+    std::fs::write(out.join(LOCK_FILE), child.id().to_string()).unwrap();
+    let err = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap_err();
+    assert!(matches!(err, RunError::Locked(_)), "{err}");
+    assert!(err.to_string().contains(&child.id().to_string()), "{err}");
+    assert!(
+        !out.join("results.h5").exists(),
+        "nothing written into the locked folder"
+    );
+    child.kill().unwrap();
+    child.wait().unwrap();
+    // results.h5 as a symlink to a file that must survive
+    let out = out_dir("symlink");
+    std::fs::create_dir_all(&out).unwrap();
+    let precious = out.join("precious.txt");
+    std::fs::write(&precious, "keep me").unwrap();
+    std::os::unix::fs::symlink(&precious, out.join("results.h5")).unwrap();
+    let err = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap_err();
+    assert!(err.to_string().contains("symbolic link"), "{err}");
+    assert_eq!(std::fs::read_to_string(&precious).unwrap(), "keep me");
+    assert!(
+        !out.join(LOCK_FILE).exists(),
+        "the lock is released on the error path"
+    );
+}

@@ -122,6 +122,12 @@ pub(crate) fn build(
 /// Streams a results file to a temporary sibling of `path` (no whole-file buffer in memory) and
 /// renames it over `path`, so that readers only ever see the old or the new complete file.
 pub(crate) fn write_atomically(path: &Path, fb: FileBuilder) -> Result<(), ResultsError> {
+    if let Some(kind) = crate::output_safety::unsafe_target_kind(path) {
+        return Err(ResultsError::UnsafeTarget {
+            path: path.to_path_buf(),
+            kind,
+        });
+    }
     let tmp = super::temporary_sibling(path);
     let result = std::fs::File::create(&tmp)
         .map_err(hdf5_pure::Error::Io)

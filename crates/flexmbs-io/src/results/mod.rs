@@ -175,6 +175,15 @@ impl RunStatus {
 /// Errors of writing, reading and exporting results. Every variant names the file.
 #[derive(Debug, Error)]
 pub enum ResultsError {
+    /// The output path holds something that is not a regular file (a symlink, device, FIFO or
+    /// folder): it is not replaced.
+    #[error("{path}: is {kind}; refusing to replace it (choose another output path)")]
+    UnsafeTarget {
+        /// The path.
+        path: PathBuf,
+        /// What is there.
+        kind: &'static str,
+    },
     /// The file could not be read or written at the operating-system level.
     #[error("{path}: {source}")]
     Io {
@@ -282,7 +291,9 @@ pub enum ResultsError {
         close: Vec<String>,
     },
     /// No series was named for a plot.
-    #[error("{path}: no series to plot (name at least one; `flexmbs plot RESULTS --list` lists them)")]
+    #[error(
+        "{path}: no series to plot (name at least one; `flexmbs plot RESULTS --list` lists them)"
+    )]
     NoSeries {
         /// Plot file asked for.
         path: PathBuf,
