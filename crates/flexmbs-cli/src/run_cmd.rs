@@ -103,11 +103,12 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
     bar.finish_and_clear();
     match result {
         Ok(summary) => {
-            print_summary(
-                &summary,
-                statics,
-                matches!(cm.solver, SolverConfig::Dopri5 { .. }),
-            );
+            let work = match cm.solver {
+                SolverConfig::Dopri5 { .. } => "stage evaluations",
+                SolverConfig::Moreau { .. } => "contact-solver sweeps",
+                _ => "Newton iterations",
+            };
+            print_summary(&summary, statics, work);
             Ok(match summary.status {
                 RunStatus::Interrupted { .. } => EXIT_INTERRUPTED,
                 _ => 0,
@@ -128,7 +129,8 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
     }
 }
 
-fn print_summary(s: &RunSummary, statics: bool, explicit: bool) {
+/// The run's summary; `work` names what `newton_iterations` counts for the solver.
+fn print_summary(s: &RunSummary, statics: bool, work: &str) {
     if statics {
         println!(
             "statics completed: full load in {} load increments, {} Newton iterations, wall time {:.2} s",
@@ -157,11 +159,7 @@ fn print_summary(s: &RunSummary, statics: bool, explicit: bool) {
         "  steps {} (rejected {}), {} {}, wall time {:.2} s ({:.0} steps/s)",
         s.steps,
         s.rejected,
-        if explicit {
-            "stage evaluations"
-        } else {
-            "Newton iterations"
-        },
+        work,
         s.newton_iterations,
         s.wall_time.as_secs_f64(),
         s.steps as f64 / s.wall_time.as_secs_f64().max(1e-9)
