@@ -2,7 +2,7 @@
 
 use crate::compile::{BodyInfo, Ctx};
 use crate::error::SimError;
-use crate::schema::{ModelFile, OrientationSpec, SolverType, TimeSpec, TimeType};
+use crate::schema::{AdaptiveSpec, ModelFile, OrientationSpec, SolverType, TimeSpec, TimeType};
 use crate::signals::{series_names, Signal};
 use crate::units::{Dimension, Quantity};
 use flexmbs_core::integrator::{
@@ -398,36 +398,19 @@ pub(crate) fn solver_config(
             let adaptive = match &s.adaptive {
                 None => None,
                 Some(a) => {
-                    let mut c = AdaptiveSettings {
-                        h_init: h,
-                        ..AdaptiveSettings::default()
-                    };
-                    if let Some(q) = &a.h_min {
-                        c.h_min = positive(q, "solver.adaptive.h_min")?;
-                    }
-                    if let Some(q) = &a.h_max {
-                        c.h_max = positive(q, "solver.adaptive.h_max")?;
-                    }
-                    for (v, k, dst) in
-                        [(a.rtol, "rtol", &mut c.rtol), (a.atol, "atol", &mut c.atol)]
-                    {
-                        if let Some(v) = v {
-                            if v.is_nan() || v <= 0.0 {
-                                return Err(ctx.err(
-                                    &format!("solver.adaptive.{k}"),
-                                    format!("must be > 0, got {v}"),
-                                ));
-                            }
-                            *dst = v;
-                        }
-                    }
-                    if c.h_min > c.h_max {
-                        return Err(ctx.err("solver.adaptive.h_min", "h_min must not exceed h_max"));
-                    }
+                    let d = AdaptiveSettings::default();
+                    let [h_min, h_max, rtol, atol] =
+                        step_limits(ctx, a, [d.h_min, d.h_max, d.rtol, d.atol])?;
                     if rho_inf >= 1.0 && !mf.joint.is_empty() {
                         return Err(ctx.err("solver.rho_inf", ADAPTIVE_UNDAMPED));
                     }
-                    Some(c)
+                    Some(AdaptiveSettings {
+                        h_init: h,
+                        h_min,
+                        h_max,
+                        rtol,
+                        atol,
+                    })
                 }
             };
             Ok(SolverConfig::GenAlpha {
@@ -483,33 +466,17 @@ pub(crate) fn solver_config(
             let adaptive = match &s.adaptive {
                 None => None,
                 Some(a) => {
-                    let mut c = MoreauSscSettings {
+                    let d = MoreauSscSettings::default();
+                    let [h_min, h_max, rtol, atol] =
+                        step_limits(ctx, a, [d.h_min, d.h_max, d.rtol, d.atol])?;
+                    Some(MoreauSscSettings {
                         h_init: h,
-                        ..MoreauSscSettings::default()
-                    };
-                    if let Some(q) = &a.h_min {
-                        c.h_min = positive(q, "solver.adaptive.h_min")?;
-                    }
-                    if let Some(q) = &a.h_max {
-                        c.h_max = positive(q, "solver.adaptive.h_max")?;
-                    }
-                    for (v, k, dst) in
-                        [(a.rtol, "rtol", &mut c.rtol), (a.atol, "atol", &mut c.atol)]
-                    {
-                        if let Some(v) = v {
-                            if v.is_nan() || v <= 0.0 {
-                                return Err(ctx.err(
-                                    &format!("solver.adaptive.{k}"),
-                                    format!("must be > 0, got {v}"),
-                                ));
-                            }
-                            *dst = v;
-                        }
-                    }
-                    if c.h_min > c.h_max {
-                        return Err(ctx.err("solver.adaptive.h_min", "h_min must not exceed h_max"));
-                    }
-                    Some(c)
+                        h_min,
+                        h_max,
+                        rtol,
+                        atol,
+                        ..d
+                    })
                 }
             };
             Ok(SolverConfig::Moreau { h, t_end, adaptive })
@@ -529,6 +496,41 @@ pub(crate) fn solver_config(
             })
         }
     }
+}
+
+/// `[solver.adaptive]` of a step-size controlled solver: `[h_min, h_max, rtol, atol]`, each the
+/// given key or its default in `defaults` (steps in s and positive, tolerances positive,
+/// `h_min <= h_max`), errors at the key.
+fn step_limits(ctx: &Ctx, a: &AdaptiveSpec, defaults: [f64; 4]) -> Result<[f64; 4], SimError> {
+    let mut out = defaults;
+    for (i, (q, key)) in [(&a.h_min, "h_min"), (&a.h_max, "h_max")]
+        .into_iter()
+        .enumerate()
+    {
+        if let Some(q) = q {
+            let key = format!("solver.adaptive.{key}");
+            let v = ctx.q(q, Dimension::Time, &key)?;
+            if v <= 0.0 {
+                return Err(ctx.err(&key, format!("must be > 0, got {v} s")));
+            }
+            out[i] = v;
+        }
+    }
+    for (i, (v, key)) in [(a.rtol, "rtol"), (a.atol, "atol")].into_iter().enumerate() {
+        if let Some(v) = v {
+            if v.is_nan() || v <= 0.0 {
+                return Err(ctx.err(
+                    &format!("solver.adaptive.{key}"),
+                    format!("must be > 0, got {v}"),
+                ));
+            }
+            out[2 + i] = v;
+        }
+    }
+    if out[0] > out[1] {
+        return Err(ctx.err("solver.adaptive.h_min", "h_min must not exceed h_max"));
+    }
+    Ok(out)
 }
 
 pub(crate) fn output_config(

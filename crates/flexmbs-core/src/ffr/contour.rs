@@ -110,14 +110,51 @@ fn mode_values(body: &FfrBody, nodes: &[usize], k: usize) -> Vec<Vector3<f64>> {
         .collect()
 }
 
+/// The control nets of a neutral contour: undeformed `C_0` and one per translational mode `C_k`
+/// (body axes), interpolated once; a deformation is their superposition.
+#[derive(Debug, Clone)]
+struct ModalNets {
+    net0: Vec<Vector3<f64>>,
+    modes: Vec<Vec<Vector3<f64>>>,
+}
+
+impl ModalNets {
+    /// The nets of the listed nodes through `interpolate` (node values -> control points).
+    fn new(
+        body: &FfrBody,
+        nodes: &[usize],
+        n_ctrl: usize,
+        interpolate: impl Fn(&[Vector3<f64>], &mut [Vector3<f64>]) -> Result<(), NurbsError>,
+    ) -> Result<Self, NurbsError> {
+        let u0: Vec<Vector3<f64>> = nodes.iter().map(|&n| body.u0[n]).collect();
+        let mut net0 = vec![Vector3::zeros(); n_ctrl];
+        interpolate(&u0, &mut net0)?;
+        let modes = (0..body.nf())
+            .map(|k| {
+                let mut net = vec![Vector3::zeros(); n_ctrl];
+                interpolate(&mode_values(body, nodes, k), &mut net)?;
+                Ok(net)
+            })
+            .collect::<Result<_, NurbsError>>()?;
+        Ok(Self { net0, modes })
+    }
+
+    /// `out = C_0 + Σ q_f,k C_k`. O(n_ctrl n_f), no allocation.
+    fn deformed_into(&self, qf: &[f64], out: &mut [Vector3<f64>]) {
+        out.copy_from_slice(&self.net0);
+        for (net_k, q) in self.modes.iter().zip(qf) {
+            for (c, m) in out.iter_mut().zip(net_k) {
+                *c += m * *q;
+            }
+        }
+    }
+}
+
 /// A 2D neutral contour of an FFR body: the NURBS surface through the node grid `O`.
 #[derive(Debug, Clone)]
 pub struct FfrSurfaceContour {
     interp: SurfaceInterpolator,
-    /// Control net of the undeformed surface `C_0` (body axes).
-    net0: Vec<Vector3<f64>>,
-    /// Control nets of the translational mode shapes `C_k` (body axes).
-    net_modes: Vec<Vec<Vector3<f64>>>,
+    nets: ModalNets,
     sign: f64,
 }
 
@@ -176,19 +213,12 @@ impl FfrSurfaceContour {
             degrees,
             settings.closed,
         )?;
-        let mut net0 = vec![Vector3::zeros(); interp.n_ctrl()];
-        interp.control_points_into(&u0, &mut net0)?;
-        let net_modes = (0..body.nf())
-            .map(|k| {
-                let mut net = vec![Vector3::zeros(); interp.n_ctrl()];
-                interp.control_points_into(&mode_values(body, grid, k), &mut net)?;
-                Ok(net)
-            })
-            .collect::<Result<_, NurbsError>>()?;
+        let nets = ModalNets::new(body, grid, interp.n_ctrl(), |v, c| {
+            interp.control_points_into(v, c)
+        })?;
         Ok(Self {
             interp,
-            net0,
-            net_modes,
+            nets,
             sign: if settings.flip_normal { -1.0 } else { 1.0 },
         })
     }
@@ -204,13 +234,13 @@ impl FfrSurfaceContour {
         let surface = NurbsSurface::new(
             eta.knot_vector().clone(),
             xi.knot_vector().clone(),
-            &self.net0,
-            &vec![1.0; self.net0.len()],
+            &self.nets.net0,
+            &vec![1.0; self.nets.net0.len()],
         )?;
         Ok(SurfaceContourState {
             scratch: surface.scratch(),
             surface,
-            net: self.net0.clone(),
+            net: self.nets.net0.clone(),
         })
     }
 
@@ -221,12 +251,7 @@ impl FfrSurfaceContour {
         s: &FfrScratch,
         state: &mut SurfaceContourState,
     ) -> Result<(), ContourError> {
-        state.net.copy_from_slice(&self.net0);
-        for (net_k, q) in self.net_modes.iter().zip(&s.qf) {
-            for (c, m) in state.net.iter_mut().zip(net_k) {
-                *c += m * *q;
-            }
-        }
+        self.nets.deformed_into(s.qf.as_slice(), &mut state.net);
         state.surface.set_control_points(&state.net)?;
         Ok(())
     }
@@ -246,7 +271,7 @@ impl FfrSurfaceContour {
             .interp
             .field_derivatives(&state.net, eta, xi, &mut state.scratch)?;
         let mut phi_qd = Vector3::zeros();
-        for (net_k, qd) in self.net_modes.iter().zip(&s.qfd) {
+        for (net_k, qd) in self.nets.modes.iter().zip(&s.qfd) {
             phi_qd += self
                 .interp
                 .field_derivatives(net_k, eta, xi, &mut state.scratch)?[0]
@@ -278,13 +303,13 @@ impl FfrSurfaceContour {
             .field_derivatives(&state.net, eta, xi, &mut state.scratch)?[0];
         let phi = |k: usize, sc: &mut SurfaceScratch| {
             self.interp
-                .field_derivatives(&self.net_modes[k], eta, xi, sc)
+                .field_derivatives(&self.nets.modes[k], eta, xi, sc)
                 .map(|d| d[0])
         };
         write_jacobian(
             s,
             &u,
-            self.net_modes.len(),
+            self.nets.modes.len(),
             &mut |k| phi(k, &mut state.scratch),
             jt,
         )
@@ -296,8 +321,7 @@ impl FfrSurfaceContour {
 #[derive(Debug, Clone)]
 pub struct FfrCurveContour {
     interp: CurveInterpolator,
-    net0: Vec<Vector3<f64>>,
-    net_modes: Vec<Vec<Vector3<f64>>>,
+    nets: ModalNets,
 }
 
 /// The evaluated state of an [`FfrCurveContour`] (see [`SurfaceContourState`]).
@@ -324,20 +348,10 @@ impl FfrCurveContour {
             settings.degree,
             settings.closed[0],
         )?;
-        let mut net0 = vec![Vector3::zeros(); interp.n_ctrl()];
-        interp.control_points_into(&u0, &mut net0)?;
-        let net_modes = (0..body.nf())
-            .map(|k| {
-                let mut net = vec![Vector3::zeros(); interp.n_ctrl()];
-                interp.control_points_into(&mode_values(body, nodes, k), &mut net)?;
-                Ok(net)
-            })
-            .collect::<Result<_, NurbsError>>()?;
-        Ok(Self {
-            interp,
-            net0,
-            net_modes,
-        })
+        let nets = ModalNets::new(body, nodes, interp.n_ctrl(), |v, c| {
+            interp.control_points_into(v, c)
+        })?;
+        Ok(Self { interp, nets })
     }
 
     /// The interpolator (parameters, knots) of the contour.
@@ -347,12 +361,12 @@ impl FfrCurveContour {
 
     /// A state for [`Self::update`] (allocates; create once).
     pub fn state(&self) -> Result<CurveContourState, ContourError> {
-        let net_w = self.net0.iter().map(|p| p.push(1.0)).collect();
+        let net_w = self.nets.net0.iter().map(|p| p.push(1.0)).collect();
         let curve = NurbsCurve::from_knot_vector(self.interp.knot_vector().clone(), net_w)?;
         Ok(CurveContourState {
             scratch: self.interp.scratch(),
             curve,
-            net: self.net0.clone(),
+            net: self.nets.net0.clone(),
         })
     }
 
@@ -362,12 +376,7 @@ impl FfrCurveContour {
         s: &FfrScratch,
         state: &mut CurveContourState,
     ) -> Result<(), ContourError> {
-        state.net.copy_from_slice(&self.net0);
-        for (net_k, q) in self.net_modes.iter().zip(&s.qf) {
-            for (c, m) in state.net.iter_mut().zip(net_k) {
-                *c += m * *q;
-            }
-        }
+        self.nets.deformed_into(s.qf.as_slice(), &mut state.net);
         state.curve.set_control_points(&state.net)?;
         Ok(())
     }
@@ -386,7 +395,7 @@ impl FfrCurveContour {
             .interp
             .field_derivatives(&state.net, eta, &mut state.scratch)?;
         let mut phi_qd = Vector3::zeros();
-        for (net_k, qd) in self.net_modes.iter().zip(&s.qfd) {
+        for (net_k, qd) in self.nets.modes.iter().zip(&s.qfd) {
             phi_qd += self
                 .interp
                 .field_derivatives(net_k, eta, &mut state.scratch)?[0]
@@ -411,13 +420,13 @@ impl FfrCurveContour {
             .field_derivatives(&state.net, eta, &mut state.scratch)?[0];
         let phi = |k: usize, sc: &mut CurveScratch| {
             self.interp
-                .field_derivatives(&self.net_modes[k], eta, sc)
+                .field_derivatives(&self.nets.modes[k], eta, sc)
                 .map(|d| d[0])
         };
         write_jacobian(
             s,
             &u,
-            self.net_modes.len(),
+            self.nets.modes.len(),
             &mut |k| phi(k, &mut state.scratch),
             jt,
         )
