@@ -98,6 +98,12 @@ impl ElementScratch {
             .downcast_ref::<T>()
             .expect("element scratch created by another element type")
     }
+
+    /// Read access if the scratch holds a `T` (`None`: another element type's scratch), for
+    /// checks at compile time (e.g. a contour that needs an FFR body).
+    pub fn try_get<T: Any>(&self) -> Option<&T> {
+        self.0.downcast_ref::<T>()
+    }
 }
 
 impl std::fmt::Debug for ElementScratch {

@@ -416,7 +416,8 @@ impl ModelSpec {
                 reason: "must be finite",
             });
         }
-        crate::contact::check_contacts(&self.frames, &mut self.contacts)?;
+        let owner_state = |b: usize| bodies.get(b).map(|b: &Body| b.element.new_scratch());
+        crate::contact::check_contacts(&self.frames, &owner_state, &mut self.contacts)?;
         let frame_cols = self
             .frames
             .iter()

@@ -158,6 +158,9 @@ pub struct Workspace {
     /// Length per velocity coordinate for the adaptive error estimate
     /// ([`crate::Element::velocity_scales`]), filled at the start of an adaptive run (nu).
     pub error_scales: Vec<f64>,
+    /// Evaluation buffers of the contacts' contours (flexible contours: deformed contour,
+    /// search warm start, contact-point Jacobian).
+    pub contact: crate::contact::ContactWork,
 }
 
 impl Workspace {
@@ -236,6 +239,7 @@ impl Workspace {
             mass_blocks: BlockMass::new(model),
             newton_matrix_h: f64::NAN,
             newton_matrix_solves: 0,
+            contact: crate::contact::ContactWork::new(model),
             error_scales: vec![1.0; nu],
         }
     }

@@ -366,7 +366,13 @@ fn penalty_bounce_energy(r: f64, k: f64, h0: f64, h: f64) -> f64 {
     let mut ws = Workspace::new(&model);
     let energy = |s: &State, ws: &mut Workspace| {
         let (e, _, _) = flexmbs_core::integrator::monitor(&model, s, ws);
-        e.total() + flexmbs_core::contact::regularized_energy(&model, &ws.sys.frames)
+        e.total()
+            + flexmbs_core::contact::regularized_energy(
+                &model,
+                &ws.sys.frames,
+                &ws.sys.eval,
+                &mut ws.contact,
+            )
     };
     let e0 = energy(&s, &mut ws);
     let mut max_pen: f64 = 0.0;

@@ -205,6 +205,8 @@ struct Recorder<'a> {
     frames: Vec<FrameKinematics>,
     /// Every body's element evaluated at the recorded state.
     eval: Vec<ElementScratch>,
+    /// The contacts' contour buffers (penalty energy of the output rows).
+    contact: flexmbs_core::contact::ContactWork,
     body_fk: Vec<FrameKinematics>,
     signals: Vec<f64>,
     positions: Vec<Vec<[f64; 3]>>,
@@ -253,7 +255,12 @@ impl<'a> Recorder<'a> {
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
         let mut e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);
         // penalty (regularized) contacts store energy like springs
-        e.springs += flexmbs_core::contact::regularized_energy(m, &self.frames);
+        e.springs += flexmbs_core::contact::regularized_energy(
+            m,
+            &self.frames,
+            &self.eval,
+            &mut self.contact,
+        );
         let total = e.total();
         if self.energy0.is_none() {
             self.meter_work(s);
@@ -458,6 +465,7 @@ pub fn run_model(
         anim,
         frames: m.frame_buffers(),
         eval: m.bodies.iter().map(|b| b.element.new_scratch()).collect(),
+        contact: flexmbs_core::contact::ContactWork::new(m),
         body_fk: cm
             .bodies
             .iter()

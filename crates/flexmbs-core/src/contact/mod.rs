@@ -9,18 +9,22 @@
 //! coordinates for warm starts) is a [`ContactState`] in [`crate::State::contacts`].
 
 pub mod contour;
+pub mod flexible;
 pub mod law;
 pub mod pair;
 
-pub use contour::{CircleContour, Contour, ContourKind, PlaneContour, PointContour, SphereContour};
+pub use contour::{
+    CircleContour, Contour, ContourKind, ContourScratch, PlaneContour, PointContour, SphereContour,
+};
+pub use flexible::{FlexibleBand, NeutralCurve, NeutralSurface};
 pub use law::{ContactLaw, Friction, NormalLaw, TangentDirections};
-pub use pair::{ContactGeometry, PairFn};
+pub use pair::{ContactGeometry, PairFn, Side};
 
-use crate::element::FrameKinematics;
+use crate::element::{ElementScratch, FrameKinematics};
 use crate::error::ModelError;
 use crate::ids::FrameId;
-use crate::joint::ConstraintRow;
 use crate::model::{Frame, FrameOwner, Model};
+use nalgebra::Vector3;
 
 /// A contact: contour `a`, contour `b`, and the law between them.
 #[derive(Debug)]
@@ -63,15 +67,103 @@ impl Contact {
             .expect("contact pair checked when the model was compiled")
     }
 
-    /// Contact kinematics from the frames' kinematics `frames` (all frames of the model).
-    pub fn geometry(&self, frames: &[FrameKinematics]) -> ContactGeometry {
+    /// Contact kinematics at the evaluated state: `frames` (all frames of the model) and `eval`
+    /// (the bodies' evaluated states, [`crate::system::evaluate`]); `work` are this contact's
+    /// contour buffers ([`ContactWork`]). Fills the contact-point velocities of rigid contours
+    /// from their frames.
+    pub fn geometry(
+        &self,
+        model: &Model,
+        frames: &[FrameKinematics],
+        eval: &[ElementScratch],
+        work: &mut [ContourScratch; 2],
+    ) -> ContactGeometry {
         let (fa, fb) = self.frames();
-        (self.pair())(
-            self.contour_a.as_ref(),
-            self.contour_b.as_ref(),
+        let owner_state = |f: FrameId| match model.frames[f.0].owner {
+            FrameOwner::Body(b) => eval.get(b.0),
+            _ => None,
+        };
+        let [wa, wb] = work;
+        let a = Side {
+            contour: self.contour_a.as_ref(),
+            frame: &frames[fa.0],
+            body: owner_state(fa),
+            scratch: wa,
+        };
+        let b = Side {
+            contour: self.contour_b.as_ref(),
+            frame: &frames[fb.0],
+            body: owner_state(fb),
+            scratch: wb,
+        };
+        let mut g = (self.pair())(a, b);
+        if !self.contour_a.is_flexible() {
+            g.velocity_a = pair::frame_point_velocity(&frames[fa.0], &g.point_a);
+        }
+        if !self.contour_b.is_flexible() {
+            g.velocity_b = pair::frame_point_velocity(&frames[fb.0], &g.point_b);
+        }
+        g
+    }
+
+    /// Adds `scale` times the generalized direction of contact direction `k` (0 normal, 1 and
+    /// 2 tangents) of `geo` to `out` (length nu): `d^T J_Cb - d^T J_Ca`, a column of `W`, or
+    /// with a force as `scale` the generalized force `W F`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_direction(
+        &self,
+        model: &Model,
+        frames: &[FrameKinematics],
+        work: &[ContourScratch; 2],
+        geo: &ContactGeometry,
+        k: usize,
+        scale: f64,
+        out: &mut [f64],
+    ) {
+        let d = geo.direction(k);
+        let (fa, fb) = self.frames();
+        self.contour_a.add_direction(
+            model,
             &frames[fa.0],
-            &frames[fb.0],
-        )
+            &work[0],
+            &geo.point_a,
+            &-d,
+            scale,
+            out,
+        );
+        self.contour_b
+            .add_direction(model, &frames[fb.0], &work[1], &geo.point_b, &d, scale, out);
+    }
+}
+
+/// Evaluation buffers of every contact's two contours (one per contact side, created once per
+/// model: the workspace holds one, output recorders their own).
+#[derive(Debug)]
+pub struct ContactWork {
+    /// Per contact: the buffers of contour `a` and `b`.
+    pub sides: Vec<[ContourScratch; 2]>,
+}
+
+impl ContactWork {
+    /// Buffers for every contact of `model` (allocates).
+    pub fn new(model: &Model) -> Self {
+        Self {
+            sides: model
+                .contacts
+                .iter()
+                .map(|c| [c.contour_a.new_scratch(), c.contour_b.new_scratch()])
+                .collect(),
+        }
+    }
+}
+
+/// A unit vector along `v`, or zero for a zero `v`.
+pub(crate) fn unit_or_zero(v: Vector3<f64>) -> Vector3<f64> {
+    let n = v.norm();
+    if n > 0.0 {
+        v / n
+    } else {
+        v
     }
 }
 
@@ -93,7 +185,11 @@ pub struct ContactState {
 }
 
 /// Checks the contacts against the frames and puts each pair into the dispatch table's order.
-pub(crate) fn check_contacts(frames: &[Frame], contacts: &mut [Contact]) -> Result<(), ModelError> {
+pub(crate) fn check_contacts(
+    frames: &[Frame],
+    owner_state: &dyn Fn(usize) -> Option<ElementScratch>,
+    contacts: &mut [Contact],
+) -> Result<(), ModelError> {
     for c in contacts.iter_mut() {
         let invalid = |reason: String| ModelError::InvalidContact {
             contact: c.name.clone(),
@@ -117,6 +213,30 @@ pub(crate) fn check_contacts(frames: &[Frame], contacts: &mut [Contact]) -> Resu
                 .ok_or_else(|| invalid(format!("unknown frame {f}")))
         };
         let (oa, ob) = (owner(c.contour_a.frame())?, owner(c.contour_b.frame())?);
+        for (contour, o) in [(&c.contour_a, oa), (&c.contour_b, ob)] {
+            if !contour.is_flexible() {
+                continue;
+            }
+            let what = format!("{:?} contour", contour.kind());
+            let frame = &frames[contour.frame().0];
+            let at_origin = frame.local.mesh_node.is_none()
+                && frame.local.position == Vector3::zeros()
+                && frame.local.rotation == nalgebra::Matrix3::identity();
+            let state = match o {
+                FrameOwner::Body(b) if at_origin => owner_state(b.0),
+                _ => None,
+            };
+            let state = state.ok_or_else(|| {
+                invalid(format!(
+                    "{what}: its frame '{}' must be the reference frame of the body the contour \
+                     belongs to (at the body origin, body axes)",
+                    frame.name
+                ))
+            })?;
+            contour
+                .check_owner(&state)
+                .map_err(|r| invalid(format!("{what}: {r}")))?;
+        }
         if oa == ob {
             let what = if oa == FrameOwner::Ground {
                 "both contours are on the ground"
@@ -135,39 +255,21 @@ pub(crate) fn check_contacts(frames: &[Frame], contacts: &mut [Contact]) -> Resu
     Ok(())
 }
 
-/// Adds `scale` times the row's generalized direction `t_a^T J_T^a + r_a^T J_R^a + t_b^T J_T^b
-/// + r_b^T J_R^b` to `out` (length nu): a column of `W`, or a generalized force `W F`.
-pub fn add_row_direction(
+/// Potential energy `sum 1/2 k g_N^2` of the penetrating regularized contacts at the evaluated
+/// state (`frames`, `eval`; the penalty energy of a run's energy balance).
+pub fn regularized_energy(
     model: &Model,
-    (fa, fb): (FrameId, FrameId),
-    row: &ConstraintRow,
     frames: &[FrameKinematics],
-    scale: f64,
-    out: &mut [f64],
-) {
-    for (f, t, r) in [(fa, &row.t_a, &row.r_a), (fb, &row.t_b, &row.r_b)] {
-        let k = &frames[f.0];
-        let cols = model.frame_cols(f);
-        for j in 0..cols.len() {
-            let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
-            let mut s = 0.0;
-            for d in 0..3 {
-                s += t[d] * jt[d] + r[d] * jr[d];
-            }
-            out[cols.global(j)] += scale * s;
-        }
-    }
-}
-
-/// Potential energy `sum 1/2 k g_N^2` of the penetrating regularized contacts, from the frames'
-/// kinematics (the penalty energy of a run's energy balance).
-pub fn regularized_energy(model: &Model, frames: &[FrameKinematics]) -> f64 {
+    eval: &[ElementScratch],
+    work: &mut ContactWork,
+) -> f64 {
     model
         .contacts
         .iter()
-        .map(|c| match c.law.normal {
+        .zip(&mut work.sides)
+        .map(|(c, w)| match c.law.normal {
             NormalLaw::Regularized { stiffness, .. } => {
-                law::regularized_energy(stiffness, c.geometry(frames).gap)
+                law::regularized_energy(stiffness, c.geometry(model, frames, eval, w).gap)
             }
             _ => 0.0,
         })

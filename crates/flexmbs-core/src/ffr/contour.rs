@@ -24,8 +24,9 @@ use super::{FfrBody, FfrScratch};
 use crate::rotation::skew;
 use faer::MatMut;
 use flexmbs_nurbs::{
-    CurveInterpolator, CurveScratch, NurbsCurve, NurbsError, NurbsSurface, ParamMethod,
-    SurfaceInterpolator, SurfaceScratch,
+    CurveInterpolator, CurveProjection, CurveScratch, CurveSearch, NurbsCurve, NurbsError,
+    NurbsSurface, ParamMethod, SearchGrid, SearchSettings, SurfaceInterpolator, SurfaceProjection,
+    SurfaceScratch, SurfaceSearch,
 };
 use nalgebra::{Matrix3, Vector3};
 
@@ -228,6 +229,11 @@ impl FfrSurfaceContour {
         &self.interp
     }
 
+    /// Number of modes `n_f` the contour was interpolated with.
+    pub fn num_modes(&self) -> usize {
+        self.nets.modes.len()
+    }
+
     /// A state for [`Self::update`] (allocates; create once).
     pub fn state(&self) -> Result<SurfaceContourState, ContourError> {
         let (eta, xi) = (self.interp.eta(), self.interp.xi());
@@ -316,6 +322,47 @@ impl FfrSurfaceContour {
     }
 }
 
+impl SurfaceContourState {
+    /// A contact search on this contour (coarse grids `[eta, xi]`; allocates, create once).
+    pub fn new_search(
+        &self,
+        grids: [SearchGrid; 2],
+        settings: SearchSettings,
+    ) -> Result<SurfaceSearch, NurbsError> {
+        SurfaceSearch::new(&self.surface, grids, settings)
+    }
+
+    /// The normal projection of `x` (body axes) onto the deformed contour (seed Alg. 6: warm
+    /// start from the search's last solution, full search on failure); `None`: none.
+    pub fn project(
+        &mut self,
+        search: &mut SurfaceSearch,
+        x: &Vector3<f64>,
+    ) -> Option<SurfaceProjection> {
+        search.search(&self.surface, &mut self.scratch, x)
+    }
+}
+
+impl CurveContourState {
+    /// A contact search on this contour (coarse grid; allocates, create once).
+    pub fn new_search(
+        &self,
+        grid: SearchGrid,
+        settings: SearchSettings,
+    ) -> Result<CurveSearch, NurbsError> {
+        CurveSearch::new(&self.curve, grid, settings)
+    }
+
+    /// The normal projection of `x` (body axes) onto the deformed contour; `None`: none.
+    pub fn project(
+        &mut self,
+        search: &mut CurveSearch,
+        x: &Vector3<f64>,
+    ) -> Option<CurveProjection> {
+        search.search(&self.curve, &mut self.scratch, x)
+    }
+}
+
 /// A 1D neutral contour of an FFR body: the NURBS curve through an ordered node list (a beam's
 /// axis, an edge).
 #[derive(Debug, Clone)]
@@ -357,6 +404,11 @@ impl FfrCurveContour {
     /// The interpolator (parameters, knots) of the contour.
     pub fn interpolator(&self) -> &CurveInterpolator {
         &self.interp
+    }
+
+    /// Number of modes `n_f` the contour was interpolated with.
+    pub fn num_modes(&self) -> usize {
+        self.nets.modes.len()
     }
 
     /// A state for [`Self::update`] (allocates; create once).

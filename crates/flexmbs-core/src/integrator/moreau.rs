@@ -18,7 +18,7 @@
 //! quadratic positions); an impact is resolved within the step whose midpoint penetrates.
 
 use super::{monitor, StepAttempt, StepStats, Stepper, StepperStatistics};
-use crate::contact::{add_row_direction, ContactGeometry, Friction, NormalLaw};
+use crate::contact::{ContactGeometry, Friction, NormalLaw};
 use crate::error::SolverError;
 use crate::model::Model;
 use crate::state::{State, Workspace};
@@ -287,7 +287,12 @@ impl MoreauStepper {
         }
         let (mut energy, g_max, g_dot_max) = monitor(model, s, ws);
         // penalty contacts store energy like springs (frames evaluated at the end by `monitor`)
-        energy.springs += crate::contact::regularized_energy(model, &ws.sys.frames);
+        energy.springs += crate::contact::regularized_energy(
+            model,
+            &ws.sys.frames,
+            &ws.sys.eval,
+            &mut ws.contact,
+        );
         Ok(StepStats {
             t: s.t,
             h,
@@ -329,8 +334,9 @@ impl MoreauStepper {
         if model.nc > 0 {
             system::update_constraints(model, t_m, sys);
         }
-        for (c, g) in model.contacts.iter().zip(&mut self.buf.geometry) {
-            *g = c.geometry(&sys.frames);
+        let work = ws.contact.sides.iter_mut();
+        for ((c, g), w) in model.contacts.iter().zip(&mut self.buf.geometry).zip(work) {
+            *g = c.geometry(model, &sys.frames, &sys.eval, w);
         }
         Ok(())
     }
@@ -344,17 +350,15 @@ impl MoreauStepper {
                 continue;
             };
             let geo = &self.buf.geometry[i];
-            let (fa, fb) = c.frames();
-            let (ka, kb) = (&sys.frames[fa.0], &sys.frames[fb.0]);
-            let (gn_dot, gt_dot) = geo.gap_velocities(ka, kb);
+            let work = &ws.contact.sides[i];
+            let (gn_dot, gt_dot) = geo.gap_velocities();
             let f_n =
                 crate::contact::law::regularized_normal_force(stiffness, damping, geo.gap, gn_dot);
             self.buf.normal_force[i] = f_n;
             if f_n == 0.0 {
                 continue;
             }
-            let rows = geo.rows(ka, kb);
-            add_row_direction(model, (fa, fb), &rows[0], &sys.frames, f_n, &mut sys.h);
+            c.add_direction(model, &sys.frames, work, geo, 0, f_n, &mut sys.h);
             if let Friction::Regularized {
                 mu, slip_velocity, ..
             } = c.law.friction
@@ -368,15 +372,8 @@ impl MoreauStepper {
                     &gt_dot[..n],
                     &mut f_t[..n],
                 );
-                for k in 0..n {
-                    add_row_direction(
-                        model,
-                        (fa, fb),
-                        &rows[1 + k],
-                        &sys.frames,
-                        f_t[k],
-                        &mut sys.h,
-                    );
+                for (k, f) in f_t.iter().enumerate().take(n) {
+                    c.add_direction(model, &sys.frames, work, geo, 1 + k, *f, &mut sys.h);
                 }
             }
         }

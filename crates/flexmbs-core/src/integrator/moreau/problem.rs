@@ -3,7 +3,7 @@
 
 use super::{Block, MoreauStepper, NormalRow};
 use crate::contact::law::{prox_disc, prox_nonnegative};
-use crate::contact::{add_row_direction, ContactState, Friction, NormalLaw};
+use crate::contact::{ContactState, Friction, NormalLaw};
 use crate::error::SolverError;
 use crate::linsolve::{cholesky_in_place, cholesky_solve_in_place};
 use crate::model::Model;
@@ -39,6 +39,9 @@ impl MoreauStepper {
         let mut m = model.nc;
         for (i, c) in model.contacts.iter().enumerate() {
             let geo = &b.geometry[i];
+            if !geo.has_contact_point() {
+                continue;
+            }
             let normal = match c.law.normal {
                 NormalLaw::Unilateral { restitution } if geo.gap <= gap_tol => Some(NormalRow {
                     restitution,
@@ -63,15 +66,14 @@ impl MoreauStepper {
             if normal.is_none() && fixed_bound.is_none() {
                 continue;
             }
-            let (fa, fb) = c.frames();
-            let rows = geo.rows(&sys.frames[fa.0], &sys.frames[fb.0]);
+            let work = &ws.contact.sides[i];
             let first = m;
             let used = normal.iter().map(|_| 0).chain(1..=tangents);
             let warm = &s.contacts[i];
             for k in used {
                 let col = &mut b.w[m * nu..(m + 1) * nu];
                 col.fill(0.0);
-                add_row_direction(model, (fa, fb), &rows[k], &sys.frames, 1.0, col);
+                c.add_direction(model, &sys.frames, work, geo, k, 1.0, col);
                 b.b[m] = 0.0;
                 b.lambda[m] = if warm.active { warm.impulse[k] } else { 0.0 };
                 m += 1;
@@ -219,32 +221,31 @@ impl MoreauStepper {
     }
 
     /// Activity, gap (at `q_M`), gap rate at `u_E` and impulses of every contact.
-    fn update_contact_states(&self, model: &Model, s: &mut State, ws: &Workspace, h: f64) {
+    fn update_contact_states(&self, model: &Model, s: &mut State, ws: &mut Workspace, h: f64) {
         let b = &self.buf;
         for (i, (c, st)) in model.contacts.iter().zip(&mut s.contacts).enumerate() {
             let geo = &b.geometry[i];
-            let (fa, fb) = c.frames();
-            let row = geo.row(
-                &geo.normal,
-                geo.gap,
-                &ws.sys.frames[fa.0],
-                &ws.sys.frames[fb.0],
-            );
             let mut rate = 0.0;
-            for (f, t, r) in [(fa, &row.t_a, &row.r_a), (fb, &row.t_b, &row.r_b)] {
-                let (k, cols) = (&ws.sys.frames[f.0], model.frame_cols(f));
-                for j in 0..cols.len() {
-                    let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
-                    rate += (dot(t.as_slice(), jt) + dot(r.as_slice(), jr))
-                        * ws.step.u_new[cols.global(j)];
-                }
+            if geo.has_contact_point() {
+                let col = &mut ws.step.dv;
+                col.fill(0.0);
+                c.add_direction(
+                    model,
+                    &ws.sys.frames,
+                    &ws.contact.sides[i],
+                    geo,
+                    0,
+                    1.0,
+                    col,
+                );
+                rate = dot(col, &ws.step.u_new);
             }
             *st = ContactState {
                 active: false,
                 gap: geo.gap,
                 gap_velocity: rate,
                 impulse: [b.normal_force[i] * h, 0.0, 0.0],
-                coordinates: st.coordinates,
+                coordinates: geo.coordinates,
             };
         }
         for blk in &b.blocks {
