@@ -10,6 +10,7 @@ pub mod complex_beam_ccx;
 pub mod complex_beam_frequencies;
 pub mod elastica;
 pub mod fe_cantilever_modes;
+pub mod point_mass_on_beam;
 pub mod result;
 pub mod rotating_beam;
 pub mod rotating_beam_reference;
@@ -60,6 +61,11 @@ pub fn cases() -> Vec<Case> {
             name: "cantilever_transient",
             description: "seed 001 §5.2: cantilever tube under a ramped tip force, 1/3/10 superelements, floating frame at the centre of mass or at the interface (qualitative)",
             run: cantilever_transient::run,
+        },
+        Case {
+            name: "point_mass_on_beam",
+            description: "seed 000 §5.2: a point mass hits a soft FFR cantilever (hex20 25x5x5): 2D neutral NURBS contour and FlexibleBand, Newton impact and penalty, Moreau fixed and step-size controlled; energy laws and mode convergence",
+            run: point_mass_on_beam::run,
         },
     ]
 }

@@ -540,3 +540,54 @@ fn write_jacobian(
     }
     Ok(())
 }
+
+/// The node index matrix `O` (3.24) of a face of a structured mesh: the nodes with coordinate
+/// `axis` equal to `value` (within `tol`), rows along the first other axis (`eta`), columns along
+/// the second (`xi`), each sorted ascending. Serendipity meshes (20-node hexahedra) have midside
+/// nodes on one family of grid lines only: the rows are the lines carrying the most nodes, the
+/// columns the stations present on every row, so the grid is complete. Returns `(O row-major,
+/// n_eta, n_xi)`, or `None` when fewer than 2 x 2 nodes form a grid.
+pub fn face_grid(
+    points: &[Vector3<f64>],
+    axis: usize,
+    value: f64,
+    tol: f64,
+) -> Option<(Vec<usize>, usize, usize)> {
+    let (i1, i2) = match axis {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let face: Vec<usize> = (0..points.len())
+        .filter(|&n| (points[n][axis] - value).abs() <= tol)
+        .collect();
+    // stations along each direction, merged within `tol`
+    let stations = |k: usize| {
+        let mut v: Vec<f64> = face.iter().map(|&n| points[n][k]).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| (*a - *b).abs() <= tol);
+        v
+    };
+    let (s1, s2) = (stations(i1), stations(i2));
+    let find = |a: f64, b: f64| {
+        face.iter()
+            .copied()
+            .find(|&n| (points[n][i1] - a).abs() <= tol && (points[n][i2] - b).abs() <= tol)
+    };
+    let count = |a: f64| s2.iter().filter(|&&b| find(a, b).is_some()).count();
+    let full = s1.iter().map(|&a| count(a)).max()?;
+    let rows: Vec<f64> = s1.into_iter().filter(|&a| count(a) == full).collect();
+    let cols: Vec<f64> = s2
+        .into_iter()
+        .filter(|&b| rows.iter().all(|&a| find(a, b).is_some()))
+        .collect();
+    if rows.len() < 2 || cols.len() < 2 {
+        return None;
+    }
+    let grid = rows
+        .iter()
+        .flat_map(|&a| cols.iter().map(move |&b| (a, b)))
+        .map(|(a, b)| find(a, b))
+        .collect::<Option<Vec<usize>>>()?;
+    Some((grid, rows.len(), cols.len()))
+}
