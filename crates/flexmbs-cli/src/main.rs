@@ -336,8 +336,9 @@ fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
 /// The reduced body of an FE model file and, if `geometric` and the body has fixed nodes, its
 /// centrifugal geometric stiffness (`flexmbs_reduce::geometric`, as a multibody model computes it
 /// from the FE model), and for a beam mesh its lumped node rotary inertias
-/// (`flexmbs_reduce::full_mass::beam_node_rotary_inertias`, as a multibody model computes them).
-/// Seed folders have no FE model and get neither.
+/// (`flexmbs_reduce::full_mass::beam_node_rotary_inertias`, as a multibody model computes them),
+/// and its modal stress fields (`flexmbs_reduce::stress`). Seed folders have no FE model and get
+/// none of these.
 fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyFile> {
     let spec = read_fe_model(model)?.body;
     let base = model.parent().unwrap_or(Path::new("."));
@@ -373,10 +374,14 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
         flexmbs_reduce::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
             .map_err(anyhow::Error::msg)
             .context("node rotary inertias")?;
+    // modal stress fields: stress recovery in a run (`[output] stress`)
+    let stress = flexmbs_reduce::stress::modal_stress_fields(spec, &prepared, &body)
+        .map_err(|e| src.locate(e))?;
     Ok(BodyFile {
         body,
         geometric,
         rotary_inertia,
+        stress: Some(stress),
     })
 }
 
