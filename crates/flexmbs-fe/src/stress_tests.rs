@@ -51,8 +51,9 @@ fn uniaxial_stress_field_is_exact_for_solids() {
         let n = mesh.num_nodes();
         let (kinds, s) =
             nodal_stress_fields(&mesh, n, field(&mesh, u).as_ref(), None, &default_fibres).unwrap();
-        for i in 0..n {
-            assert_eq!(kinds[i], NodeStressKind::Solid);
+        assert_eq!(kinds.len(), n);
+        for (i, kind) in kinds.iter().enumerate() {
+            assert_eq!(*kind, NodeStressKind::Solid);
             let v = node_values(&s, i);
             let want = [E * eps, 0.0, 0.0, 0.0, 0.0, 0.0];
             for c in 0..6 {
