@@ -211,8 +211,13 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             } else {
                 ""
             };
+            let stress = if f.stress.is_some() {
+                ", modal stress fields"
+            } else {
+                ""
+            };
             println!(
-                "wrote {} ({} nodes, {} modes{kg}{rot})",
+                "wrote {} ({} nodes, {} modes{kg}{rot}{stress})",
                 output.display(),
                 f.body.num_nodes(),
                 f.body.num_modes()

@@ -4,9 +4,10 @@
 //! Solid elements: `sigma = D B(xi_a) u_e` evaluated at each element node `a` from the element's
 //! own displacement interpolation (exact wherever the element represents the field: constant
 //! strain for all solids, linear strain for `Hex20`, `Hex20R` and `Tet10`), then averaged with
-//! equal weights over the solid elements sharing the node. `Hex8I` uses its compatible
-//! (trilinear) field only: the condensed bubble modes are not recovered, so its bending stresses
-//! are those of `Hex8` (documented limit). Components: Voigt order xx, yy, zz, xy, yz, zx in the
+//! equal weights over the solid elements sharing the node. `Hex8I` adds its incompatible
+//! (bubble) modes, recovered from the nodal displacements by the static condensation of its
+//! stiffness, `alpha = -K_ii^-1 K_ic u` (so it gives pure bending exactly, like its stiffness).
+//! Components: Voigt order xx, yy, zz, xy, yz, zx in the
 //! mesh (body) axes.
 //!
 //! Beam elements: the section resultants at the element ends, `-f_1` at node 1 and `+f_2` at
@@ -23,7 +24,8 @@
 //! (rigid-interface nodes) have kind [`NodeStressKind::None`] and zero stress.
 
 use crate::element::beam::{beam_frame, beam_local};
-use crate::element::solid::{b_matrix, eval_point, ShapeFn};
+use crate::element::gauss::hex_rule;
+use crate::element::solid::{b_block, b_matrix, eval_point, ShapeFn};
 use crate::element::{hex20, hex8, tet10, MassKind};
 use crate::mesh::{BeamSection, ElementKind, Property};
 use crate::reduction::ReducedBody;
@@ -229,6 +231,9 @@ pub fn element_stress_operator(
         ))
     })?;
     match (solid_shape(el.kind), prop) {
+        (Some(_), Property::Solid { material }) if el.kind == ElementKind::Hex8I => {
+            hex8i_stress_operator(&x, &material.elasticity_matrix(), element)
+        }
         (Some((shape, xi_nodes)), Property::Solid { material }) => {
             let d = crate::element::solid::dyn_d(&material.elasticity_matrix());
             let nn = x.len();
@@ -273,6 +278,56 @@ pub fn element_stress_operator(
             el.kind
         ))),
     }
+}
+
+/// Strain-displacement matrix (6 x 9) of the nine `Hex8I` bubble modes `(1 - xi_k^2) e_c` at
+/// `xi`, mapped with the centre Jacobian and scaled by det J0 / det J (as its stiffness,
+/// [`hex8::hex8i_stiffness`]).
+fn hex8i_bubble_b(xi: [f64; 3], j0inv: &nalgebra::Matrix3<f64>, ratio: f64) -> DMatrix<f64> {
+    let mut bi = DMatrix::zeros(6, 9);
+    for k in 0..3 {
+        let mut g = nalgebra::Vector3::zeros();
+        g[k] = -2.0 * xi[k];
+        b_block(&mut bi, 3 * k, &(j0inv * g * ratio));
+    }
+    bi
+}
+
+/// Stress operator (48 x 24) of a `Hex8I` element: `D (B_c + B_i A)` at each corner node, with
+/// the bubble amplitudes `alpha = A u = -K_ii^-1 K_ic u` of its static condensation.
+fn hex8i_stress_operator(
+    x: &[[f64; 3]],
+    d: &nalgebra::Matrix6<f64>,
+    element: usize,
+) -> Result<DMatrix<f64>, FeError> {
+    let dd = crate::element::solid::dyn_d(d);
+    let center = eval_point(hex8::hex8_shape, x, [0.0; 3], element, 0)?;
+    let j0inv = center.jac.try_inverse().ok_or(FeError::BadJacobian {
+        element,
+        point: 0,
+        det: center.det,
+    })?;
+    let (mut kic, mut kii) = (DMatrix::zeros(9, 24), DMatrix::zeros(9, 9));
+    for (ip, p) in hex_rule(2).iter().enumerate() {
+        let e = eval_point(hex8::hex8_shape, x, p.xi, element, ip)?;
+        let bi = hex8i_bubble_b(p.xi, &j0inv, center.det / e.det);
+        let dbi = &dd * &bi;
+        kic.gemm_tr(e.det * p.w, &dbi, &b_matrix(&e.dndx), 1.0);
+        kii.gemm_tr(e.det * p.w, &bi, &dbi, 1.0);
+    }
+    let chol = kii.cholesky().ok_or_else(|| {
+        FeError::Invalid(format!(
+            "element {element}: Hex8I internal-mode stiffness not positive definite"
+        ))
+    })?;
+    let a = -chol.solve(&kic);
+    let mut s = DMatrix::zeros(48, 24);
+    for (n, xi) in hex8::HEX8_NODES.iter().enumerate() {
+        let e = eval_point(hex8::hex8_shape, x, *xi, element, n)?;
+        let b = b_matrix(&e.dndx) + hex8i_bubble_b(*xi, &j0inv, center.det / e.det) * &a;
+        s.view_mut((6 * n, 0), (6, 24)).copy_from(&(&dd * b));
+    }
+    Ok(s)
 }
 
 /// For each of the six beam slots: the section resultant it comes from (local N, V_y, V_z, T,

@@ -39,7 +39,12 @@ fn node_values(s: &Mat<f64>, node: usize) -> [f64; 6] {
 fn uniaxial_stress_field_is_exact_for_solids() {
     let eps = 1e-3;
     let u = |x: [f64; 3]| [eps * x[0], -NU * eps * x[1], -NU * eps * x[2]];
-    for kind in [ElementKind::Hex8, ElementKind::Hex20, ElementKind::Hex20R] {
+    for kind in [
+        ElementKind::Hex8,
+        ElementKind::Hex8I,
+        ElementKind::Hex20,
+        ElementKind::Hex20R,
+    ] {
         let mesh = box_mesh(
             [0.4, 0.05, 0.03],
             [3, 2, 2],
@@ -72,7 +77,7 @@ fn uniaxial_stress_field_is_exact_for_solids() {
 /// Exact pure bending about z (3D elasticity, Timoshenko & Goodier):
 /// u = kappa (-x y, (x^2 + nu (y^2 - z^2)) / 2, nu y z) gives sigma_xx = -E kappa y and zero
 /// elsewhere, so sigma at the fibre c is M c / I with M = E I kappa. Quadratic: exact for Hex20
-/// and Tet10 (1e-9 of E kappa c).
+/// and Tet10, and for Hex8I on parallelepipeds through its bubble modes (1e-9 of E kappa c).
 #[test]
 fn pure_bending_is_exact_for_quadratic_solids() {
     let kappa = 0.02;
@@ -96,6 +101,16 @@ fn pure_bending_is_exact_for_quadratic_solids() {
     )
     .unwrap()];
     meshes.push(distorted_tet10());
+    meshes.push(
+        box_mesh(
+            [0.4, b, h],
+            [3, 2, 2],
+            ElementKind::Hex8I,
+            material(),
+            UnitSystem::Si,
+        )
+        .unwrap(),
+    );
     for mesh in &meshes {
         let n = mesh.num_nodes();
         let (_, s) =
