@@ -141,11 +141,12 @@ impl ModalStress {
         }
     }
 
-    /// The same fields in SI from body units whose stress unit is `stress_to_si` Pa.
-    pub fn scaled(&self, stress_to_si: f64) -> Self {
+    /// The same fields times `factor` (unit conversion: for a body converted to SI, whose modal
+    /// coordinate is `q_si = q L / c`, the factor is `stress_to_si c / L`).
+    pub fn scaled(&self, factor: f64) -> Self {
         Self {
             kinds: self.kinds.clone(),
-            fields: &self.fields * faer::Scale(stress_to_si),
+            fields: &self.fields * faer::Scale(factor),
         }
     }
 

@@ -39,7 +39,7 @@ const BEAM_COMPONENTS: [&str; 7] = [
 ];
 
 /// The stress fields of a loaded body for the modes `cols(nf)` selects, in SI (Pa per unit
-/// modal coordinate), or the reason it has none. Takes them out of `loaded`.
+/// SI modal coordinate of the body converted to SI), or the reason it has none. Takes them out of `loaded`.
 pub(crate) fn selected_stress(
     loaded: &mut LoadedBody,
     cols: impl FnOnce(usize) -> Result<Vec<usize>, SimError>,
@@ -48,8 +48,11 @@ pub(crate) fn selected_stress(
     Ok(match stress {
         Ok(s) => {
             let cols = cols(s.num_modes())?;
-            let si = loaded.reduced.units.stress_to_si();
-            Ok(Arc::new(s.select_modes(&cols).scaled(si)))
+            // sigma = S q with the body's modal coordinate q = q_si c / L
+            // (`flexmbs_core::ffr::reduced_body_to_si`): S_si = S stress_to_si c / L
+            let u = loaded.reduced.units;
+            let factor = u.stress_to_si() * u.mode_to_si() / u.length_to_si();
+            Ok(Arc::new(s.select_modes(&cols).scaled(factor)))
         }
         Err(reason) => Err(reason),
     })

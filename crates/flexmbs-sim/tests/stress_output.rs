@@ -163,6 +163,38 @@ fn clamp_stress_signal_matches_beam_theory_from_fe_and_body_file() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The same part in SI(mm) (mm, t, s; stresses in MPa in the FE model and the body file) gives
+/// the same signals in Pa (1e-9 relative), from the FE model file and from its `.fmb.h5`.
+#[test]
+fn stress_signals_are_si_for_a_millimetre_body() {
+    let dir = common::work_dir("stress", "mm");
+    let part = dir.join("beam.toml");
+    std::fs::write(&part, PART).unwrap();
+    let si = run(&dir, &model(&part, SIGNALS)).unwrap();
+    let mm = PART
+        .replace("name = \"beam\"", "name = \"beam\"\nunits = \"SI(mm)\"")
+        .replace("[1.0, 0.0, 0.0]", "[1000.0, 0.0, 0.0]")
+        .replace("width = 0.02, height = 0.01", "width = 20.0, height = 10.0")
+        .replace(
+            "e = 70e9, nu = 0.33, rho = 2700.0",
+            "e = 70000.0, nu = 0.33, rho = 2.7e-9",
+        );
+    assert_eq!(mm.matches("1000.0").count(), 2);
+    let part_mm = dir.join("beam_mm.toml");
+    std::fs::write(&part_mm, &mm).unwrap();
+    let h5 = dir.join("beam_mm.fmb.h5");
+    reduce_to_file(&part_mm, &h5, true);
+    let scale = si.iter().map(|(_, v)| v.abs()).fold(0.0, f64::max);
+    for src in [&part_mm, &h5] {
+        let got = run(&dir, &model(src, SIGNALS)).unwrap();
+        assert_eq!(got.len(), si.len());
+        for ((n, a), (_, b)) in si.iter().zip(&got) {
+            assert!((a - b).abs() <= 1e-9 * scale, "{n}: {a} vs {b}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `output.stress = true` writes the point fields `stress` (6 components) and `von_mises` into
 /// every animation frame.
 #[test]
