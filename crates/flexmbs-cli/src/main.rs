@@ -379,14 +379,23 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
         flexmbs_reduce::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
             .map_err(anyhow::Error::msg)
             .context("node rotary inertias")?;
-    // modal stress fields: stress recovery in a run (`[output] stress`)
-    let stress = flexmbs_reduce::stress::modal_stress_fields(spec, &prepared, &body)
-        .map_err(|e| src.locate(e))?;
+    // modal stress fields: stress recovery in a run (`[output] stress`); a body whose elements
+    // cannot give stresses is still written, without them
+    let stress = match flexmbs_reduce::stress::modal_stress_fields(spec, &prepared, &body) {
+        Ok(s) => Some(s),
+        Err(e) => {
+            eprintln!(
+                "warning: no modal stress fields written (no stress output from this file): {}",
+                src.locate(e)
+            );
+            None
+        }
+    };
     Ok(BodyFile {
         body,
         geometric,
         rotary_inertia,
-        stress: Some(stress),
+        stress,
     })
 }
 
