@@ -61,6 +61,9 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
         body: reduced.clone(),
         geometric: kg,
         rotary_inertia,
+        stress: Some(flexmbs_reduce::stress::modal_stress_fields(
+            &spec, &body, &reduced,
+        )?),
     }
     .write(&body_path)?;
     let vtk_dir = out.join("modes");

@@ -211,8 +211,13 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             } else {
                 ""
             };
+            let stress = if f.stress.is_some() {
+                ", modal stress fields"
+            } else {
+                ""
+            };
             println!(
-                "wrote {} ({} nodes, {} modes{kg}{rot})",
+                "wrote {} ({} nodes, {} modes{kg}{rot}{stress})",
                 output.display(),
                 f.body.num_nodes(),
                 f.body.num_modes()
@@ -336,8 +341,9 @@ fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
 /// The reduced body of an FE model file and, if `geometric` and the body has fixed nodes, its
 /// centrifugal geometric stiffness (`flexmbs_reduce::geometric`, as a multibody model computes it
 /// from the FE model), and for a beam mesh its lumped node rotary inertias
-/// (`flexmbs_reduce::full_mass::beam_node_rotary_inertias`, as a multibody model computes them).
-/// Seed folders have no FE model and get neither.
+/// (`flexmbs_reduce::full_mass::beam_node_rotary_inertias`, as a multibody model computes them),
+/// and its modal stress fields (`flexmbs_reduce::stress`). Seed folders have no FE model and get
+/// none of these.
 fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyFile> {
     let spec = read_fe_model(model)?.body;
     let base = model.parent().unwrap_or(Path::new("."));
@@ -373,10 +379,23 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
         flexmbs_reduce::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
             .map_err(anyhow::Error::msg)
             .context("node rotary inertias")?;
+    // modal stress fields: stress recovery in a run (`[output] stress`); a body whose elements
+    // cannot give stresses is still written, without them
+    let stress = match flexmbs_reduce::stress::modal_stress_fields(spec, &prepared, &body) {
+        Ok(s) => Some(s),
+        Err(e) => {
+            eprintln!(
+                "warning: no modal stress fields written (no stress output from this file): {}",
+                src.locate(e)
+            );
+            None
+        }
+    };
     Ok(BodyFile {
         body,
         geometric,
         rotary_inertia,
+        stress,
     })
 }
 

@@ -20,6 +20,9 @@ pub mod mechanism;
 pub mod mesh;
 pub mod modes;
 pub mod reduction;
+pub mod stress;
+#[cfg(test)]
+mod stress_tests;
 pub mod system;
 pub mod units;
 

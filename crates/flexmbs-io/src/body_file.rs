@@ -13,6 +13,7 @@
 mod geometric;
 mod h5;
 mod rotary;
+mod stress;
 
 pub use geometric::{parse_pattern_name, pattern_name, SYMMETRY_TOLERANCE};
 pub use rotary::ROTARY_INERTIA_TOLERANCE;
@@ -151,6 +152,10 @@ pub struct BodyFile {
     /// `flexmbs_reduce::full_mass::beam_node_rotary_inertias`). `None` for solid bodies and files
     /// written before the dataset existed.
     pub rotary_inertia: Option<Vec<nalgebra::Matrix3<f64>>>,
+    /// Modal stress fields (optional group `stress`: datasets `stress/modal`, `[6 N, N_f]`, and
+    /// `stress/node_kind`, `[N]`), written by `flexmbs reduce` from an FE model; `None` for
+    /// seed folders and files written before the group existed.
+    pub stress: Option<flexmbs_fe::stress::ModalStress>,
 }
 
 impl BodyFile {
@@ -160,19 +165,23 @@ impl BodyFile {
             body,
             geometric: None,
             rotary_inertia: None,
+            stress: None,
         }
     }
 
     /// Writes the body and its optional parts to the reduced-body file `path` (see
     /// [`write_body_file`]). The node rotary inertias must be one per node, finite, symmetric
     /// and positive semi-definite (to [`ROTARY_INERTIA_TOLERANCE`] relative), else the result is
-    /// a [`BodyFileError::Invalid`] naming `nodes/rotary_inertia` and nothing is written.
+    /// a [`BodyFileError::Invalid`] naming `nodes/rotary_inertia` and nothing is written; the
+    /// modal stress fields must be `6 N x N_f` and finite with one kind per node (else an
+    /// [`BodyFileError::Invalid`] naming `stress/modal` or `stress/node_kind`).
     pub fn write(&self, path: &Path) -> Result<(), BodyFileError> {
         write_parts(
             path,
             &self.body,
             self.geometric.as_ref(),
             self.rotary_inertia.as_deref(),
+            self.stress.as_ref(),
         )
     }
 }
@@ -200,7 +209,7 @@ pub fn write_body_file(
     body: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
 ) -> Result<(), BodyFileError> {
-    write_parts(path, body, geometric, None)
+    write_parts(path, body, geometric, None, None)
 }
 
 /// Checks and writes a body with its optional parts (atomic replace of `path`).
@@ -209,8 +218,12 @@ fn write_parts(
     body: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
     rotary_inertia: Option<&[nalgebra::Matrix3<f64>]>,
+    stress: Option<&flexmbs_fe::stress::ModalStress>,
 ) -> Result<(), BodyFileError> {
     h5::check_body(path, body)?;
+    if let Some(s) = stress {
+        stress::check(path, s, body.num_nodes(), body.num_modes())?;
+    }
     if let Some(g) = geometric {
         geometric::check(path, geometric::STIFFNESS, g, body.num_modes())?;
     }
@@ -223,7 +236,7 @@ fn write_parts(
             kind,
         });
     }
-    let bytes = h5::encode_body(path, body, geometric, rotary_inertia)?;
+    let bytes = h5::encode_body(path, body, geometric, rotary_inertia, stress)?;
     let tmp = temporary_sibling(path);
     std::fs::write(&tmp, &bytes).map_err(|source| BodyFileError::Io {
         path: tmp.clone(),

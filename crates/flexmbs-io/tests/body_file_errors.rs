@@ -34,6 +34,7 @@ fn written_rot(tag: &str) -> (PathBuf, PathBuf) {
         body: sample_body(20, 3, 2),
         geometric: Some(sample_geometric(3, 4)),
         rotary_inertia: Some(sample_rotary(20, 5)),
+        stress: None,
     }
     .write(&path)
     .unwrap();

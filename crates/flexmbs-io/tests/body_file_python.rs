@@ -291,6 +291,7 @@ fn rotary_inertia_interoperates_with_h5py() {
         body: body.clone(),
         geometric: None,
         rotary_inertia: Some(r.clone()),
+        stress: None,
     }
     .write(&path)
     .unwrap();

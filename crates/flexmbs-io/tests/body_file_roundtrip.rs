@@ -306,6 +306,7 @@ fn rotary_inertia_round_trip_is_bit_identical() {
             body: body.clone(),
             geometric,
             rotary_inertia: Some(r.clone()),
+            stress: None,
         };
         f.write(&path).unwrap();
         let back = read_body_file(&path).unwrap();
@@ -339,6 +340,7 @@ fn inconsistent_rotary_inertia_is_rejected_before_writing() {
             body: body.clone(),
             geometric: None,
             rotary_inertia: Some(r),
+            stress: None,
         };
         match f.write(&path) {
             Err(BodyFileError::Invalid {

@@ -3,10 +3,11 @@
 //! generators, CalculiX deck, seed folder), applies its supports, assembles or imports K and M and
 //! runs the modal analysis or the reduction ([`pipeline`]); the full mass matrix for the
 //! consistent mass model and node rotary inertias ([`full_mass`]); the centrifugal geometric
-//! stiffness ([`geometric`]); frequency tables of modal analyses ([`report`]).
+//! stiffness ([`geometric`]); frequency tables of modal analyses ([`report`]); modal stress fields ([`stress`]).
 #![warn(missing_docs)]
 
 pub mod full_mass;
 pub mod geometric;
 pub mod pipeline;
 pub mod report;
+pub mod stress;

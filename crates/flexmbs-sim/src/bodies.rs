@@ -58,6 +58,9 @@ pub struct BodyGeometry {
     pub translation_only: Vec<bool>,
     /// Per point: an FE node whose rotation appears in some mode (empty for rigid bodies).
     pub rotating: Vec<bool>,
+    /// Modal stress fields over `points` (SI, the selected modes), or why the body has none
+    /// ([`crate::stress`]).
+    pub stress: Result<std::sync::Arc<flexmbs_fe::stress::ModalStress>, String>,
 }
 
 /// Error of `geometric_stiffening = true` on a source without an FE model or stored geometric
@@ -177,6 +180,7 @@ fn rigid_body(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(BuiltElement, BodyGeo
         interfaces: Vec::new(),
         translation_only: Vec::new(),
         rotating: Vec::new(),
+        stress: Err(crate::stress::RIGID_BODY.into()),
     };
     Ok((
         BuiltElement::Rigid(RigidBody::new(mass, inertia).with_rotation(rotation)),
@@ -388,7 +392,7 @@ fn ffr_body(
     let kind = BodySource::of(&path).map_err(|m| ctx.err(&key, m))?;
     let consistent = check_source_options(ctx, p, b, kind)? == MassModel::Consistent;
     let units = b.units.unwrap_or_default();
-    let loaded =
+    let mut loaded =
         load_body_source(kind, &path, &b.name, units, consistent).map_err(|m| ctx.err(&key, m))?;
     let ikey = format!("{p}.inertia");
     if consistent {
@@ -403,6 +407,10 @@ fn ffr_body(
     let rotary = node_rotary_inertias(ctx, p, b, kind, &loaded)?;
     let geometric = geometric_stiffness(ctx, p, b, kind, &loaded)?;
     let interfaces = loaded.fe.as_ref().map(named_interfaces).unwrap_or_default();
+    let stress = crate::stress::selected_stress(&mut loaded, |nf| match &b.modes {
+        Some(sel) => mode_columns(ctx, p, nf, sel),
+        None => Ok((0..nf).collect()),
+    })?;
     let LoadedBody {
         reduced,
         fe,
@@ -452,6 +460,7 @@ fn ffr_body(
         interfaces,
         translation_only: translation_only_nodes(&si),
         rotating: rotating_nodes(&si),
+        stress,
     };
     Ok((BuiltElement::Ffr(Box::new(FfrElement::new(body))), geometry))
 }
@@ -611,6 +620,10 @@ pub struct LoadedBody {
     /// per node, body units); `None` for other sources and files without them (an FE model
     /// file's are computed from `fe`, [`crate::mass_model::beam_rotary_inertias`]).
     pub rotary_inertia: Option<Vec<Matrix3<f64>>>,
+    /// Modal stress fields over all modes (body units): computed from an FE model file, or
+    /// stored in a reduced-body file (group `stress`); `Err` with the reason and the fix when
+    /// the source has none ([`crate::stress`]).
+    pub stress: Result<flexmbs_fe::stress::ModalStress, String>,
 }
 
 /// [`load_reduced_with_fe`], with the full translational mass matrix of an FE model when
@@ -635,6 +648,7 @@ impl LoadedBody {
             full_mass: None,
             geometric: None,
             rotary_inertia: None,
+            stress: Err(crate::stress::NO_FE_MESH.into()),
         }
     }
 }
@@ -659,6 +673,9 @@ fn load_body_source(
                 full_mass: None,
                 geometric: f.geometric,
                 rotary_inertia: f.rotary_inertia,
+                stress: f
+                    .stress
+                    .ok_or_else(|| crate::stress::NO_STORED_STRESS.into()),
             })
             .map_err(|e| e.to_string()),
     }
@@ -686,7 +703,10 @@ fn load_fe_model_file(path: &Path, full_mass: bool) -> Result<LoadedBody, String
     };
     let body = run_reduction(&spec, &prepared, &mut |_| {}).map_err(located)?;
     let mass = FeModel::mass_kind(&spec.mesh, spec.reduction.mass);
+    let stress = flexmbs_reduce::stress::modal_stress_fields(&spec, &prepared, &body)
+        .map_err(|e| format!("stress recovery: {e}"));
     Ok(LoadedBody {
+        stress,
         reduced: body,
         fe: Some(FeModel { prepared, mass }),
         full_mass: m_full,

@@ -87,6 +87,8 @@ pub struct OutputConfig {
     /// The animation's points are the rigidly moved bodies plus this multiple of the elastic
     /// deformation (1: the true shape).
     pub deformation_scale: f64,
+    /// Point fields `stress` and `von_mises` in the animation (`output.stress`).
+    pub stress: bool,
     /// Plots: file stem and series.
     pub plots: Vec<(String, Vec<String>)>,
     /// Series for `<model>.csv`.
@@ -598,11 +600,15 @@ pub(crate) fn output_config(
         plots.push((name.clone(), list.clone()));
     }
     check(&o.csv, "output.csv")?;
+    if o.stress {
+        crate::stress::check_stress_output(ctx, o.animation, bodies)?;
+    }
     Ok(OutputConfig {
         every,
         animation: o.animation,
         animation_every,
         deformation_scale,
+        stress: o.stress,
         plots,
         csv: o.csv.clone(),
     })

@@ -19,6 +19,7 @@ pub mod run;
 pub mod schema;
 pub mod signals;
 pub mod stiffening;
+pub mod stress;
 pub mod units;
 
 pub use compile::{compile_model, is_multibody_model, load_model, CompiledModel, SolverConfig};

@@ -251,6 +251,7 @@ impl<'a> Recorder<'a> {
             &s.contacts,
             &mut self.signals,
         );
+        crate::stress::fill_stress_signals(&self.cm.signals, m, &s.q, &mut self.signals);
         // energies of the output row from the state itself (the integrator computes none per
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
         let mut e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);
@@ -290,6 +291,9 @@ impl<'a> Recorder<'a> {
                 crate::animation_points::body_points(m, self.cm, s, &mut self.eval, fk, pos, el);
                 let refs: Vec<&[[f64; 3]]> = self.positions.iter().map(|p| p.as_slice()).collect();
                 let el: Vec<&[[f64; 3]]> = self.elastic.iter().map(|p| p.as_slice()).collect();
+                if self.cm.output.stress {
+                    anim.set_next_point_fields(crate::stress::point_stress_fields(self.cm, &s.q));
+                }
                 anim.write_frame_elastic(t, &refs, Some(&el))?;
             }
         }

@@ -569,6 +569,9 @@ pub struct OutputSpec {
     pub animation_every: Option<usize>,
     /// Scale of the elastic deformation in the animation's points (default 1).
     pub deformation_scale: Option<f64>,
+    /// Stress fields (`stress`, `von_mises`) in the animation (default false).
+    #[serde(default)]
+    pub stress: bool,
     /// Plots: file stem -> list of series.
     #[serde(default)]
     pub plots: BTreeMap<String, Vec<String>>,
@@ -590,6 +593,7 @@ impl Default for OutputSpec {
             animation: true,
             animation_every: None,
             deformation_scale: None,
+            stress: false,
             plots: BTreeMap::new(),
             csv: Vec::new(),
         }

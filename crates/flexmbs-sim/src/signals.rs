@@ -49,6 +49,17 @@ pub enum SignalKind {
     /// Impulses of a contact in the last step, normal and two tangents (N s; regularized laws:
     /// force times step).
     ContactImpulse(usize),
+    /// Stress at an FE node of an ffr body (Pa): equivalent (von Mises) stress and the node's six
+    /// stress values, recovered linearly from the modal stress fields ([`crate::stress`];
+    /// written by [`crate::stress::fill_stress_signals`], left NaN by [`evaluate_signals`]).
+    Stress {
+        /// The body.
+        body: flexmbs_core::BodyId,
+        /// Node index in the body.
+        node: usize,
+        /// The body's modal stress fields (SI).
+        fields: std::sync::Arc<flexmbs_fe::stress::ModalStress>,
+    },
 }
 
 /// A requested output signal.
@@ -66,7 +77,7 @@ pub struct Signal {
 
 const XYZ: [&str; 3] = ["x", "y", "z"];
 
-/// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation`
+/// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation|stress`
 /// (every body has a frame named like the body), `<joint>.force|torque|reaction` and
 /// `<contact>.gap|impulse`.
 pub fn parse_signals(
@@ -163,6 +174,7 @@ pub fn parse_signals(
                 "velocity" => ("m/s".into(), xyz(), SignalKind::Velocity(f)),
                 "angular_velocity" => ("rad/s".into(), xyz(), SignalKind::AngularVelocity(f)),
                 "orientation" => ("rad".into(), xyz(), SignalKind::Orientation(f)),
+                "stress" => crate::stress::stress_signal(model, bodies, item, f).map_err(err)?,
                 "deformation" => {
                     let fr = &model.frames[f.0];
                     let (Some(_), FrameOwner::Body(b)) = (fr.local.mesh_node, fr.owner) else {
@@ -171,7 +183,7 @@ pub fn parse_signals(
                     let body_frame = bodies.iter().find(|x| x.id == b).map(|x| x.frame).ok_or_else(|| err("internal: body without frame".into()))?;
                     ("m".into(), xyz(), SignalKind::Deformation { frame: f, body_frame, reference: fr.local.position })
                 }
-                _ => return Err(err(format!("unknown quantity `{what}` (frames: position, velocity, angular_velocity, orientation, deformation; joints: force, torque, reaction)"))),
+                _ => return Err(err(format!("unknown quantity `{what}` (frames: position, velocity, angular_velocity, orientation, deformation, stress; joints: force, torque, reaction)"))),
             }
         };
         out.push(Signal {
@@ -237,6 +249,7 @@ pub fn evaluate_signals(
             SignalKind::ContactImpulse(c) => {
                 out.extend(contacts.get(*c).map_or([f64::NAN; 3], |c| c.impulse))
             }
+            SignalKind::Stress { .. } => out.extend([f64::NAN; 7]),
         }
     }
 }

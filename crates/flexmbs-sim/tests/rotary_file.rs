@@ -40,6 +40,7 @@ fn reduce_to_file(part: &Path, out: &Path) -> BodyFile {
         body,
         geometric: None,
         rotary_inertia,
+        stress: None,
     };
     f.write(out).unwrap();
     f

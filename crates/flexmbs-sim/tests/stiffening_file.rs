@@ -42,6 +42,7 @@ fn reduce_to_file(model: &Path, out: &Path) -> BodyFile {
         body,
         geometric,
         rotary_inertia,
+        stress: None,
     };
     f.write(out).unwrap();
     f

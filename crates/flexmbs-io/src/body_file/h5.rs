@@ -209,6 +209,7 @@ pub(crate) fn encode_body(
     b: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
     rotary_inertia: Option<&[nalgebra::Matrix3<f64>]>,
+    stress: Option<&flexmbs_fe::stress::ModalStress>,
 ) -> Result<Vec<u8>, BodyFileError> {
     let n = b.num_nodes() as u64;
     let nf = b.num_modes() as u64;
@@ -325,6 +326,9 @@ pub(crate) fn encode_body(
     if let Some(g) = geometric {
         super::geometric::encode(&mut fb, g);
     }
+    if let Some(s) = stress {
+        super::stress::encode(&mut fb, s);
+    }
 
     fb.finish().map_err(|e| hdf5_error(path, "/", e))
 }
@@ -411,7 +415,7 @@ impl Reader<'_> {
     }
 
     /// A non-negative integer dataset (any integer width; h5py writes int64 by default).
-    fn u64s(
+    pub(super) fn u64s(
         &self,
         name: &str,
         d: &Dataset,
@@ -651,10 +655,12 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyF
     check_body(path, &body)?;
     let geometric = super::geometric::decode(&r, nf)?;
     let rotary_inertia = super::rotary::decode(&r, n)?;
+    let stress = super::stress::decode(&r, n, nf)?;
     Ok(BodyFile {
         body,
         geometric,
         rotary_inertia,
+        stress,
     })
 }
 

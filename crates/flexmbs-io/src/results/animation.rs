@@ -51,6 +51,8 @@ pub struct AnimationWriter {
     last_pvd: Option<(Instant, Duration)>,
     /// Frames written since the last `.pvd` rewrite.
     pvd_dirty: bool,
+    /// Extra point fields of the next frame ([`AnimationWriter::set_next_point_fields`]).
+    next_fields: Vec<(String, usize, Vec<f64>)>,
 }
 
 impl AnimationWriter {
@@ -132,6 +134,7 @@ impl AnimationWriter {
             pvd_interval: Duration::from_secs(1),
             last_pvd: None,
             pvd_dirty: false,
+            next_fields: Vec::new(),
         })
     }
 
@@ -145,6 +148,13 @@ impl AnimationWriter {
     /// The least wall time between two `.pvd` rewrites.
     pub fn pvd_interval(&self) -> Duration {
         self.pvd_interval
+    }
+
+    /// Extra point fields `(name, components, values)` for the next frame only (merged over the
+    /// bodies like the points: `components x` all points values each, e.g. stresses); a wrong
+    /// length is an error of that frame's write.
+    pub fn set_next_point_fields(&mut self, fields: Vec<(String, usize, Vec<f64>)>) {
+        self.next_fields = fields;
     }
 
     /// Rewrites the `.pvd` if frames were written since the last rewrite.
@@ -235,16 +245,18 @@ impl AnimationWriter {
             ("displacement", 3, &displacement),
             ("elastic_displacement", 3, &elastic_field),
         ];
-        let fields = if elastic.is_some() {
-            &both[..]
+        let mut fields = if elastic.is_some() {
+            both.to_vec()
         } else {
-            &both[..1]
+            both[..1].to_vec()
         };
+        let extra = std::mem::take(&mut self.next_fields);
+        fields.extend(extra.iter().map(|(n, c, v)| (n.as_str(), *c, v.as_slice())));
         write_vtu_with(
             &file,
             &points,
             &self.cells,
-            fields,
+            &fields,
             &[("body", 1, &self.body_of_cell)],
             &[("TimeValue", 1, &[t])],
             VtuEncoding::Base64,
