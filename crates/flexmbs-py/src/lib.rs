@@ -9,6 +9,7 @@ pub mod errors;
 pub mod model;
 pub mod results;
 pub mod run;
+pub mod sweep;
 
 use pyo3::prelude::*;
 
@@ -22,6 +23,7 @@ fn flexmbs_native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model::check, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(results::read, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     m.add_class::<run::PyProgress>()?;
     m.add_class::<results::NativeResults>()?;
     Ok(())

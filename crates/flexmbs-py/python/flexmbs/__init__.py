@@ -13,6 +13,7 @@ from ._errors import Error, IoError, ModelError, SolverError, UnknownSeriesError
 from ._model import Model, check, load, split_key_path
 from ._results import Results, read_results
 from ._run import run
+from ._sweep import grid, sweep
 
 Progress = _native.Progress
 __version__: str = _native.__version__
@@ -27,8 +28,10 @@ __all__ = [
     "SolverError",
     "UnknownSeriesError",
     "check",
+    "grid",
     "load",
     "read_results",
     "run",
     "split_key_path",
+    "sweep",
 ]
