@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod errors;
+pub mod fe;
 pub mod model;
 pub mod results;
 pub mod run;
@@ -24,6 +25,9 @@ fn flexmbs_native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(results::read, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(fe::modal, m)?)?;
+    m.add_function(wrap_pyfunction!(fe::reduce, m)?)?;
+    m.add_function(wrap_pyfunction!(fe::read_body, m)?)?;
     m.add_class::<run::PyProgress>()?;
     m.add_class::<results::NativeResults>()?;
     Ok(())

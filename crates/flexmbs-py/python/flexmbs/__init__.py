@@ -9,6 +9,7 @@ Rust threads. See ``docs/python.md``.
 from __future__ import annotations
 
 from . import _native
+from ._fe import modal, read_body, reduce
 from ._errors import Error, IoError, ModelError, SolverError, UnknownSeriesError
 from ._model import Model, check, load, split_key_path
 from ._results import Results, read_results
@@ -30,6 +31,9 @@ __all__ = [
     "check",
     "grid",
     "load",
+    "modal",
+    "read_body",
+    "reduce",
     "read_results",
     "run",
     "split_key_path",
