@@ -159,10 +159,14 @@ fn reduce_body(
     let rotary_inertia =
         flexmbs_reduce::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
             .map_err(|e| raise(py, "Error", format!("node rotary inertias: {e}"), &[]))?;
+    // modal stress fields as `flexmbs reduce` writes them (a body whose elements cannot give
+    // stresses is written without them)
+    let stress = flexmbs_reduce::stress::modal_stress_fields(spec, &prepared, &body).ok();
     Ok(BodyFile {
         body,
         geometric,
         rotary_inertia,
+        stress,
     })
 }
 
