@@ -180,8 +180,13 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     // frames on FE nodes: (body index, node index)
     let mut node_frames: HashMap<FrameId, (usize, usize)> = HashMap::new();
     let mut stiffened = Vec::new();
+    // the ffr bodies flexible contours are built from (only when the model has contacts)
+    let mut contour_bodies: HashMap<String, flexmbs_core::ffr::FfrBody> = HashMap::new();
     for (i, b) in mf.body.iter().enumerate() {
         let (element, geometry) = build_body(&ctx, i, b, base)?;
+        if let (BuiltElement::Ffr(f), false) = (&element, mf.contact.is_empty()) {
+            contour_bodies.insert(b.name.clone(), f.body().clone());
+        }
         abstract_bodies.push(match &element {
             BuiltElement::Ffr(f) => !f.body().floating_frame_is_material(),
             BuiltElement::Rigid(_) => false,
@@ -576,7 +581,25 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     for id in free_length_from_initial {
         spec.set_spring_unstressed_initially(id);
     }
-    crate::contacts::add_contacts(&ctx, &mf.contact, &frame, &mut spec)?;
+    let owner = |name: &str, path: String| -> Result<crate::contacts::FlexibleOwner, SimError> {
+        let info = bodies.iter().find(|b| b.name == name);
+        match (info, contour_bodies.get(name)) {
+            (Some(info), Some(body)) => Ok(crate::contacts::FlexibleOwner {
+                frame: info.frame,
+                body,
+                geometry: &info.geometry,
+            }),
+            (Some(_), None) => Err(ctx.err(
+                &path,
+                format!("`{name}` is a rigid body: flexible contours need an ffr body"),
+            )),
+            (None, _) => Err(ctx.err(
+                &path,
+                format!("unknown body `{name}` (bodies: {})", body_names.join(", ")),
+            )),
+        }
+    };
+    crate::contacts::add_contacts(&ctx, &mf.contact, &frame, &owner, &mut spec)?;
     let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
     if !mf.contact.is_empty() && !matches!(solver, SolverConfig::Moreau { .. }) {
         return Err(ctx.err(

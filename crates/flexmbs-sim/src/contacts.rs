@@ -2,6 +2,7 @@
 //! (`docs/model-file.md`, "`[[contact]]`"), compiled into [`flexmbs_core::contact::Contact`]s.
 //! Contacts are solved by the `moreau` solver only.
 
+use crate::bodies::BodyGeometry;
 use crate::compile::Ctx;
 use crate::error::SimError;
 use crate::units::{Dimension, Quantity};
@@ -9,8 +10,24 @@ use flexmbs_core::contact::{
     CircleContour, Contact, ContactLaw, Contour, Friction, NormalLaw, PlaneContour, PointContour,
     SphereContour, TangentDirections,
 };
+use flexmbs_core::ffr::FfrBody;
 use flexmbs_core::{FrameId, ModelSpec};
 use serde::Deserialize;
+
+/// What a flexible contour needs of its body: the body's reference frame, the FFR body and its
+/// FE node data.
+pub(crate) struct FlexibleOwner<'a> {
+    /// The body's reference frame.
+    pub frame: FrameId,
+    /// The FFR body (modes, undeformed node positions).
+    pub body: &'a FfrBody,
+    /// Node ids and positions.
+    pub geometry: &'a BodyGeometry,
+}
+
+/// Resolves a body name at a key path to its [`FlexibleOwner`] (an error for unknown and rigid
+/// bodies).
+pub(crate) type OwnerFn<'a> = dyn Fn(&str, String) -> Result<FlexibleOwner<'a>, SimError> + 'a;
 
 /// `[[contact]]`.
 #[derive(Debug, Clone, Deserialize)]
@@ -40,17 +57,42 @@ pub struct ContactSpec {
     pub directions: Option<DirectionsName>,
 }
 
-/// A contour: `{ type, frame, radius }`.
+/// A contour: `{ type, frame, radius }` (rigid) or `{ type, body, face | nodes, ... }`
+/// (flexible: neutral contours of an ffr body).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContourSpec {
     /// Contour type.
     #[serde(rename = "type")]
     pub kind: ContourName,
-    /// Frame the contour is fixed to.
-    pub frame: String,
-    /// Radius (sphere, circle).
+    /// Frame the contour is fixed to (rigid contours).
+    pub frame: Option<String>,
+    /// Radius (sphere, circle; curve: the tube radius, default 0).
     pub radius: Option<Quantity>,
+    /// The ffr body of a flexible contour.
+    pub body: Option<String>,
+    /// Surface: a face of the body's bounding box, `xmin` ... `zmax`.
+    pub face: Option<String>,
+    /// Surface: the node index matrix (rows of FE node ids); curve, band: ordered node ids.
+    pub nodes: Option<NodesSpec>,
+    /// Band: width.
+    pub width: Option<Quantity>,
+    /// Band: offset along the normal, default 0.
+    pub offset: Option<Quantity>,
+    /// Band: the normal direction in body axes.
+    pub normal: Option<[f64; 3]>,
+    /// Surface: reverse the automatic outward normal.
+    pub flip_normal: Option<bool>,
+}
+
+/// FE node ids of a flexible contour.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum NodesSpec {
+    /// Ordered list (curve, band).
+    Line(Vec<u64>),
+    /// Rows of the node index matrix (surface).
+    Grid(Vec<Vec<u64>>),
 }
 
 /// Contour types.
@@ -65,6 +107,12 @@ pub enum ContourName {
     Plane,
     /// Circle in the frame's x-y plane.
     Circle,
+    /// 2D neutral NURBS contour of an ffr body.
+    Surface,
+    /// 1D neutral NURBS contour of an ffr body.
+    Curve,
+    /// Flexible band on a 1D neutral contour.
+    Band,
 }
 
 /// Normal laws.
@@ -106,12 +154,13 @@ pub(crate) fn add_contacts(
     ctx: &Ctx,
     contacts: &[ContactSpec],
     frame: &dyn Fn(&str, String) -> Result<FrameId, SimError>,
+    owner: &OwnerFn<'_>,
     spec: &mut ModelSpec,
 ) -> Result<(), SimError> {
     for (i, c) in contacts.iter().enumerate() {
         let p = format!("contact[{i}]");
-        let a = contour(ctx, &c.a, &format!("{p}.a"), frame)?;
-        let b = contour(ctx, &c.b, &format!("{p}.b"), frame)?;
+        let a = any_contour(ctx, &c.a, &format!("{p}.a"), frame, owner)?;
+        let b = any_contour(ctx, &c.b, &format!("{p}.b"), frame, owner)?;
         let law = law(ctx, c, &p)?;
         spec.add_contact(Contact {
             name: c.name.clone(),
@@ -123,13 +172,47 @@ pub(crate) fn add_contacts(
     Ok(())
 }
 
-fn contour(
+fn any_contour(
     ctx: &Ctx,
     c: &ContourSpec,
     p: &str,
     frame: &dyn Fn(&str, String) -> Result<FrameId, SimError>,
+    owner: &OwnerFn<'_>,
 ) -> Result<Box<dyn Contour>, SimError> {
-    let f = frame(&c.frame, format!("{p}.frame"))?;
+    if matches!(
+        c.kind,
+        ContourName::Surface | ContourName::Curve | ContourName::Band
+    ) {
+        return crate::flexible_contours::flexible_contour(ctx, c, p, owner);
+    }
+    let flexible_keys = [
+        ("body", c.body.is_some()),
+        ("face", c.face.is_some()),
+        ("nodes", c.nodes.is_some()),
+        ("width", c.width.is_some()),
+        ("offset", c.offset.is_some()),
+        ("normal", c.normal.is_some()),
+        ("flip_normal", c.flip_normal.is_some()),
+    ];
+    if let Some((key, _)) = flexible_keys.iter().find(|k| k.1) {
+        return Err(ctx.err(
+            &format!("{p}.{key}"),
+            "only flexible contours (surface, curve, band) have this key",
+        ));
+    }
+    let name = c
+        .frame
+        .as_ref()
+        .ok_or_else(|| ctx.err(p, "a rigid contour needs `frame`"))?;
+    rigid_contour(ctx, c, p, frame(name, format!("{p}.frame"))?)
+}
+
+fn rigid_contour(
+    ctx: &Ctx,
+    c: &ContourSpec,
+    p: &str,
+    f: FrameId,
+) -> Result<Box<dyn Contour>, SimError> {
     let radius = || -> Result<f64, SimError> {
         let q = c.radius.as_ref().ok_or_else(|| {
             ctx.err(
@@ -161,6 +244,9 @@ fn contour(
             frame: f,
             radius: radius()?,
         }),
+        ContourName::Surface | ContourName::Curve | ContourName::Band => {
+            unreachable!("flexible contours are built by flexible_contour")
+        }
     })
 }
 

@@ -336,10 +336,11 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     res.record("estimate_1dof_deflection_max", d_max);
     res.record("estimate_1dof_contact_duration", t_contact);
     res.record("estimate_1dof_velocity_after_impact", v1);
-    res.record("deflection_max", 0.052 - a.y_min);
+    // the top face lies at y = 0.05 (the mass starts 2 mm above it)
+    res.record("deflection_max", 0.05 - a.y_min);
     // energy laws: every set-valued run, setups A and B, S1 and S2, C_R = 0, 0.7, 1
     let mut gain = f64::NEG_INFINITY;
-    let mut series = vec![];
+    let (mut series, mut energy_series) = (vec![], vec![]);
     for (setup, z0) in [("A", 0.025), ("B", 0.040)] {
         for cr in [0.0, 0.7, 1.0] {
             for (name, step) in [("S1", None), ("S2", Some(1e-5))] {
@@ -360,6 +361,11 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
                 res.record(&format!("energy_end_{key}"), r.energy_end);
                 res.record(&format!("cpu_s_{key}"), r.cpu);
                 if setup == "A" && name == "S2" {
+                    energy_series.push(Series {
+                        name: format!("setup A, S2, C_R = {cr}"),
+                        points: r.energy.clone(),
+                        style: Style::Line,
+                    });
                     series.push(Series {
                         name: format!("setup A, C_R = {cr}"),
                         points: r.y.iter().map(|&(t, y)| (t, 1e3 * y)).collect(),
@@ -375,7 +381,8 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         res.pass = false;
     }
     regularized_runs(&beam, &base, &mut res, &log)?;
-    mode_convergence(&beam, &base, &mut res, &log)?;
+    std::fs::create_dir_all(out)?;
+    mode_convergence(out, &beam, &base, &mut res, &log)?;
     contour_comparison(&beam, &base, &mut res, &log)?;
     std::fs::create_dir_all(out)?;
     let plot = LinePlot {
@@ -388,6 +395,16 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     };
     plot.write(&out.join("mass_y.png"))?;
     plot.write(&out.join("mass_y.svg"))?;
+    let plot = LinePlot {
+        title: "Point mass on beam, setup A, S2, 20 modes: relative energy change".into(),
+        x_label: "t [s]".into(),
+        y_label: "(E - E0) / E0".into(),
+        series: energy_series,
+        log_x: false,
+        log_y: false,
+    };
+    plot.write(&out.join("energy.png"))?;
+    plot.write(&out.join("energy.svg"))?;
     if !a.v_y_final.is_finite() {
         bail!("the mass's final velocity is not finite");
     }
@@ -435,16 +452,18 @@ fn regularized_runs(
     Ok(())
 }
 
-/// Setup A, S2, C_R = 0 with 10 ... 100 modes: the displacement of node (250, 50, 25) mm at the
-/// end and the CPU time.
+/// Setup A, S2, C_R = 0 with 10 ... 100 modes: the displacement of node (250, 50, 25) mm, the
+/// mass's lowest point and final velocity, and the CPU time (the trend is reported, not judged:
+/// no unreduced reference exists here).
 fn mode_convergence(
+    out: &Path,
     beam: &Beam,
     base: &Config,
     res: &mut ValidationResult,
     log: &dyn Fn(&str),
 ) -> Result<()> {
     let counts = [10, 20, 30, 40, 60, 80, 100];
-    let mut rows = vec![];
+    let mut series = vec![];
     for &n in &counts {
         let c = Config {
             modes: n,
@@ -453,22 +472,35 @@ fn mode_convergence(
         };
         let r = simulate(beam, &c)?;
         let w_end = r.node.last().map_or(f64::NAN, |p| p.1);
+        let w_min = r.node.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
         log(&format!(
-            "modes {n}: node y {:.6e} m, v_y_final {:.5}, y_min {:.6}, {:.2} s",
-            w_end, r.v_y_final, r.y_min, r.cpu
+            "modes {n}: node y end {:.6e} m, min {:.6e} m, v_y_final {:.5}, y_min {:.6}, {:.2} s",
+            w_end, w_min, r.v_y_final, r.y_min, r.cpu
         ));
         res.record(&format!("node_y_end_modes{n}"), w_end);
+        res.record(&format!("node_y_min_modes{n}"), w_min);
         res.record(&format!("v_y_final_modes{n}"), r.v_y_final);
         res.record(&format!("y_min_modes{n}"), r.y_min);
         res.record(&format!("cpu_s_S2_modes{n}"), r.cpu);
-        rows.push((n, r.y_min));
+        if [10, 20, 40, 100].contains(&n) {
+            series.push(Series {
+                name: format!("{n} modes"),
+                points: r.node.iter().map(|&(t, y)| (t, 1e3 * y)).collect(),
+                style: Style::Line,
+            });
+        }
     }
-    // convergence of the peak deflection: the change from 60 to 100 modes smaller than from
-    // 10 to 20
-    let d = |i: usize, j: usize| (rows[i].1 - rows[j].1).abs();
-    if d(4, 6).is_nan() || d(4, 6) >= d(0, 1) {
-        res.pass = false;
-    }
+    let plot = LinePlot {
+        title: "Point mass on beam, setup A, S2, C_R = 0: y displacement of node (250, 50, 25) mm"
+            .into(),
+        x_label: "t [s]".into(),
+        y_label: "u_y [mm]".into(),
+        series,
+        log_x: false,
+        log_y: false,
+    };
+    plot.write(&out.join("node_modes.png"))?;
+    plot.write(&out.join("node_modes.svg"))?;
     Ok(())
 }
 
