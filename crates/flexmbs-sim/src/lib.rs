@@ -12,6 +12,7 @@ pub mod contacts;
 pub mod drives;
 pub mod error;
 pub mod fe_frames;
+pub mod forces;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;
