@@ -299,6 +299,13 @@ pub fn coordinate_names(
         q.extend(qn.into_iter().map(|n| format!("{}.{n}", b.name)));
         u.extend(un.into_iter().map(|n| format!("{}.{n}", b.name)));
     }
+    // bodies the compiler adds (a servo's integral state: after the file's bodies)
+    for (i, b) in model.bodies.iter().enumerate() {
+        if bodies.iter().all(|x| x.id.0 != i) {
+            q.extend((0..b.element.nq()).map(|k| format!("{}.q{k}", b.name)));
+            u.extend((0..b.element.nu()).map(|k| format!("{}.u{k}", b.name)));
+        }
+    }
     let mut lambda = Vec::new();
     for j in &model.joints {
         for d in (0..6).filter(|&d| j.locked[d]) {
