@@ -484,3 +484,133 @@ fn bad_force_element_parameters_are_refused() {
         "{err}"
     );
 }
+
+/// The local load tangents of force elements (per element, only its frames' owners perturbed;
+/// a servo with its integrator body has three owners) equal central differences of the
+/// assembled load forces over all coordinates (along `q ⊕ dv` and `u`), at a general moving
+/// state, to 1e-8 of the largest entry (the same differences: round-off only).
+#[test]
+fn force_element_tangents_equal_global_differences() {
+    use flexmbs_core::system::{add_load_forces, add_load_tangents, evaluate, integrate_positions};
+    let mut spec = ModelSpec::new();
+    let arm = spec.add_body(
+        "arm",
+        RigidBody::new(1.0, Matrix3::from_diagonal(&Vector3::new(0.01, 0.1, 0.1)))
+            .with_rotation(RotationParam::Quaternion),
+    );
+    let tip = spec.add_body(
+        "tip",
+        RigidBody::new(0.2, Matrix3::identity() * 0.01).with_rotation(RotationParam::Quaternion),
+    );
+    let g = spec.add_ground_frame("g", Vector3::zeros(), Matrix3::identity());
+    let hub = spec.add_frame("hub", arm, Vector3::new(-0.5, 0.0, 0.0), rz(0.3));
+    let end = spec.add_frame("end", arm, Vector3::new(0.5, 0.1, 0.0), Matrix3::identity());
+    let ft = spec.add_frame("ft", tip, Vector3::new(0.0, 0.05, 0.0), rz(-0.2));
+    let servo = JointServo {
+        name: "servo".into(),
+        frames: vec![g, hub],
+        axis: JointAxis::Rotation,
+        reference: TimeFunction::Constant(0.4),
+        gains: ServoGains {
+            kp: 100.0,
+            ki: 50.0,
+            kd: 5.0,
+        },
+    };
+    add_joint_servo(&mut spec, servo, 1e-3);
+    spec.add_load(element(spring(g, hub, 30.0, 2.0, 0.1, 0.5)));
+    spec.add_load(element(JointSpringDamper {
+        axis: JointAxis::Translation,
+        ..spring(end, ft, 300.0, 4.0, 0.2, 1.0)
+    }));
+    spec.add_load(element(JointFriction {
+        name: "friction".into(),
+        frames: [g, hub],
+        axis: JointAxis::Rotation,
+        coulomb: 0.5,
+        slip_velocity: 2.0,
+    }));
+    let mut bushing = Bushing::diagonal(
+        "bushing",
+        end,
+        ft,
+        [1e3, 2e3, 3e3, 40.0, 50.0, 60.0],
+        [1.0, 2.0, 3.0, 0.1, 0.2, 0.3],
+    );
+    bushing.stiffness[(0, 4)] = 100.0;
+    bushing.stiffness[(4, 0)] = 100.0;
+    spec.add_load(element(bushing));
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    let turn = Rotation3::from_euler_angles(0.2, -0.3, 0.5).into_inner();
+    model.set_body_pose(&mut s, arm, Vector3::new(0.5, 0.1, -0.05), turn);
+    model.set_body_pose(&mut s, tip, Vector3::new(1.1, 0.2, 0.03), rz(0.4) * turn);
+    model.set_body_velocity(
+        &mut s,
+        arm,
+        Vector3::new(0.3, -0.2, 0.1),
+        Vector3::new(0.5, -1.0, 2.0),
+    );
+    model.set_body_velocity(
+        &mut s,
+        tip,
+        Vector3::new(-0.1, 0.4, 0.2),
+        Vector3::new(1.0, 0.3, -0.7),
+    );
+    let (mut q, mut u) = (s.q.clone(), s.u.clone());
+    let nu = model.nu;
+    q[model.nq - 1] = 0.02; // the servo's integral state
+    u[nu - 1] = -0.3;
+    let mut ws = Workspace::new(&model);
+    let mut forces = |q: &[f64], u: &[f64], h: &mut Vec<f64>| {
+        evaluate(&model, q, u, &mut ws.sys).unwrap();
+        h.iter_mut().for_each(|x| *x = 0.0);
+        add_load_forces(&model, 0.7, 1.0, &ws.sys.frames, h);
+    };
+    let (mut hp, mut hm) = (vec![0.0; nu], vec![0.0; nu]);
+    let (mut ref_q, mut ref_u) = (vec![vec![0.0; nu]; nu], vec![vec![0.0; nu]; nu]);
+    let mut qp = q.clone();
+    for j in 0..nu {
+        let eps = 1e-6;
+        let mut dv = vec![0.0; nu];
+        dv[j] = eps;
+        integrate_positions(&model, &q, &dv, &mut qp);
+        forces(&qp, &u, &mut hp);
+        dv[j] = -eps;
+        integrate_positions(&model, &q, &dv, &mut qp);
+        forces(&qp, &u, &mut hm);
+        for i in 0..nu {
+            ref_q[i][j] = (hp[i] - hm[i]) / (2.0 * eps);
+        }
+        let eps = 1e-6 * u[j].abs().max(1.0);
+        let mut up = u.clone();
+        up[j] = u[j] + eps;
+        forces(&q, &up, &mut hp);
+        up[j] = u[j] - eps;
+        forces(&q, &up, &mut hm);
+        for i in 0..nu {
+            ref_u[i][j] = (hp[i] - hm[i]) / (2.0 * eps);
+        }
+    }
+    evaluate(&model, &q, &u, &mut ws.sys).unwrap();
+    ws.sys.dh_dq.fill(0.0);
+    ws.sys.dh_du.fill(0.0);
+    add_load_tangents(&model, 0.7, &q, &u, 1.0, &mut ws.sys);
+    for (what, m, r) in [
+        ("dh/dq", &ws.sys.dh_dq, &ref_q),
+        ("dh/du", &ws.sys.dh_du, &ref_u),
+    ] {
+        let scale = r.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()));
+        let mut diff = 0.0_f64;
+        for i in 0..nu {
+            for j in 0..nu {
+                diff = diff.max((m[(i, j)] - r[i][j]).abs());
+            }
+        }
+        println!("{what}: max difference {diff:e} of {scale:e}");
+        assert!(
+            scale > 1.0 && diff <= 1e-8 * scale,
+            "{what}: {diff:e} of {scale:e}"
+        );
+    }
+}
