@@ -83,6 +83,14 @@ pub enum ModelError {
         /// What is wrong.
         reason: String,
     },
+    /// A force element ([`crate::force::ForceElement`]) with bad parameters or frames.
+    #[error("force element `{element}`: {reason}")]
+    InvalidForceElement {
+        /// Its name.
+        element: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// A state vector of the wrong length was given.
     #[error("{what} has length {got}, expected {expected}")]
     DimensionMismatch {

@@ -56,6 +56,7 @@ pub mod contact;
 pub mod element;
 pub mod error;
 pub mod ffr;
+pub mod force;
 pub mod ids;
 pub mod integrator;
 pub mod joint;
@@ -71,6 +72,7 @@ pub mod state;
 pub mod superelement;
 pub mod system;
 pub mod time_function;
+pub mod user_function;
 
 pub use element::{
     Element, ElementError, ElementScratch, FrameKinematics, LocalFrame, TangentScratch,

@@ -3,6 +3,7 @@
 //! elements.
 
 use crate::element::FrameKinematics;
+use crate::force::{ForceElementRef, Wrench, MAX_FORCE_FRAMES};
 use crate::ids::FrameId;
 use crate::time_function::TimeFunction;
 use nalgebra::Vector3;
@@ -56,20 +57,27 @@ pub enum Load {
         /// Free length `l0` (>= 0).
         free_length: f64,
     },
+    /// A force element ([`crate::force`]: joint spring-dampers, bushings, servos, joint
+    /// friction, or a user's [`crate::force::ForceElement`]). Not scaled by the static load
+    /// factor.
+    Element(ForceElementRef),
 }
+
+/// Most frames a load acts on ([`Load::wrenches`]).
+pub const MAX_LOAD_FRAMES: usize = crate::force::MAX_FORCE_FRAMES;
 
 /// A force and torque acting on a frame (global), to be mapped with `J_T^T f + J_R^T m`.
 pub type FrameWrench = (FrameId, Vector3<f64>, Vector3<f64>);
 
 impl Load {
     /// Global wrenches of this load on its frames at time `t` (`load_factor` scales point
-    /// loads); at most two, written to `out`, returning how many.
+    /// loads); at most [`MAX_LOAD_FRAMES`], written to `out`, returning how many.
     pub fn wrenches(
         &self,
         t: f64,
         load_factor: f64,
         frames: &[FrameKinematics],
-        out: &mut [FrameWrench; 2],
+        out: &mut [FrameWrench; MAX_LOAD_FRAMES],
     ) -> usize {
         let z = Vector3::zeros();
         match self {
@@ -115,6 +123,47 @@ impl Load {
                 out[1] = (*frame_b, -n * f, z);
                 2
             }
+            Load::Element(e) => {
+                let mut w = [Wrench::default(); MAX_FORCE_FRAMES];
+                let ids = e.frames();
+                e.wrenches(t, frames, &mut w);
+                for ((o, id), w) in out.iter_mut().zip(ids).zip(&w) {
+                    *o = (*id, w.force, w.moment);
+                }
+                ids.len()
+            }
+        }
+    }
+
+    /// The frames the load acts on, into `out`, returning how many.
+    pub fn frames(&self, out: &mut [FrameId; MAX_LOAD_FRAMES]) -> usize {
+        match self {
+            Load::Force { frame, .. } | Load::Torque { frame, .. } => {
+                out[0] = *frame;
+                1
+            }
+            Load::SpringDamper {
+                frame_a, frame_b, ..
+            } => {
+                out[0] = *frame_a;
+                out[1] = *frame_b;
+                2
+            }
+            Load::Element(e) => {
+                let ids = e.frames();
+                out[..ids.len()].copy_from_slice(ids);
+                ids.len()
+            }
+        }
+    }
+
+    /// Whether the load's forces depend on velocities (damped springs, force elements that say
+    /// so): only these get velocity columns in the tangent.
+    pub fn depends_on_velocity(&self) -> bool {
+        match self {
+            Load::SpringDamper { damping, .. } => *damping != 0.0,
+            Load::Element(e) => e.depends_on_velocity(),
+            Load::Force { .. } | Load::Torque { .. } => false,
         }
     }
 
@@ -132,6 +181,7 @@ impl Load {
                 let l = (frames[frame_b.0].position - frames[frame_a.0].position).norm();
                 0.5 * stiffness * (l - free_length).powi(2)
             }
+            Load::Element(e) => e.potential_energy(frames),
             _ => 0.0,
         }
     }

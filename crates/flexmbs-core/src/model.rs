@@ -379,6 +379,13 @@ impl ModelSpec {
                     check_frame(format!("load {id}"), *frame)?;
                     time.validate(Some(id))?;
                 }
+                Load::Element(e) => {
+                    let mut owners = Vec::new();
+                    for f in e.frames() {
+                        owners.push(check_frame(format!("load {id}"), *f)?);
+                    }
+                    crate::force::check_force_element(&**e, &owners)?;
+                }
                 Load::SpringDamper {
                     frame_a,
                     frame_b,

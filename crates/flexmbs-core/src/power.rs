@@ -10,6 +10,8 @@
 //!   explicit time dependence (`g_t = 0`, ideal joints) do no work; a prescribed-motion row
 //!   delivers `lambda g_t`, the drive power.
 //!
+//! - Force elements ([`crate::force`]): their potential energy is in `springs`, the rest is
+//!   [`crate::force::ForceElement::nonconservative_power`] (in `loads`).
 //! - Geometric stiffening of an FFR body: the force `-K_geo(omega_bar) q_f` has no potential in
 //!   the elastic energy and is not conservative when `omega_bar` varies; its power
 //!   `-q_f_dot^T K_geo(omega_bar) q_f` is [`stiffening_power`] (per body: the element contract
@@ -51,12 +53,9 @@ pub fn has_external_work(model: &Model) -> bool {
 pub fn power_frames(model: &Model) -> Vec<FrameId> {
     let mut ids: Vec<FrameId> = Vec::new();
     for load in &model.loads {
-        match load {
-            Load::Force { frame, .. } | Load::Torque { frame, .. } => ids.push(*frame),
-            Load::SpringDamper {
-                frame_a, frame_b, ..
-            } => ids.extend([*frame_a, *frame_b]),
-        }
+        let mut f = [FrameId(0); crate::load::MAX_LOAD_FRAMES];
+        let n = load.frames(&mut f);
+        ids.extend_from_slice(&f[..n]);
     }
     for j in model.joints.iter().filter(|j| j.prescribed.is_some()) {
         ids.extend([j.frame_a, j.frame_b]);
@@ -87,8 +86,10 @@ pub fn external_power(model: &Model, t: f64, frames: &[FrameKinematics], lambda:
                     p.dampers -= damping * l_dot * l_dot;
                 }
             }
+            Load::Element(e) => p.loads += e.nonconservative_power(t, frames),
             _ => {
-                let mut w = [(frame_a_of(load), Default::default(), Default::default()); 2];
+                let mut w = [(frame_a_of(load), Default::default(), Default::default());
+                    crate::load::MAX_LOAD_FRAMES];
                 let n = load.wrenches(t, 1.0, frames, &mut w);
                 for (frame, f, m) in &w[..n] {
                     let k = &frames[frame.index()];
@@ -120,6 +121,7 @@ fn frame_a_of(load: &Load) -> FrameId {
     match load {
         Load::Force { frame, .. } | Load::Torque { frame, .. } => *frame,
         Load::SpringDamper { frame_a, .. } => *frame_a,
+        Load::Element(e) => e.frames()[0],
     }
 }
 

@@ -329,7 +329,8 @@ fn add_one_load_force(
     frames: &[FrameKinematics],
     h: &mut [f64],
 ) {
-    let mut w: [FrameWrench; 2] = [(FrameId(0), Vector3::zeros(), Vector3::zeros()); 2];
+    let mut w: [FrameWrench; crate::load::MAX_LOAD_FRAMES] =
+        [(FrameId(0), Vector3::zeros(), Vector3::zeros()); crate::load::MAX_LOAD_FRAMES];
     let n = load.wrenches(t, load_factor, frames, &mut w);
     for (frame, f, m) in &w[..n] {
         add_frame_wrench(model, *frame, f, m, frames, h);

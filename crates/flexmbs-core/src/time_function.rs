@@ -75,6 +75,9 @@ pub enum TimeFunction {
         /// Shape `s(tau)` of the move.
         law: MotionLaw,
     },
+    /// A user's function ([`crate::user_function::UserTimeFunction`]): the extension point for
+    /// time functions the variants above do not cover.
+    User(crate::user_function::UserFunctionRef),
 }
 
 /// A normalized motion law `s(tau)` on `[0, 1]` with `s(0) = 0`, `s(1) = 1`, `s'(0) = s'(1) = 0`,
@@ -228,6 +231,7 @@ impl TimeFunction {
     pub fn value(&self, t: f64) -> f64 {
         match self {
             Self::Constant(c) => *c,
+            Self::User(f) => f.0.value(t),
             Self::Ramp { t0, t1, v0, v1 } => {
                 if t <= *t0 {
                     *v0
@@ -283,6 +287,7 @@ impl TimeFunction {
     pub fn derivative(&self, t: f64) -> f64 {
         match self {
             Self::Constant(_) | Self::Step { .. } | Self::Pulse { .. } => 0.0,
+            Self::User(f) => f.0.derivative(t),
             Self::Ramp { t0, t1, v0, v1 } => {
                 if t >= *t0 && t < *t1 {
                     (v1 - v0) / (t1 - t0)
@@ -320,6 +325,7 @@ impl TimeFunction {
     /// Second time derivative `f''(t)` (zero for the piecewise-linear variants).
     pub fn second_derivative(&self, t: f64) -> f64 {
         match self {
+            Self::User(f) => f.0.second_derivative(t),
             Self::Harmonic {
                 amplitude,
                 frequency_hz,
@@ -351,7 +357,9 @@ impl TimeFunction {
     pub fn discontinuities(&self) -> Vec<Discontinuity> {
         let jump = |t, order, jump| Discontinuity { t, order, jump };
         let mut out = match self {
-            Self::Constant(_) | Self::Harmonic { .. } | Self::Move { .. } => Vec::new(),
+            Self::Constant(_) | Self::Harmonic { .. } | Self::Move { .. } | Self::User(_) => {
+                Vec::new()
+            }
             Self::Ramp { t0, t1, v0, v1 } => {
                 let slope = (v1 - v0) / (t1 - t0);
                 vec![jump(*t0, 1, slope), jump(*t1, 1, -slope)]
@@ -378,6 +386,9 @@ impl TimeFunction {
 
     /// Integral `int_0^t f(s) ds` (exact for every variant).
     pub fn integral(&self, t: f64) -> f64 {
+        if let Self::User(f) = self {
+            return f.0.integral(t);
+        }
         self.antiderivative(t) - self.antiderivative(0.0)
     }
 
@@ -445,6 +456,7 @@ impl TimeFunction {
                     MovePhase::After => 0.5 * (v0 + v1) * dur + v1 * (t - t1),
                 }
             }
+            Self::User(f) => f.0.integral(t),
         }
     }
 }

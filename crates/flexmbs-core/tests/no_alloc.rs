@@ -389,3 +389,83 @@ fn moreau_steps_do_not_allocate() {
     ON.with(|c| c.set(false));
     assert_eq!(n, 0, "adaptive Moreau steps allocated {n} times");
 }
+
+/// Force elements (`Load::Element`): a PID servo with its integrator body (three frames), a
+/// joint spring-damper and friction on a revolute joint, and a bushing to a second body;
+/// generalized-alpha, dense and sparse backend.
+#[test]
+fn force_element_steps_do_not_allocate() {
+    use flexmbs_core::force::*;
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, -9.81, 0.0));
+    let arm = spec.add_body(
+        "arm",
+        RigidBody::new(1.0, Matrix3::identity() * 0.1).with_rotation(RotationParam::Quaternion),
+    );
+    let tip = spec.add_body("tip", RigidBody::new(0.2, Matrix3::identity() * 0.01));
+    let g = spec.add_ground_frame("g", Vector3::zeros(), Matrix3::identity());
+    let hub = spec.add_frame(
+        "hub",
+        arm,
+        Vector3::new(-0.5, 0.0, 0.0),
+        Matrix3::identity(),
+    );
+    let end = spec.add_frame("end", arm, Vector3::new(0.5, 0.0, 0.0), Matrix3::identity());
+    let ft = spec.add_frame("ft", tip, Vector3::zeros(), Matrix3::identity());
+    spec.add_joint(Joint::revolute("hinge", g, hub));
+    let servo = JointServo {
+        name: "servo".into(),
+        frames: vec![g, hub],
+        axis: JointAxis::Rotation,
+        reference: TimeFunction::Harmonic {
+            amplitude: 0.2,
+            frequency_hz: 1.0,
+            phase: 0.0,
+            offset: 0.0,
+        },
+        gains: ServoGains {
+            kp: 100.0,
+            ki: 50.0,
+            kd: 5.0,
+        },
+    };
+    add_joint_servo(&mut spec, servo, 1e-3);
+    let spring = JointSpringDamper {
+        name: "spring".into(),
+        frames: [g, hub],
+        axis: JointAxis::Rotation,
+        stiffness: 3.0,
+        damping: 0.1,
+        reference: 0.0,
+        preload: 0.5,
+    };
+    spec.add_load(Load::Element(ForceElementRef::new(spring)));
+    let friction = JointFriction {
+        name: "friction".into(),
+        frames: [g, hub],
+        axis: JointAxis::Rotation,
+        coulomb: 0.1,
+        slip_velocity: 0.05,
+    };
+    spec.add_load(Load::Element(ForceElementRef::new(friction)));
+    spec.add_load(Load::Element(ForceElementRef::new(Bushing::diagonal(
+        "bushing", end, ft, [1e4; 6], [10.0; 6],
+    ))));
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    model.set_body_pose(
+        &mut s,
+        arm,
+        Vector3::new(0.5, 0.0, 0.0),
+        Matrix3::identity(),
+    );
+    model.set_body_pose(
+        &mut s,
+        tip,
+        Vector3::new(1.0, 0.0, 0.0),
+        Matrix3::identity(),
+    );
+    let n = steps_allocations(&model, &s, LinearSolver::Dense, false)
+        + steps_allocations(&model, &s, LinearSolver::Sparse, false);
+    assert_eq!(n, 0, "allocations in 20 steps with force elements");
+}

@@ -284,6 +284,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         })
     };
     let mut joint_rows = Vec::new();
+    let mut joint_refs = Vec::new();
     let mut drives = Vec::new();
     for (i, j) in mf.joint.iter().enumerate() {
         let p = format!("joint[{i}]");
@@ -429,8 +430,10 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             }
         }
         joint_rows.push(joint.num_rows());
+        joint_refs.push(crate::forces::JointRef::of(&joint));
         spec.add_joint(joint);
     }
+    crate::forces::add_forces(&ctx, &mf.force, &mut spec, &frame, &joint_refs)?;
     let mut free_length_from_initial = Vec::new();
     for (i, l) in mf.load.iter().enumerate() {
         let p = format!("load[{i}]");
@@ -720,6 +723,12 @@ fn check_names(ctx: &Ctx, mf: &ModelFile) -> Result<(), SimError> {
                 .iter()
                 .enumerate()
                 .map(|(i, j)| (j.name.as_str(), format!("joint[{i}].name"))),
+        )
+        .chain(
+            mf.force
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (f.name.as_str(), format!("force[{i}].name"))),
         );
     for (name, path) in items {
         if name == "ground" || name.is_empty() || name.contains(['.', '/']) {

@@ -13,6 +13,7 @@ pub mod drives;
 pub mod error;
 pub mod fe_frames;
 mod flexible_contours;
+pub mod forces;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;

@@ -34,6 +34,9 @@ pub struct ModelFile {
     /// Contacts (`[[contact]]`, `moreau` solver).
     #[serde(default)]
     pub contact: Vec<crate::contacts::ContactSpec>,
+    /// `[[force]]` force elements.
+    #[serde(default)]
+    pub force: Vec<crate::forces::ForceSpec>,
     /// Output selection.
     #[serde(default)]
     pub output: OutputSpec,

@@ -5,7 +5,7 @@ use crate::compile::{BodyInfo, Ctx, DOFS};
 use crate::error::SimError;
 use crate::schema::RotationName;
 use flexmbs_core::model::FrameOwner;
-use flexmbs_core::{FrameId, FrameKinematics, Model};
+use flexmbs_core::{FrameId, FrameKinematics, Load, Model};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -44,6 +44,9 @@ pub enum SignalKind {
     /// Torque the joint exerts on its frame `b` about the origin of `b`, in the axes of frame
     /// `a` (N m); a prescribed motion contributes the drive torque.
     JointTorque(usize),
+    /// The output of a force element (`Load::Element` at this load index): a servo's drive
+    /// torque or force, a joint spring's or friction's torque or force (on frame `b`).
+    ForceOutput(usize),
     /// Normal gap of a contact (m) at the last step's midpoint (moreau solver).
     ContactGap(usize),
     /// Impulses of a contact in the last step, normal and two tangents (N s; regularized laws:
@@ -78,8 +81,8 @@ pub struct Signal {
 const XYZ: [&str; 3] = ["x", "y", "z"];
 
 /// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation|stress`
-/// (every body has a frame named like the body), `<joint>.force|torque|reaction` and
-/// `<contact>.gap|impulse`.
+/// (every body has a frame named like the body), `<joint>.force|torque|reaction`,
+/// `<contact>.gap|impulse` and `<force>.output`.
 pub fn parse_signals(
     ctx: &Ctx,
     list: &[String],
@@ -111,7 +114,30 @@ pub fn parse_signals(
             })
         };
         let contact = model.contacts.iter().position(|c| c.name == item);
-        let (unit, components, kind) = if let Some(c) = contact {
+        let force = model
+            .loads
+            .iter()
+            .position(|l| matches!(l, Load::Element(e) if e.name() == item));
+        let (unit, components, kind) = if let Some(l) = force {
+            let Load::Element(e) = &model.loads[l] else {
+                unreachable!("found as an element")
+            };
+            if what != "output" || e.output_unit().is_empty() {
+                return Err(err(format!(
+                    "unknown quantity `{what}` of force `{item}`{}",
+                    if e.output_unit().is_empty() {
+                        " (it has no output)"
+                    } else {
+                        " (output)"
+                    }
+                )));
+            }
+            (
+                e.output_unit().to_string(),
+                vec!["value".to_string()],
+                SignalKind::ForceOutput(l),
+            )
+        } else if let Some(c) = contact {
             match what {
                 "gap" => (
                     "m".to_string(),
@@ -245,6 +271,10 @@ pub fn evaluate_signals(
             SignalKind::Reaction { row, rows } => out.extend(&lambda[*row..row + rows]),
             SignalKind::JointForce(j) => out.extend(wrench(*j).0.iter()),
             SignalKind::JointTorque(j) => out.extend(wrench(*j).1.iter()),
+            SignalKind::ForceOutput(l) => out.push(match &model.loads[*l] {
+                Load::Element(e) => e.output(t, frames).unwrap_or(f64::NAN),
+                _ => f64::NAN,
+            }),
             SignalKind::ContactGap(c) => out.push(contacts.get(*c).map_or(f64::NAN, |c| c.gap)),
             SignalKind::ContactImpulse(c) => {
                 out.extend(contacts.get(*c).map_or([f64::NAN; 3], |c| c.impulse))
@@ -281,6 +311,13 @@ pub fn coordinate_names(
         }
         q.extend(qn.into_iter().map(|n| format!("{}.{n}", b.name)));
         u.extend(un.into_iter().map(|n| format!("{}.{n}", b.name)));
+    }
+    // bodies the compiler adds (a servo's integral state: after the file's bodies)
+    for (i, b) in model.bodies.iter().enumerate() {
+        if bodies.iter().all(|x| x.id.0 != i) {
+            q.extend((0..b.element.nq()).map(|k| format!("{}.q{k}", b.name)));
+            u.extend((0..b.element.nu()).map(|k| format!("{}.u{k}", b.name)));
+        }
     }
     let mut lambda = Vec::new();
     for j in &model.joints {

@@ -84,11 +84,15 @@ pub enum Dimension {
     Damping,
     /// Frequency (Hz).
     Frequency,
+    /// Rotational stiffness (N m/rad).
+    RotationalStiffness,
+    /// Rotational damping (N m s/rad).
+    RotationalDamping,
 }
 
 impl Dimension {
     /// Every dimension (for "this unit is a ... unit" messages).
-    pub const ALL: [Dimension; 14] = [
+    pub const ALL: [Dimension; 16] = [
         Dimension::Dimensionless,
         Dimension::Length,
         Dimension::Mass,
@@ -103,6 +107,8 @@ impl Dimension {
         Dimension::Stiffness,
         Dimension::Damping,
         Dimension::Frequency,
+        Dimension::RotationalStiffness,
+        Dimension::RotationalDamping,
     ];
 
     /// Name used in messages.
@@ -122,6 +128,8 @@ impl Dimension {
             Dimension::Stiffness => "stiffness",
             Dimension::Damping => "damping coefficient",
             Dimension::Frequency => "frequency",
+            Dimension::RotationalStiffness => "rotational stiffness",
+            Dimension::RotationalDamping => "rotational damping coefficient",
         }
     }
 
@@ -153,6 +161,17 @@ impl Dimension {
             Dimension::Stiffness => &[("N/m", 1.0), ("N/mm", 1e3), ("kN/m", 1e3), ("kN/mm", 1e6)],
             Dimension::Damping => &[("N*s/m", 1.0), ("N*s/mm", 1e3), ("kN*s/m", 1e3)],
             Dimension::Frequency => &[("Hz", 1.0), ("kHz", 1e3), ("1/s", 1.0)],
+            Dimension::RotationalStiffness => &[
+                ("N*m/rad", 1.0),
+                ("N*mm/rad", 1e-3),
+                ("kN*m/rad", 1e3),
+                ("N*m/deg", 180.0 / PI),
+            ],
+            Dimension::RotationalDamping => &[
+                ("N*m*s/rad", 1.0),
+                ("N*mm*s/rad", 1e-3),
+                ("kN*m*s/rad", 1e3),
+            ],
         }
     }
 

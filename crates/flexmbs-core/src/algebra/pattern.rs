@@ -76,12 +76,9 @@ impl ColumnLists {
 
 /// The frames a load acts on.
 fn load_frames(load: &Load) -> Vec<FrameId> {
-    match load {
-        Load::Force { frame, .. } | Load::Torque { frame, .. } => vec![*frame],
-        Load::SpringDamper {
-            frame_a, frame_b, ..
-        } => vec![*frame_a, *frame_b],
-    }
+    let mut ids = [FrameId(0); crate::load::MAX_LOAD_FRAMES];
+    let n = load.frames(&mut ids);
+    ids[..n].to_vec()
 }
 
 impl SystemPattern {

@@ -532,7 +532,8 @@ fn newton_residual(
     // the terms r balances, and the gross terms whose differences the element forces are
     let f_scale = super::max_abs(r_acc)
         .max(super::max_abs(&sys.h))
-        .max(system::force_scale(model, &b.q_new));
+        .max(system::force_scale(model, &b.q_new))
+        .max(crate::force::force_element_scale(model, &sys.frames));
     // -h, then + G^T lambda (column by column of G, rows in order)
     for (r, h) in r_acc.iter_mut().zip(&sys.h) {
         *r -= h;

@@ -10,24 +10,23 @@ use super::{add_frame_wrench, add_one_load_force};
 use crate::element::{ElementScratch, FrameKinematics};
 use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
-use crate::load::Load;
+use crate::load::{Load, MAX_LOAD_FRAMES};
 use crate::model::{FrameOwner, Model};
 use crate::state::SystemBuffers;
 use nalgebra::Vector3;
 
-/// The frames a load acts on (one for point loads, two for a spring-damper).
-fn load_frames(load: &Load) -> ([FrameId; 2], usize) {
-    match load {
-        Load::Force { frame, .. } | Load::Torque { frame, .. } => ([*frame, *frame], 1),
-        Load::SpringDamper {
-            frame_a, frame_b, ..
-        } => ([*frame_a, *frame_b], 2),
-    }
+/// The frames a load acts on (one for point loads, two for a spring-damper, up to
+/// [`MAX_LOAD_FRAMES`] for a force element).
+fn load_frames(load: &Load) -> ([FrameId; MAX_LOAD_FRAMES], usize) {
+    let mut ids = [FrameId(0); MAX_LOAD_FRAMES];
+    let n = load.frames(&mut ids);
+    (ids, n)
 }
 
-/// The distinct owners (bodies or nodes) of `frames` (ground frames have none), at most two.
-fn frame_owners(model: &Model, frames: &[FrameId]) -> ([FrameOwner; 2], usize) {
-    let mut owners = [FrameOwner::Ground; 2];
+/// The distinct owners (bodies or nodes) of `frames` (ground frames have none), at most
+/// [`MAX_LOAD_FRAMES`].
+fn frame_owners(model: &Model, frames: &[FrameId]) -> ([FrameOwner; MAX_LOAD_FRAMES], usize) {
+    let mut owners = [FrameOwner::Ground; MAX_LOAD_FRAMES];
     let mut n = 0;
     for f in frames {
         let o = model.frames[f.0].owner;
@@ -148,7 +147,7 @@ struct LocalTangent<'a> {
     /// The distinct owners of `frames`.
     owners: &'a [FrameOwner],
     /// Their velocity coordinates (rows and columns).
-    rows: [std::ops::Range<usize>; 2],
+    rows: [std::ops::Range<usize>; MAX_LOAD_FRAMES],
     /// The owners share coordinates (bodies on a shared node, a node frame and a body on that
     /// node): each global column / row once, and a perturbation moves every frame.
     overlap: bool,
@@ -233,8 +232,11 @@ fn add_local_force_tangent(
 ) {
     let (owners, n_owners) = frame_owners(model, frames);
     let owners = &owners[..n_owners];
-    let rows = [0, 1].map(|k| owners.get(k).map_or(0..0, |&o| owner_ranges(model, o).1));
-    let overlap = n_owners == 2 && rows[0].start < rows[1].end && rows[1].start < rows[0].end;
+    let rows: [_; MAX_LOAD_FRAMES] =
+        std::array::from_fn(|k| owners.get(k).map_or(0..0, |&o| owner_ranges(model, o).1));
+    let overlap = (0..n_owners).any(|i| {
+        (i + 1..n_owners).any(|j| rows[i].start < rows[j].end && rows[j].start < rows[i].end)
+    });
     let lt = LocalTangent {
         model,
         q,
@@ -329,7 +331,7 @@ pub(crate) fn add_one_load_tangent(
         load_factor,
     };
     // point loads and undamped springs do not depend on u: no velocity columns
-    let velocity = matches!(load, Load::SpringDamper { damping, .. } if *damping != 0.0);
+    let velocity = load.depends_on_velocity();
     add_local_force_tangent(model, q, u, &frames[..n], &force, 1.0, velocity, ws, sink);
 }
 
