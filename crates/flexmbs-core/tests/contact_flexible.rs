@@ -7,7 +7,11 @@
 //!   is along the normal);
 //! - dynamics: a ball dropped on a free-floating flexible plate with `C_R = 1` (Moreau) gains no
 //!   energy, and the total momentum is conserved through the impacts;
-//! - bad input: a contour on a rigid body or with the wrong mode count is refused at compile time.
+//! - bad input: a contour on a rigid body or with the wrong mode count is refused at compile time;
+//! - Moreau steps with a flexible contour allocate nothing (fixed and step-size controlled).
+
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
 
 use faer::Mat;
 use flexmbs_core::contact::{
@@ -289,5 +293,41 @@ fn flexible_contours_on_the_wrong_body_are_refused() {
             assert!(reason.contains("not an FFR body"), "{reason}")
         }
         other => panic!("expected InvalidContact, got {other:?}"),
+    }
+}
+
+#[test]
+fn moreau_steps_on_flexible_contours_allocate_nothing() {
+    use flexmbs_core::integrator::{MoreauSscSettings, MoreauSscStepper};
+    for kind in [Kind::Surface, Kind::Band] {
+        let mut seed = 3;
+        let law = ContactLaw::unilateral(0.5);
+        let model = plate_and_ball_spec(&mut seed, kind, law, true)
+            .compile()
+            .unwrap();
+        let mut s = model.initial_state();
+        let ball = Vector3::new(0.31, 0.05, 0.0205);
+        model.set_body_pose(&mut s, BodyId(1), ball, Matrix3::identity());
+        let v = Vector3::new(0.05, 0.0, -1.0);
+        model.set_body_velocity(&mut s, BodyId(1), v, Vector3::zeros());
+        let mut ws = Workspace::new(&model);
+        let mut fixed = MoreauStepper::new(MoreauSettings::default());
+        let mut ssc = MoreauSscStepper::new(MoreauSscSettings::default());
+        let mut s2 = s.clone();
+        let mut ws2 = Workspace::new(&model);
+        fixed.initialize(&model, &mut s, &mut ws).unwrap();
+        ssc.initialize(&model, &mut s2, &mut ws2).unwrap();
+        // warm-up: the first impact and the first full search happen here
+        for _ in 0..20 {
+            fixed.step(&model, &mut s, &mut ws, 1e-4).unwrap();
+            ssc.step(&model, &mut s2, &mut ws2, 1e-4).unwrap();
+        }
+        let n = counting_alloc::allocations_in(|| {
+            for _ in 0..200 {
+                fixed.step(&model, &mut s, &mut ws, 1e-4).unwrap();
+                ssc.step(&model, &mut s2, &mut ws2, 5e-5).unwrap();
+            }
+        });
+        assert_eq!(n, 0, "{kind:?}: {n} allocations in 400 steps");
     }
 }
