@@ -1,30 +1,41 @@
-//! [`ResultsWriter`]: collects output rows and keeps a complete results file on disk.
+//! [`ResultsWriter`]: appends output rows to a results file that is readable at any time.
 
-use super::{h5, Columns, ResultsError, ResultsLayout, ResultsRow, RunStatus, RESERVED_ATTRIBUTES};
+use super::stream::AppendFile;
+use super::{Columns, ResultsError, ResultsLayout, ResultsRow, RunStatus, RESERVED_ATTRIBUTES};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// Default wall-clock time between two rewrites of the results file.
+/// Default wall-clock time between two flushes of the results file.
 pub const DEFAULT_FLUSH_INTERVAL: Duration = Duration::from_secs(2);
 
-/// The flush interval is raised to this multiple of the duration of the last write, so that
+/// The flush interval is raised to this multiple of the duration of the last flush, so that
 /// writing takes at most about 1 / (1 + 10) of the run's wall time.
 const INTERVAL_PER_WRITE_TIME: u32 = 10;
 
+/// Rows not yet flushed are flushed when they hold this many bytes, whatever the interval:
+/// the writer's memory is bounded by this, not by the length of the run.
+pub const MAX_PENDING_BYTES: usize = 8 << 20;
+
 /// Writer of a results file.
 ///
-/// hdf5-pure writes whole files only, so the writer keeps every row in memory and rewrites the
-/// file atomically (temporary sibling + rename): at [`ResultsWriter::create`] (empty), from
-/// [`ResultsWriter::push`] when the flush interval has passed since the last write, on
-/// [`ResultsWriter::flush`] and on [`ResultsWriter::finish`]. The file on disk is therefore always
-/// complete and readable; a run that crashes or is killed leaves the rows of the last write with
-/// status `running`. Dropping the writer without `finish` writes nothing more (as in a crash).
+/// The file (format version 2) is created at once, empty and valid, with chunked datasets that
+/// grow along the time axis. The writer keeps only the rows pushed since the last flush and
+/// appends them in place to the file (no rewrite): from [`ResultsWriter::push`] when the flush
+/// interval has passed since the last flush or the pending rows reach [`MAX_PENDING_BYTES`], on
+/// [`ResultsWriter::flush`] and on [`ResultsWriter::finish`], which also writes the final status.
+/// The file on disk is readable at any time; a run that crashes or is killed leaves the rows
+/// of the last flush with status `running`. Dropping the writer without `finish` writes nothing
+/// more (as in a crash).
 #[derive(Debug)]
 pub struct ResultsWriter {
     path: PathBuf,
     layout: ResultsLayout,
-    attributes: Vec<(String, String)>,
-    columns: Columns,
+    file: AppendFile,
+    /// Rows pushed since the last complete flush.
+    pending: Columns,
+    /// Rows in the file (pushed before `pending`).
+    flushed: usize,
+    last_time: f64,
     interval: Duration,
     last_write: Instant,
     write_time: Duration,
@@ -51,26 +62,29 @@ impl ResultsWriter {
             }
             attrs.push((k.to_string(), v.to_string()));
         }
-        let mut w = ResultsWriter {
+        let start = Instant::now();
+        let file = AppendFile::create(path, &layout, &attrs)?;
+        Ok(ResultsWriter {
             path: path.to_path_buf(),
             layout,
-            attributes: attrs,
-            columns: Columns::default(),
+            file,
+            pending: Columns::default(),
+            flushed: 0,
+            last_time: f64::NAN,
             interval: DEFAULT_FLUSH_INTERVAL,
             last_write: Instant::now(),
-            write_time: Duration::ZERO,
-            writes: 0,
-        };
-        w.write(&RunStatus::Running)?;
-        Ok(w)
+            write_time: start.elapsed(),
+            writes: 1,
+        })
     }
 
     /// Appends one output row (checks every slice length against the layout -> error, never
-    /// panic). Rewrites the file atomically when the wall time since the last write exceeds the
-    /// flush interval (default [`DEFAULT_FLUSH_INTERVAL`], raised automatically to ten times the
-    /// duration of the last write so that writing stays below ~10 % of the run time), so a
-    /// crashed or killed run leaves a readable file. If that write fails, the row is kept (it is
-    /// written by the next successful write) and the error is returned.
+    /// panic). Flushes the pending rows to the file when the wall time since the last flush
+    /// exceeds the flush interval (default [`DEFAULT_FLUSH_INTERVAL`], raised automatically to ten
+    /// times the duration of the last flush so that writing stays below ~10 % of the run time) or
+    /// when they reach [`MAX_PENDING_BYTES`], so a crashed or killed run leaves a readable file.
+    /// If that flush fails, the rows are kept (the next successful flush writes them, no row
+    /// twice) and the error is returned.
     pub fn push(&mut self, row: &ResultsRow) -> Result<(), ResultsError> {
         let l = &self.layout;
         let checks: [(&'static str, usize, usize); 4] = [
@@ -90,7 +104,7 @@ impl ResultsWriter {
                 });
             }
         }
-        let c = &mut self.columns;
+        let c = &mut self.pending;
         c.time.push(row.t);
         c.q.extend_from_slice(row.q);
         c.u.extend_from_slice(row.u);
@@ -99,26 +113,36 @@ impl ResultsWriter {
         c.drift.extend_from_slice(&row.drift);
         c.step.extend_from_slice(&row.step);
         c.signals.extend_from_slice(row.signals);
-        if self.last_write.elapsed() >= self.interval {
-            self.write(&RunStatus::Running)?;
+        self.last_time = row.t;
+        let values = [
+            &c.time, &c.q, &c.u, &c.lambda, &c.energy, &c.drift, &c.step, &c.signals,
+        ]
+        .iter()
+        .map(|v| v.len())
+        .sum::<usize>();
+        let pending_bytes = 8 * values;
+        if pending_bytes >= MAX_PENDING_BYTES || self.last_write.elapsed() >= self.interval {
+            self.write()?;
         }
         Ok(())
     }
 
-    /// Writes the file now (status `running`).
+    /// Appends the pending rows to the file now (status stays `running`).
     pub fn flush(&mut self) -> Result<(), ResultsError> {
-        self.write(&RunStatus::Running)
+        self.write()
     }
 
-    /// Final write with `status`; returns the path of the file.
+    /// Flushes the pending rows and writes the final `status`; returns the path of the file.
     pub fn finish(mut self, status: &RunStatus) -> Result<PathBuf, ResultsError> {
-        self.write(status)?;
+        self.write()?;
+        let rows = self.rows();
+        self.file.finish(status, self.last_time, rows)?;
         Ok(self.path)
     }
 
     /// Number of rows pushed so far.
     pub fn rows(&self) -> usize {
-        self.columns.rows()
+        self.flushed + self.pending.rows()
     }
 
     /// The file written.
@@ -147,10 +171,12 @@ impl ResultsWriter {
         (self.writes, self.write_time)
     }
 
-    fn write(&mut self, status: &RunStatus) -> Result<(), ResultsError> {
+    fn write(&mut self) -> Result<(), ResultsError> {
         let start = Instant::now();
-        let fb = h5::build(&self.layout, &self.attributes, status, &self.columns);
-        h5::write_atomically(&self.path, fb)?;
+        let width = self.layout.signal_width();
+        self.file.append(&self.pending, self.flushed, width)?;
+        self.flushed += self.pending.rows();
+        self.pending.clear();
         let took = start.elapsed();
         self.write_time += took;
         self.writes += 1;
