@@ -18,6 +18,7 @@ pub mod output_safety;
 pub mod plot;
 pub mod results;
 pub mod seed;
+pub mod sha256;
 pub mod test_tools;
 pub mod toml_locate;
 pub mod vtk;

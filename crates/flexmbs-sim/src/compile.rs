@@ -119,6 +119,8 @@ pub struct CompiledModel {
     pub warnings: Vec<String>,
     /// `solver.initial = "static"`: the run starts from static equilibrium at t = 0.
     pub initial_static: bool,
+    /// The text of the model file as compiled (stored in the results file).
+    pub text: String,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -657,6 +659,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         stiffened,
         warnings,
         initial_static,
+        text: text.to_string(),
     })
 }
 

@@ -15,6 +15,7 @@ pub mod fe_frames;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;
+pub mod provenance;
 pub mod run;
 pub mod schema;
 pub mod signals;
