@@ -32,6 +32,8 @@ pub(crate) struct AppendFile {
     signal_offsets: Vec<usize>,
     /// Reused buffer of one signal's columns during a flush.
     scratch: Vec<f64>,
+    /// Reused buffer of the little-endian bytes of one dataset's new rows.
+    bytes: Vec<u8>,
 }
 
 fn edit_error(path: &Path, object: &str, e: hdf5_pure::Error) -> ResultsError {
@@ -97,6 +99,7 @@ impl AppendFile {
                 .collect(),
             signal_offsets,
             scratch: Vec::new(),
+            bytes: Vec::new(),
         })
     }
 
@@ -145,8 +148,12 @@ impl AppendFile {
                 .file
                 .dataset(&name)
                 .map_err(|e| edit_error(&self.path, &name, e))?;
-            let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-            ds.append_raw(&bytes)
+            self.bytes.clear();
+            self.bytes.reserve(8 * data.len());
+            for x in data {
+                self.bytes.extend_from_slice(&x.to_le_bytes());
+            }
+            ds.append_raw(&self.bytes)
                 .map_err(|e| edit_error(&self.path, &name, e))?;
             self.datasets[i].written = first + m;
         }
