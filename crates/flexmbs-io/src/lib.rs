@@ -19,6 +19,7 @@ pub mod plot;
 pub mod results;
 pub mod seed;
 pub mod sha256;
+pub mod source_file;
 pub mod test_tools;
 pub mod toml_locate;
 pub mod vtk;

@@ -156,7 +156,7 @@ pub fn is_multibody_model(text: &str) -> bool {
 
 /// Reads and compiles a model file.
 pub fn load_model(path: &Path) -> Result<CompiledModel, SimError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SimError::Read {
+    let text = flexmbs_io::source_file::read_to_string(path).map_err(|source| SimError::Read {
         file: path.to_path_buf(),
         source,
     })?;

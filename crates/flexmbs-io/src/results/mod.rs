@@ -395,7 +395,7 @@ pub struct Results {
 /// Reads a results file written by [`ResultsWriter`], also one of a run that is still going,
 /// was interrupted, failed or was killed (status `running`). Never panics on a damaged file.
 pub fn read_results(path: &Path) -> Result<Results, ResultsError> {
-    let bytes = std::fs::read(path).map_err(|source| ResultsError::Io {
+    let bytes = crate::source_file::read(path).map_err(|source| ResultsError::Io {
         path: path.to_path_buf(),
         source,
     })?;
