@@ -1,8 +1,10 @@
-//! HDF5 layout of the results file, version 1 (see `docs/formats/results.md`).
+//! HDF5 layout of the results file, version 2 (see `docs/formats/results.md`); version 1 is
+//! still read.
 //!
-//! Matrices are stored row-major (C order, as HDF5 and NumPy expect), one row per output time.
-//! Non-empty float datasets are chunked along the time axis with a Fletcher-32 checksum per chunk,
-//! so that a damaged file is detected when read, not silently used.
+//! Matrices are stored row-major (C order, as HDF5 and NumPy expect), one row per output time:
+//! version 2 as one-dimensional extensible datasets whose elements are rows (`float64[k]`),
+//! version 1 as `[n, k]` float64 datasets. Row datasets are chunked along the time axis with a
+//! Fletcher-32 checksum per chunk, so that a damaged file is detected when read, not silently used.
 
 use super::{
     Columns, ResultsError, ResultsLayout, RunStatus, SignalSpec, DRIFT_COLUMNS, ENERGY_COLUMNS,
