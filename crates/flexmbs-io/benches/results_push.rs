@@ -106,16 +106,20 @@ fn main() {
         }
         let t = Instant::now();
         let interval = w.flush_interval();
+        let waited = w.waiting_time();
+        w.wait_for_writer().unwrap();
         let (writes, spent) = w.write_statistics();
         w.finish(&RunStatus::Completed).unwrap();
         let total = start.elapsed();
-        let flushing = spent - create_time + t.elapsed();
+        let cost = waited + t.elapsed();
         println!(
-            "20 us per row, initial interval {:?}: {total:?} wall, {} flushes + finish taking \
-             {flushing:?} ({:.1} %), final interval {interval:?}",
+            "20 us per row, initial interval {:?}: {total:?} wall; the run waited {cost:?} \
+             ({:.1} %) for the writer (incl. finish); {} flushes took {:?} on the writing \
+             thread; final interval {interval:?}",
             initial.unwrap_or(flexmbs_io::results::DEFAULT_FLUSH_INTERVAL),
+            100.0 * cost.as_secs_f64() / total.as_secs_f64(),
             writes - created,
-            100.0 * flushing.as_secs_f64() / total.as_secs_f64(),
+            spent - create_time,
         );
         let _ = std::fs::remove_file(&path);
     }

@@ -206,15 +206,16 @@ fn push_respects_flush_interval() {
     let mut w = ResultsWriter::create(&path2, l, &[]).unwrap();
     w.set_flush_interval(Duration::ZERO);
     w.push(&data[0].view()).unwrap();
+    w.wait_for_writer().unwrap();
     let (writes, spent) = w.write_statistics();
     assert_eq!(writes, 2);
     assert!(spent > Duration::ZERO && w.flush_interval() > Duration::ZERO);
     assert_eq!(read_results(&path2).unwrap().rows(), 1);
 }
 
-/// The writer's memory is bounded: with a one-hour flush interval, the pending rows are appended
-/// to the file as soon as they hold `MAX_PENDING_BYTES`, so the file (read while the writer is
-/// alive) holds all but fewer than that many bytes of rows.
+/// The writer's memory is bounded: with a one-hour flush interval, the pending rows are handed to
+/// the writing thread as soon as they hold `MAX_PENDING_BYTES`, so the file (read while the writer
+/// is alive, after the batch in flight is written) holds all but fewer than that many bytes.
 #[test]
 fn pending_rows_are_flushed_at_the_byte_limit() {
     let dir = temp_dir("results-bytes");
@@ -232,6 +233,7 @@ fn pending_rows_are_flushed_at_the_byte_limit() {
         r.t = i as f64;
         w.push(&r).unwrap();
     }
+    w.wait_for_writer().unwrap();
     let res = read_results(&path).unwrap();
     assert_eq!(res.status, RunStatus::Running);
     assert_eq!(res.rows(), 2 * per_flush);

@@ -15,6 +15,7 @@
 
 mod animation;
 mod export;
+mod flusher;
 mod h5;
 mod stream;
 mod writer;
@@ -359,6 +360,18 @@ pub(crate) struct Columns {
 impl Columns {
     fn rows(&self) -> usize {
         self.time.len()
+    }
+
+    /// Appends the rows of `other`.
+    fn append(&mut self, other: &Columns) {
+        self.time.extend_from_slice(&other.time);
+        self.q.extend_from_slice(&other.q);
+        self.u.extend_from_slice(&other.u);
+        self.lambda.extend_from_slice(&other.lambda);
+        self.energy.extend_from_slice(&other.energy);
+        self.drift.extend_from_slice(&other.drift);
+        self.step.extend_from_slice(&other.step);
+        self.signals.extend_from_slice(&other.signals);
     }
 
     /// Empties every column, keeping the allocations.

@@ -1,5 +1,6 @@
 //! [`ResultsWriter`]: appends output rows to a results file that is readable at any time.
 
+use super::flusher::Flusher;
 use super::stream::AppendFile;
 use super::{Columns, ResultsError, ResultsLayout, ResultsRow, RunStatus, RESERVED_ATTRIBUTES};
 use std::path::{Path, PathBuf};
@@ -23,6 +24,9 @@ pub const MAX_PENDING_BYTES: usize = 8 << 20;
 /// appends them in place to the file (no rewrite): from [`ResultsWriter::push`] when the flush
 /// interval has passed since the last flush or the pending rows reach [`MAX_PENDING_BYTES`], on
 /// [`ResultsWriter::flush`] and on [`ResultsWriter::finish`], which also writes the final status.
+/// The appends of `push` run on a thread of the writer (`results-writer`), so the pushing thread
+/// only hands over a buffer; it waits only when the previous batch is still being written and
+/// the pending rows have reached [`MAX_PENDING_BYTES`] (memory: two batches at most).
 /// The file on disk is readable at any time; a run that crashes or is killed leaves the rows
 /// of the last flush with status `running`. Dropping the writer without `finish` writes nothing
 /// more (as in a crash).
@@ -30,11 +34,16 @@ pub const MAX_PENDING_BYTES: usize = 8 << 20;
 pub struct ResultsWriter {
     path: PathBuf,
     layout: ResultsLayout,
-    file: AppendFile,
-    /// Rows pushed since the last complete flush.
+    /// The thread appending to the file (`None` once finished).
+    flusher: Option<Flusher>,
+    /// Rows pushed since the last batch handed to the thread.
     pending: Columns,
-    /// Rows in the file (pushed before `pending`).
+    /// The buffer of the batch before (cleared), reused for the next one.
+    spare: Columns,
+    /// Rows handed to the thread (pushed before `pending`).
     flushed: usize,
+    /// Wall time the pushing thread waited for the writing thread.
+    waited: Duration,
     last_time: f64,
     interval: Duration,
     last_write: Instant,
@@ -64,12 +73,15 @@ impl ResultsWriter {
         }
         let start = Instant::now();
         let file = AppendFile::create(path, &layout, &attrs)?;
+        let flusher = Flusher::start(path, file, layout.signal_width())?;
         Ok(ResultsWriter {
             path: path.to_path_buf(),
             layout,
-            file,
+            flusher: Some(flusher),
             pending: Columns::default(),
+            spare: Columns::default(),
             flushed: 0,
+            waited: Duration::ZERO,
             last_time: f64::NAN,
             interval: DEFAULT_FLUSH_INTERVAL,
             last_write: Instant::now(),
@@ -121,22 +133,61 @@ impl ResultsWriter {
         .map(|v| v.len())
         .sum::<usize>();
         let pending_bytes = 8 * values;
-        if pending_bytes >= MAX_PENDING_BYTES || self.last_write.elapsed() >= self.interval {
-            self.write()?;
+        let full = pending_bytes >= MAX_PENDING_BYTES;
+        if full || self.last_write.elapsed() >= self.interval {
+            // the interval alone does not wait for a batch still being written
+            let idle = self.flusher.as_mut().is_none_or(Flusher::ready);
+            if full || idle {
+                self.dispatch()?;
+            }
         }
         Ok(())
     }
 
-    /// Appends the pending rows to the file now (status stays `running`).
+    /// Appends the pending rows to the file now and waits until they are written (status stays
+    /// `running`).
     pub fn flush(&mut self) -> Result<(), ResultsError> {
-        self.write()
+        self.dispatch()?;
+        self.wait_for_writer()
+    }
+
+    /// Waits until the batch being written (if any) is in the file; reports its error.
+    pub fn wait_for_writer(&mut self) -> Result<(), ResultsError> {
+        let start = Instant::now();
+        let Some(flusher) = self.flusher.as_mut() else {
+            return Ok(());
+        };
+        let Some(done) = flusher.wait()? else {
+            return Ok(());
+        };
+        self.waited += start.elapsed();
+        self.write_time += done.took;
+        self.writes += 1;
+        self.interval = self.interval.max(done.took * INTERVAL_PER_WRITE_TIME);
+        let mut rows = done.rows;
+        match done.result {
+            Ok(()) => {
+                rows.clear();
+                self.spare = rows;
+                Ok(())
+            }
+            Err(e) => {
+                // the rows go out again with the next batch; no dataset gets one twice
+                rows.append(&self.pending);
+                self.pending = rows;
+                self.flushed = done.first;
+                Err(e)
+            }
+        }
     }
 
     /// Flushes the pending rows and writes the final `status`; returns the path of the file.
     pub fn finish(mut self, status: &RunStatus) -> Result<PathBuf, ResultsError> {
-        self.write()?;
+        self.flush()?;
         let rows = self.rows();
-        self.file.finish(status, self.last_time, rows)?;
+        if let Some(f) = self.flusher.take() {
+            f.finish(status, self.last_time, rows)?;
+        }
         Ok(self.path)
     }
 
@@ -166,22 +217,32 @@ impl ResultsWriter {
         self.interval
     }
 
-    /// Number of file writes so far and the total wall time spent in them.
+    /// Number of file writes so far and the total wall time spent in them (on the writing
+    /// thread; a batch still being written is not counted yet).
     pub fn write_statistics(&self) -> (usize, Duration) {
         (self.writes, self.write_time)
     }
 
-    fn write(&mut self) -> Result<(), ResultsError> {
-        let start = Instant::now();
-        let width = self.layout.signal_width();
-        self.file.append(&self.pending, self.flushed, width)?;
-        self.flushed += self.pending.rows();
-        self.pending.clear();
-        let took = start.elapsed();
-        self.write_time += took;
-        self.writes += 1;
-        self.interval = self.interval.max(took * INTERVAL_PER_WRITE_TIME);
+    /// Wall time the pushing thread has waited for the writing thread (the cost of the results
+    /// file to the run, apart from copying the rows).
+    pub fn waiting_time(&self) -> Duration {
+        self.waited
+    }
+
+    /// Hands the pending rows to the writing thread (after waiting for the batch before).
+    fn dispatch(&mut self) -> Result<(), ResultsError> {
+        self.wait_for_writer()?;
         self.last_write = Instant::now();
+        if self.pending.rows() == 0 {
+            return Ok(());
+        }
+        let Some(flusher) = self.flusher.as_mut() else {
+            return Ok(());
+        };
+        let rows = std::mem::replace(&mut self.pending, std::mem::take(&mut self.spare));
+        let n = rows.rows();
+        flusher.send(rows, self.flushed)?;
+        self.flushed += n;
         Ok(())
     }
 }
