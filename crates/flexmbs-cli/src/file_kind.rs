@@ -20,7 +20,7 @@ fn describe_hdf5(path: &Path) -> &'static str {
 /// Fails unless `path` can be a TOML model file for `command`; `multibody_only` for `run`.
 /// Unreadable files pass (the command's own reader reports them).
 pub fn expect_model_file(path: &Path, command: &str, multibody_only: bool) -> Result<()> {
-    let Ok(bytes) = std::fs::read(path) else {
+    let Ok(bytes) = flexmbs_io::source_file::read(path) else {
         return Ok(());
     };
     let expects = if multibody_only {
@@ -51,7 +51,7 @@ pub fn expect_model_file(path: &Path, command: &str, multibody_only: bool) -> Re
 
 /// Fails unless `path` is a flexmbs results file; `err` is the reader's error.
 pub fn not_a_results_file(path: &Path, err: &dyn std::fmt::Display) -> anyhow::Error {
-    let Ok(bytes) = std::fs::read(path) else {
+    let Ok(bytes) = flexmbs_io::source_file::read(path) else {
         return anyhow::anyhow!("reading {}: {err}", path.display());
     };
     let what = match classify_model_file(&bytes) {

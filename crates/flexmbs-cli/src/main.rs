@@ -261,7 +261,7 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
         }
         Command::Check { model } => {
             file_kind::expect_model_file(&model, "check", false)?;
-            let text = std::fs::read_to_string(&model)
+            let text = flexmbs_io::source_file::read_to_string(&model)
                 .with_context(|| format!("reading {}", model.display()))?;
             if flexmbs_sim::is_multibody_model(&text) {
                 return run_cmd::check_multibody(&model);

@@ -72,6 +72,16 @@ impl Progress {
                 EigenEvent::Factorizing { n, nnz } => {
                     self.spinner(format!("factorizing {n} equations ({nnz} nonzeros)"))
                 }
+                EigenEvent::FactorEstimate { nnz_l, bytes } => {
+                    let available = flexmbs_fe::memory::available_memory()
+                        .map_or_else(String::new, |(b, _)| {
+                            format!(", {} available", flexmbs_fe::memory::format_bytes(b))
+                        });
+                    self.spinner(format!(
+                        "factorizing: L has {nnz_l} entries, about {}{available}",
+                        flexmbs_fe::memory::format_bytes(bytes)
+                    ))
+                }
                 EigenEvent::Factorized { nnz_l } => {
                     self.spinner(format!("factorized (nnz(L) = {nnz_l}), iterating"))
                 }

@@ -79,12 +79,20 @@ pub fn assemble(
         .iter()
         .map(|e| (e.nodes.len() * e.kind.dofs_per_node()).pow(2))
         .sum();
-    let mut kt = Vec::with_capacity(est);
-    let mut mt = Vec::with_capacity(if mass == MassKind::Lumped {
+    let m_est = if mass == MassKind::Lumped {
         dofs.len
     } else {
         est
-    });
+    };
+    crate::memory::check_allocation(
+        &format!(
+            "the stiffness and mass triplets of {} elements",
+            mesh.elements.len()
+        ),
+        triplet_bytes(est.saturating_add(m_est)),
+    )?;
+    let mut kt = Vec::with_capacity(est);
+    let mut mt = Vec::with_capacity(m_est);
     let mut eqs = Vec::with_capacity(120);
     let ne = mesh.elements.len();
     for (ei, el) in mesh.elements.iter().enumerate() {
@@ -113,6 +121,11 @@ pub fn assemble(
     let k = sparse_from_triplets(dofs.len, &kt)?;
     let m = sparse_from_triplets(dofs.len, &mt)?;
     Ok(Assembled { k, m, dofs })
+}
+
+/// Bytes of `count` assembly triplets (row, column, value).
+pub fn triplet_bytes(count: usize) -> u64 {
+    (count as u64).saturating_mul(std::mem::size_of::<Triplet<usize, usize, f64>>() as u64)
 }
 
 /// Builds an n x n sparse matrix from triplets, summing duplicates.

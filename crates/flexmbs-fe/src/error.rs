@@ -44,6 +44,18 @@ pub enum FeError {
         /// [`crate::mechanism::ZERO_ENERGY_TOLERANCE`].
         tolerance: f64,
     },
+    /// An allocation was estimated to exceed the memory available ([`crate::memory`]).
+    #[error("{what} would need about {est}, more than the {avail} available ({from}): use a coarser mesh or fewer modes, or set {env} to override (e.g. {env}=64G)", est = crate::memory::format_bytes(*estimate), avail = crate::memory::format_bytes(*available), from = limit_source, env = crate::memory::MEMORY_LIMIT_ENV)]
+    MemoryRefused {
+        /// What would have been allocated.
+        what: String,
+        /// Estimated bytes.
+        estimate: u64,
+        /// Bytes available.
+        available: u64,
+        /// Where the available figure comes from.
+        limit_source: &'static str,
+    },
     /// The eigen solver did not converge.
     #[error("eigen solver did not converge: {0}")]
     EigenNotConverged(String),

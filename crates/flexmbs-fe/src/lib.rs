@@ -17,6 +17,7 @@ pub mod geometric;
 mod geometric_tests;
 pub mod material;
 pub mod mechanism;
+pub mod memory;
 pub mod mesh;
 pub mod modes;
 pub mod reduction;

@@ -272,7 +272,13 @@ pub fn craig_bampton(
         n: ni,
         nnz: k_ii.compute_nnz(),
     });
-    let chol = SparseCholesky::factor(&k_ii).map_err(|_| FeError::NotPositiveDefinite {
+    let chol = SparseCholesky::factor_observed(&k_ii, &mut |nnz_l, bytes| {
+        progress(EigenEvent::FactorEstimate { nnz_l, bytes })
+    })
+    .map_err(|e| {
+        match e {
+        e @ FeError::MemoryRefused { .. } => e,
+        _ => FeError::NotPositiveDefinite {
         what: "K_II (stiffness with the interface fixed)".into(),
         hint:
             ": with the interface held the body still moves without strain energy: the interface \
@@ -280,7 +286,12 @@ pub fn craig_bampton(
                of hex20r with one element across a section: use 2 or more divisions across or \
                hex20; parts not connected to each other)"
                 .into(),
+    }}
     })?;
+    crate::memory::check_allocation(
+        &format!("the static modes ({ni} x {nb} dense)"),
+        8 * ni as u64 * nb as u64,
+    )?;
     let mut psi = k_ib.to_dense();
     chol.solve_in_place(psi.as_mut());
     let k_internal = n_internal.min(ni);

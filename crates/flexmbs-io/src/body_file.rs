@@ -265,7 +265,7 @@ pub fn read_body(path: &Path) -> Result<ReducedBody, BodyFileError> {
 /// dataset (shape other than `[N, 3, 3]`, not float64, non-finite, unsymmetric or indefinite
 /// matrix) is an error naming the dataset.
 pub fn read_body_file(path: &Path) -> Result<BodyFile, BodyFileError> {
-    let bytes = std::fs::read(path).map_err(|source| BodyFileError::Io {
+    let bytes = crate::source_file::read(path).map_err(|source| BodyFileError::Io {
         path: path.to_path_buf(),
         source,
     })?;

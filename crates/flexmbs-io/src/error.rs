@@ -123,7 +123,7 @@ impl IoError {
 
 /// Reads a whole text file, mapping the failure to [`IoError::Io`].
 pub(crate) fn read_text(path: &Path) -> Result<String, IoError> {
-    std::fs::read_to_string(path).map_err(|source| IoError::Io {
+    crate::source_file::read_to_string(path).map_err(|source| IoError::Io {
         file: path.to_path_buf(),
         source,
     })

@@ -18,6 +18,8 @@ pub mod output_safety;
 pub mod plot;
 pub mod results;
 pub mod seed;
+pub mod sha256;
+pub mod source_file;
 pub mod test_tools;
 pub mod toml_locate;
 pub mod vtk;

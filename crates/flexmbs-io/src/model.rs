@@ -626,7 +626,7 @@ pub fn read_fe_model(path: &Path) -> Result<FeModelFile, ModelError> {
 
 /// [`read_fe_model`], also returning the file's text.
 pub(crate) fn read_fe_model_text(path: &Path) -> Result<(String, FeModelFile), ModelError> {
-    let bytes = std::fs::read(path).map_err(|source| ModelError::Read {
+    let bytes = crate::source_file::read(path).map_err(|source| ModelError::Read {
         file: path.into(),
         source,
     })?;

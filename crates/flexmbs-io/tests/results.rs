@@ -8,7 +8,7 @@ use flexmbs_fe::mesh::ElementKind;
 use flexmbs_fe::reduction::Cell;
 use flexmbs_io::results::{
     plot_series, read_results, write_csv, AnimationBody, AnimationWriter, ResultsError,
-    ResultsLayout, ResultsWriter, RunStatus,
+    ResultsLayout, ResultsWriter, RunStatus, MAX_PENDING_BYTES,
 };
 use results_support::{layout, rows, same_bits, OwnedRow};
 use std::path::Path;
@@ -206,10 +206,52 @@ fn push_respects_flush_interval() {
     let mut w = ResultsWriter::create(&path2, l, &[]).unwrap();
     w.set_flush_interval(Duration::ZERO);
     w.push(&data[0].view()).unwrap();
+    w.wait_for_writer().unwrap();
     let (writes, spent) = w.write_statistics();
     assert_eq!(writes, 2);
     assert!(spent > Duration::ZERO && w.flush_interval() > Duration::ZERO);
     assert_eq!(read_results(&path2).unwrap().rows(), 1);
+}
+
+/// The writer's memory is bounded: with a one-hour flush interval, the pending rows are handed to
+/// the writing thread as soon as they hold `MAX_PENDING_BYTES`, so the file (read while the writer
+/// is alive, after the batch in flight is written) holds all but fewer than that many bytes.
+#[test]
+fn pending_rows_are_flushed_at_the_byte_limit() {
+    let dir = temp_dir("results-bytes");
+    let path = dir.join("r.h5");
+    let l = layout(200, 200, 20, true);
+    let data = rows(&l, 64, 3);
+    let mut w = ResultsWriter::create(&path, l, &[]).unwrap();
+    w.set_flush_interval(Duration::from_secs(3600));
+    // time, q, u, lambda, energy, drift, step and 4 signal values per row
+    let row_bytes = 8 * (1 + 200 + 200 + 20 + 4 + 2 + 3 + 4);
+    let per_flush = MAX_PENDING_BYTES.div_ceil(row_bytes);
+    let n = 2 * per_flush + 7;
+    for i in 0..n {
+        let mut r = data[i % data.len()].view();
+        r.t = i as f64;
+        w.push(&r).unwrap();
+    }
+    w.wait_for_writer().unwrap();
+    let res = read_results(&path).unwrap();
+    assert_eq!(res.status, RunStatus::Running);
+    assert_eq!(res.rows(), 2 * per_flush);
+    assert_eq!(res.time[per_flush], per_flush as f64);
+    assert_eq!(
+        w.write_statistics().0,
+        3,
+        "create and two flushes at the byte limit"
+    );
+    assert_eq!(w.rows(), n);
+    w.finish(&RunStatus::Completed).unwrap();
+    let res = read_results(&path).unwrap();
+    assert_eq!(res.rows(), n);
+    assert!(same_bits(&res.row(n - 1).unwrap(), &{
+        let mut r = data[(n - 1) % data.len()].view();
+        r.t = (n - 1) as f64;
+        r
+    }));
 }
 
 /// Truncated, corrupted, foreign and missing files give errors, never panics; a flipped bit in
@@ -580,4 +622,21 @@ fn animation_writes_frames_and_collection() {
         Err(ResultsError::InvalidAnimation { .. })
     ));
     assert!(AnimationWriter::create(&dir, "a/b", animation_bodies()).is_err());
+}
+
+/// A file of format version 1 (fixed-size `[n, k]` datasets, written by the previous writer and
+/// kept in `tests/data/results_v1.h5`) still reads bit for bit.
+#[test]
+fn format_version_1_files_still_read() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/results_v1.h5");
+    let l = layout(3, 3, 1, true);
+    let data = rows(&l, 5, 42);
+    let res = read_results(&path).unwrap();
+    assert_eq!(res.layout, l);
+    assert_eq!(res.status, RunStatus::Completed);
+    assert_eq!(res.rows(), 5);
+    assert_eq!(res.attribute("case"), Some("format version 1 fixture"));
+    for (i, r) in data.iter().enumerate() {
+        assert!(same_bits(&res.row(i).unwrap(), &r.view()), "row {i}");
+    }
 }

@@ -55,14 +55,16 @@ import sys, h5py, numpy as np
 bits = lambda x: int(np.float64(x).view(np.uint64))
 with h5py.File(sys.argv[1], 'r') as f:
     a = f.attrs
-    assert a['format'] == 'flexmbs-results' and int(a['format_version']) == 1, dict(a)
+    assert a['format'] == 'flexmbs-results' and int(a['format_version']) == 2, dict(a)
     assert a['model'] == 'slider crank µ' and a['solver'] == 'HHT-α'
     assert a['status'] == 'failed' and a['status_message'] == 'step size below 1e-12'
     assert float(a['status_time']) == 0.0295
-    shapes = {k: f[k].shape for k in ['time', 'q', 'u', 'lambda', 'energy', 'drift', 'step']}
+    # version 2: a matrix is a 1-d dataset of rows, read by NumPy as an (n, k) float64 array
+    shapes = {k: f[k][()].shape for k in ['time', 'q', 'u', 'lambda', 'energy', 'drift', 'step']}
     assert shapes == {'time': (30,), 'q': (30, 5), 'u': (30, 4), 'lambda': (30, 2),
                       'energy': (30, 4), 'drift': (30, 2), 'step': (30, 3)}, shapes
-    assert all(f[k].dtype == np.float64 for k in shapes)
+    assert all(f[k][()].dtype == np.float64 for k in shapes)
+    assert f['q'].shape == (30,) and f['q'].maxshape == (None,)
     assert list(f['energy'].attrs['columns']) == ['kinetic', 'gravity', 'elastic', 'springs']
     assert list(f['step'].attrs['columns']) == ['h', 'iterations', 'residual']
     s = lambda d: [x.decode() if isinstance(x, bytes) else x for x in f[d][()]]
@@ -70,19 +72,20 @@ with h5py.File(sys.argv[1], 'r') as f:
     assert s('multipliers') == ['pin.row0', 'pin.row1']
     assert list(f['signals'].attrs['names']) == ['tip.position', 'crank.angle']
     tip = f['signals/tip.position']
-    assert tip.shape == (30, 3) and tip.attrs['unit'] == 'm'
+    assert tip[()].shape == (30, 3) and tip.attrs['unit'] == 'm'
     assert list(tip.attrs['components']) == ['x', 'y', 'z']
-    assert f['signals/crank.angle'].shape == (30, 1)
+    assert f['signals/crank.angle'][()].shape == (30, 1)
     assert f['q'].fletcher32 and f['q'].chunks is not None
-    print(bits(f['time'][29]), bits(f['q'][7, 3]), bits(f['lambda'][29, 1]),
-          bits(f['energy'][3, 2]), bits(tip[11, 2]), bits(f['signals/crank.angle'][5, 0]))
+    print(bits(f['time'][29]), bits(f['q'][7][3]), bits(f['lambda'][()][29, 1]),
+          bits(f['energy'][3][2]), bits(tip[()][11, 2]), bits(f['signals/crank.angle'][5][0]))
 with h5py.File(sys.argv[2], 'r') as f:
     assert f.attrs['status'] == 'running', f.attrs['status']
-    assert f['time'].shape == (12,) and f['q'].shape == (12, 5) and f['signals/tip.position'].shape == (12, 3)
-    print(bits(f['u'][11, 3]))
+    assert f['time'].shape == (12,) and f['q'][()].shape == (12, 5)
+    assert f['signals/tip.position'][()].shape == (12, 3)
+    print(bits(f['u'][()][11, 3]))
 with h5py.File(sys.argv[3], 'r') as f:
     assert f.attrs['status'] == 'interrupted' and float(f.attrs['status_time']) == 0.0
-    assert f['time'].shape == (0,) and f['q'].shape == (0, 0) and f['energy'].shape == (0, 4)
+    assert f['time'].shape == (0,) and f['q'].shape == (0, 0) and f['energy'][()].shape == (0, 4)
     assert len(f['coordinates']) == 0 and len(f['signals']) == 0
 print('ok')
 "#;

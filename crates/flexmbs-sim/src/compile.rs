@@ -119,6 +119,8 @@ pub struct CompiledModel {
     pub warnings: Vec<String>,
     /// `solver.initial = "static"`: the run starts from static equilibrium at t = 0.
     pub initial_static: bool,
+    /// The text of the model file as compiled (stored in the results file).
+    pub text: String,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -154,7 +156,7 @@ pub fn is_multibody_model(text: &str) -> bool {
 
 /// Reads and compiles a model file.
 pub fn load_model(path: &Path) -> Result<CompiledModel, SimError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SimError::Read {
+    let text = flexmbs_io::source_file::read_to_string(path).map_err(|source| SimError::Read {
         file: path.to_path_buf(),
         source,
     })?;
@@ -683,6 +685,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         stiffened,
         warnings,
         initial_static,
+        text: text.to_string(),
     })
 }
 

@@ -628,9 +628,10 @@ pub(crate) fn is_plain_file_stem(name: &str) -> bool {
         || name.chars().any(char::is_control))
 }
 
-/// Largest estimated size of the output rows a run keeps in memory (the results writer holds
-/// every row until the end; bytes).
-pub const MAX_OUTPUT_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+/// Largest estimated size of the output rows a run writes to its results file (bytes). The
+/// results writer streams rows to the file (its memory does not grow with the run), so this
+/// guards the disk against a mistyped output step, not the memory.
+pub const MAX_OUTPUT_BYTES: f64 = 32.0 * 1024.0 * 1024.0 * 1024.0;
 
 /// Largest number of animation frames (one `.vtu` file each).
 pub const MAX_ANIMATION_FRAMES: f64 = 50_000.0;
@@ -672,7 +673,7 @@ pub(crate) fn check_output_size(
         return Err(ctx.err(
             key,
             format!(
-                "this run would keep about {rows:.3e} output rows ({:.1} GB) in memory: raise `output.every` or set a coarser `output.dt`",
+                "this run would write about {rows:.3e} output rows ({:.1} GB) to its results file: raise `output.every` or set a coarser `output.dt`",
                 bytes / 1e9
             ),
         ));

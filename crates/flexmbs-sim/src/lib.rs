@@ -17,6 +17,7 @@ pub mod forces;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;
+pub mod provenance;
 pub mod run;
 pub mod schema;
 pub mod signals;

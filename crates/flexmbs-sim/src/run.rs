@@ -437,6 +437,7 @@ pub fn run_model(
         SolverConfig::Moreau { .. } => "moreau",
     };
     let version = format!("flexmbs {}", env!("CARGO_PKG_VERSION"));
+    let sources = crate::provenance::sha256_lines(&crate::provenance::source_files(cm));
     let writer = ResultsWriter::create(
         &results_path,
         layout,
@@ -444,6 +445,8 @@ pub fn run_model(
             ("model_file", model_file.as_str()),
             ("solver", solver_name),
             ("program", version.as_str()),
+            ("model_text", cm.text.as_str()),
+            ("source_sha256", sources.as_str()),
         ],
     )?;
     let mut files = vec![results_path.clone()];

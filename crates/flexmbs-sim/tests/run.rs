@@ -739,3 +739,32 @@ fn output_folder_lock_and_symlinked_results_are_refused() {
         "the lock is released on the error path"
     );
 }
+
+/// The results file stores the model text as run and the SHA-256 of every body source, in the
+/// format of `sha256sum`; the digests equal those of the system's `sha256sum` (coreutils, an
+/// independent implementation).
+#[test]
+fn results_store_model_text_and_source_checksums() {
+    let file = example("static_cantilever.toml");
+    let cm = flexmbs_sim::load_model(&file).unwrap();
+    let out = out_dir("provenance");
+    run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap();
+    let r = read_results(&out.join("results.h5")).unwrap();
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert_eq!(r.attribute("model_text"), Some(text.as_str()));
+    let sums = r.attribute("source_sha256").unwrap().to_string();
+    let lines: Vec<&str> = sums.lines().collect();
+    assert_eq!(lines.len(), 1, "{sums}");
+    let (hex, path) = lines[0].split_once("  ").unwrap();
+    assert!(path.ends_with("parts/cantilever_beam.toml"), "{path}");
+    let Ok(o) = std::process::Command::new("sha256sum").arg(path).output() else {
+        flexmbs_io::test_tools::skip_for_missing_tool(
+            "results_store_model_text_and_source_checksums",
+            "sha256sum (coreutils) not found",
+        );
+        return;
+    };
+    let reference = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(reference.split_whitespace().next(), Some(hex));
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -36,7 +36,27 @@ impl SparseCholesky {
     /// Returns [`FeError::NotPositiveDefinite`] if a pivot is not positive and
     /// [`FeError::Invalid`] if `a` is not square.
     pub fn factor(a: &SparseMatrix) -> Result<Self, FeError> {
+        Self::factor_observed(a, &mut |_, _| {})
+    }
+
+    /// [`SparseCholesky::factor`] that reports the size of the factor from the symbolic
+    /// analysis before the numeric work: `on_estimate(nnz_l, bytes)` (entries of `L`; bytes of
+    /// `L` and the factorization's workspace). An estimate above the memory available is
+    /// refused with [`FeError::MemoryRefused`] ([`crate::memory`]) before any allocation.
+    pub fn factor_observed(
+        a: &SparseMatrix,
+        on_estimate: &mut dyn FnMut(usize, u64),
+    ) -> Result<Self, FeError> {
         let symbolic = symbolic_factor(a)?;
+        let par = Par::Seq;
+        let req =
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default());
+        let bytes = factor_bytes(symbolic.len_val(), req.size_bytes());
+        on_estimate(symbolic.len_val(), bytes);
+        crate::memory::check_allocation(
+            &format!("the sparse Cholesky factor of {} equations", a.nrows()),
+            bytes,
+        )?;
         Self::factor_with_symbolic(symbolic, a)
     }
 
@@ -45,7 +65,7 @@ impl SparseCholesky {
         symbolic: SymbolicCholesky<usize>,
         a: &SparseMatrix,
     ) -> Result<Self, FeError> {
-        let mut values = vec![0.0; symbolic.len_val()];
+        let mut values = zeros_or_refused(symbolic.len_val())?;
         let par = Par::Seq;
         let req =
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default());
@@ -95,6 +115,19 @@ impl SparseCholesky {
     pub fn nnz_l(&self) -> usize {
         self.symbolic.len_val()
     }
+}
+
+/// Bytes of a factor with `nnz_l` stored entries and a workspace of `scratch` bytes.
+fn factor_bytes(nnz_l: usize, scratch: usize) -> u64 {
+    8 * nnz_l as u64 + scratch as u64
+}
+
+/// `n` zeros, or an error instead of an abort when the allocation fails.
+fn zeros_or_refused(n: usize) -> Result<Vec<f64>, FeError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| oom())?;
+    v.resize(n, 0.0);
+    Ok(v)
 }
 
 fn oom() -> FeError {
@@ -254,10 +287,14 @@ fn inertia_with_symbolic(
     symbolic: &SymbolicCholesky<usize>,
     a: &SparseMatrix,
 ) -> Result<Option<Inertia>, FeError> {
-    let mut values = vec![0.0; symbolic.len_val()];
     let par = Par::Seq;
     let req =
         symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::<LdltParams, f64>::default());
+    crate::memory::check_allocation(
+        &format!("the LDL^T factor of {} equations (Sturm check)", a.nrows()),
+        factor_bytes(symbolic.len_val(), req.size_bytes()),
+    )?;
+    let mut values = zeros_or_refused(symbolic.len_val())?;
     let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
     let res = symbolic.factorize_numeric_ldlt(
         &mut values,

@@ -88,6 +88,13 @@ pub enum EigenEvent {
         /// Stored entries of `K - sigma M`.
         nnz: usize,
     },
+    /// The symbolic analysis is done: the size of the factor, before the numeric work.
+    FactorEstimate {
+        /// Stored entries of the factor `L`.
+        nnz_l: usize,
+        /// Bytes of `L` and the factorization's workspace.
+        bytes: u64,
+    },
     /// The factorization finished.
     Factorized {
         /// Stored entries of the factor `L`.
@@ -326,6 +333,7 @@ pub fn lowest_modes(
         EigenMethod::Auto => n <= opts.dense_limit,
     };
     if dense {
+        crate::memory::check_dense_eigen(n)?;
         let sigma = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
         let (lam, x) = dense_shift_invert(k.to_dense().as_ref(), m.to_dense().as_ref(), sigma)?;
         if lam.len() < nm {
@@ -380,10 +388,17 @@ fn lanczos_at_shift(
         n,
         nnz: a.compute_nnz(),
     });
-    let chol = SparseCholesky::factor(&a).map_err(|_| FeError::NotPositiveDefinite {
-        what: format!("K - sigma M with sigma = {sigma:e}"),
-        hint: ": the shift must lie below the lowest eigenvalue and M must be positive definite"
-            .into(),
+    let chol = SparseCholesky::factor_observed(&a, &mut |nnz_l, bytes| {
+        progress(EigenEvent::FactorEstimate { nnz_l, bytes })
+    })
+    .map_err(|e| match e {
+        e @ FeError::MemoryRefused { .. } => e,
+        _ => FeError::NotPositiveDefinite {
+            what: format!("K - sigma M with sigma = {sigma:e}"),
+            hint:
+                ": the shift must lie below the lowest eigenvalue and M must be positive definite"
+                    .into(),
+        },
     })?;
     progress(EigenEvent::Factorized {
         nnz_l: chol.nnz_l(),

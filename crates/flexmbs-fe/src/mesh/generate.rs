@@ -267,6 +267,16 @@ fn structured_hex_mesh(
     if total > MAX_GRID_CELLS as f64 {
         return Err(too_many_cells(total));
     }
+    // the assembly of K and M (consistent mass) of this many elements, refused before meshing
+    let el_dofs = if quadratic { 60 } else { 24 };
+    crate::memory::check_allocation(
+        &format!("the assembly of K and M of {total:.0} hex elements (stiffness triplets)"),
+        crate::assembly::triplet_bytes(
+            2usize
+                .saturating_mul(el_dofs * el_dofs)
+                .saturating_mul(total as usize),
+        ),
+    )?;
     let mid = |a: usize, i: usize| 0.5 * (grid[a][i] + grid[a][i + 1]);
     let mut cells = Vec::new();
     for i in 0..n[0] {

@@ -17,7 +17,7 @@ static RUN: AtomicUsize = AtomicUsize::new(0);
 /// The model-data part of a deck (everything before the first `*STEP`, includes inlined) followed by
 /// a matrix-export step.
 pub fn matrix_export_deck_text(deck: &Path) -> Result<String, IoError> {
-    let text = std::fs::read_to_string(deck).map_err(|source| IoError::Io {
+    let text = crate::source_file::read_to_string(deck).map_err(|source| IoError::Io {
         file: deck.into(),
         source,
     })?;

@@ -1,14 +1,18 @@
-//! HDF5 layout of the results file, version 1 (see `docs/formats/results.md`).
+//! HDF5 layout of the results file, version 2 (see `docs/formats/results.md`); version 1 is
+//! still read.
 //!
-//! Matrices are stored row-major (C order, as HDF5 and NumPy expect), one row per output time.
-//! Non-empty float datasets are chunked along the time axis with a Fletcher-32 checksum per chunk,
-//! so that a damaged file is detected when read, not silently used.
+//! Matrices are stored row-major (C order, as HDF5 and NumPy expect), one row per output time:
+//! version 2 as one-dimensional extensible datasets whose elements are rows (`float64[k]`),
+//! version 1 as `[n, k]` float64 datasets. Row datasets are chunked along the time axis with a
+//! Fletcher-32 checksum per chunk, so that a damaged file is detected when read, not silently used.
 
 use super::{
     Columns, ResultsError, ResultsLayout, RunStatus, SignalSpec, DRIFT_COLUMNS, ENERGY_COLUMNS,
     FORMAT_NAME, FORMAT_VERSION, RESERVED_ATTRIBUTES, STEP_COLUMNS,
 };
-use hdf5_pure::{AttrValue, DType, Dataset, File, FileBuilder, FormatError};
+use hdf5_pure::{
+    make_f64_type, AttrValue, DType, Dataset, File, FileBuilder, FormatError, MaxExtent,
+};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -24,68 +28,66 @@ fn hdf5_error(path: &Path, object: &str, e: impl std::fmt::Display) -> ResultsEr
     }
 }
 
-/// Stores a float matrix `[rows, cols]` (or vector `[rows]` when `cols` is `None`), chunked along
-/// the rows with a Fletcher-32 checksum when it holds data.
-fn checksummed(b: &mut hdf5_pure::DatasetBuilder, data: &[f64], rows: usize, cols: Option<usize>) {
-    let shape: Vec<u64> = match cols {
-        Some(c) => vec![rows as u64, c as u64],
-        None => vec![rows as u64],
-    };
-    b.with_f64_data(data).with_shape(&shape);
-    if !data.is_empty() {
-        let width = cols.unwrap_or(1).max(1) as u64;
-        let mut chunk = shape.clone();
-        chunk[0] = (CHUNK_VALUES / width).clamp(1, rows as u64);
-        b.with_chunks(&chunk).with_fletcher32();
+/// An empty float matrix of `cols` columns (or vector when `cols` is `None`) that grows along
+/// the rows (format version 2): a one-dimensional dataset with an unlimited dimension whose
+/// elements are rows (HDF5 array datatype `float64[cols]`; `hdf5-pure` appends in place to
+/// one-dimensional datasets only), chunked along it with a Fletcher-32 checksum. NumPy reads it
+/// as an `[n, cols]` float64 array. A matrix without columns cannot be chunked; it is an empty
+/// `[0, 0]` dataset until the writer finishes.
+fn extensible(b: &mut hdf5_pure::DatasetBuilder, cols: Option<usize>) {
+    let width = cols.unwrap_or(1) as u64;
+    if width == 0 {
+        b.with_f64_data(&[]).with_shape(&[0, 0]);
+        return;
     }
+    let rows = (CHUNK_VALUES / width).max(1);
+    match cols {
+        Some(c) => b.with_array_data(make_f64_type(), &[c as u32], Vec::new(), 0),
+        None => b.with_f64_data(&[]),
+    };
+    b.with_shape(&[0])
+        .with_maxshape(&[MaxExtent::Unlimited])
+        .with_chunks(&[rows])
+        .with_fletcher32();
 }
 
 fn strings(v: &[&str]) -> AttrValue {
     AttrValue::VarLenStringArray(v.iter().map(|s| s.to_string()).collect())
 }
 
-/// Stages a results file (serialized by [`FileBuilder::finish_to`] or [`FileBuilder::finish`]).
-pub(crate) fn build(
+/// Stages an empty results file with status `running` whose row datasets grow by in-place
+/// appends (format version 2; see [`super::stream`]).
+pub(crate) fn build_extensible(
     layout: &ResultsLayout,
     attributes: &[(String, String)],
-    status: &RunStatus,
-    c: &Columns,
 ) -> FileBuilder {
-    let n = c.rows();
     let mut fb = FileBuilder::new();
     fb.set_attr("format", AttrValue::VarLenString(FORMAT_NAME.into()));
     fb.set_attr("format_version", AttrValue::I64(FORMAT_VERSION));
     fb.set_attr("model", AttrValue::VarLenString(layout.model.clone()));
-    fb.set_attr("status", AttrValue::VarLenString(status.name().into()));
-    let last = c.time.last().copied().unwrap_or(f64::NAN);
-    let (status_time, message) = match status {
-        RunStatus::Running | RunStatus::Completed => (last, String::new()),
-        RunStatus::Interrupted { t } => (*t, String::new()),
-        RunStatus::Failed { t, message } => (*t, message.clone()),
-    };
-    fb.set_attr("status_time", AttrValue::F64(status_time));
-    fb.set_attr("status_message", AttrValue::VarLenString(message));
+    fb.set_attr("status", AttrValue::VarLenString("running".into()));
+    fb.set_attr("status_time", AttrValue::F64(f64::NAN));
+    fb.set_attr("status_message", AttrValue::VarLenString(String::new()));
     for (k, v) in attributes {
         fb.set_attr(k, AttrValue::VarLenString(v.clone()));
     }
 
-    checksummed(fb.create_dataset("time"), &c.time, n, None);
-    let matrices: [(&str, &Vec<f64>, usize); 3] = [
-        ("q", &c.q, layout.coordinates.len()),
-        ("u", &c.u, layout.velocities.len()),
-        ("lambda", &c.lambda, layout.multipliers.len()),
-    ];
-    for (name, data, w) in matrices {
-        checksummed(fb.create_dataset(name), data, n, Some(w));
+    extensible(fb.create_dataset("time"), None);
+    for (name, w) in [
+        ("q", layout.coordinates.len()),
+        ("u", layout.velocities.len()),
+        ("lambda", layout.multipliers.len()),
+    ] {
+        extensible(fb.create_dataset(name), Some(w));
     }
-    let fixed: [(&str, &Vec<f64>, &[&str]); 3] = [
-        ("energy", &c.energy, &ENERGY_COLUMNS),
-        ("drift", &c.drift, &DRIFT_COLUMNS),
-        ("step", &c.step, &STEP_COLUMNS),
+    let fixed: [(&str, &[&str]); 3] = [
+        ("energy", &ENERGY_COLUMNS),
+        ("drift", &DRIFT_COLUMNS),
+        ("step", &STEP_COLUMNS),
     ];
-    for (name, data, cols) in fixed {
+    for (name, cols) in fixed {
         let d = fb.create_dataset(name);
-        checksummed(d, data, n, Some(cols.len()));
+        extensible(d, Some(cols.len()));
         d.set_attr("columns", strings(cols));
     }
     for (name, list) in [
@@ -100,17 +102,9 @@ pub(crate) fn build(
     let mut g = fb.create_group("signals");
     let names: Vec<&str> = layout.signals.iter().map(|s| s.name.as_str()).collect();
     g.set_attr("names", strings(&names));
-    let width = layout.signal_width();
-    let mut offset = 0;
     for s in &layout.signals {
-        let k = s.components.len();
-        let mut data = Vec::with_capacity(n * k);
-        for i in 0..n {
-            data.extend_from_slice(&c.signals[i * width + offset..i * width + offset + k]);
-        }
-        offset += k;
         let d = g.create_dataset(&s.name);
-        checksummed(d, &data, n, Some(k));
+        extensible(d, Some(s.components.len()));
         d.set_attr("unit", AttrValue::VarLenString(s.unit.clone()));
         let comps: Vec<&str> = s.components.iter().map(String::as_str).collect();
         d.set_attr("components", strings(&comps));
@@ -189,6 +183,8 @@ impl Reader<'_> {
     }
 
     /// A float64 dataset `[rows, cols]` (or `[rows]` when `cols` is `None`), flattened row-major.
+    /// A matrix may hold more rows than `rows` (a run killed during a flush appends `time` last):
+    /// only the first `rows` are returned. A matrix without columns may have any row count.
     fn matrix(
         &self,
         name: &str,
@@ -197,27 +193,38 @@ impl Reader<'_> {
     ) -> Result<Vec<f64>, ResultsError> {
         let d = self.dataset(name)?;
         let shape = d.shape().map_err(|e| hdf5_error(self.path, name, e))?;
-        let expected: Vec<u64> = match cols {
-            Some(c) => vec![rows as u64, c as u64],
-            None => vec![rows as u64],
+        // version 1: `[n, cols]` float64; version 2: `[n]` of rows `float64[cols]`
+        let dtype = d.dtype().map_err(|e| hdf5_error(self.path, name, e))?;
+        let rows_of = |c: usize| match dtype {
+            DType::Array(ref base, ref dims) => {
+                **base == DType::F64 && dims.as_slice() == [c as u32]
+            }
+            _ => false,
         };
-        if shape != expected {
-            return Err(self.wrong(
-                name,
-                format!("shape {expected:?}"),
-                format!("shape {shape:?}"),
-            ));
+        let (fits, is_rows) = match (cols, shape.as_slice()) {
+            (None, &[n]) => (n == rows as u64 && dtype == DType::F64, false),
+            (Some(c), &[n, w]) => (
+                dtype == DType::F64 && w == c as u64 && (n >= rows as u64 || c == 0),
+                false,
+            ),
+            (Some(c), &[n]) => (rows_of(c) && n >= rows as u64, true),
+            _ => (false, false),
+        };
+        if !fits {
+            let expected = match cols {
+                Some(c) => format!("f64 shape [{rows} (or more), {c}]"),
+                None => format!("f64 shape [{rows}]"),
+            };
+            return Err(self.wrong(name, expected, format!("{dtype} shape {shape:?}")));
         }
-        match d.dtype().map_err(|e| hdf5_error(self.path, name, e))? {
-            DType::F64 => {}
-            other => return Err(self.wrong(name, "f64".into(), other.to_string())),
-        }
-        let count = expected
+        let width = if is_rows { cols.unwrap_or(1) as u64 } else { 1 };
+        let count = shape
             .iter()
-            .try_fold(1u64, |a, &b| a.checked_mul(b))
+            .try_fold(width, |a, &b| a.checked_mul(b))
             .filter(|&c| c.checked_mul(8).is_some_and(|b| b <= self.file_len));
+        let wanted = rows as u64 * cols.unwrap_or(1) as u64;
         match count {
-            Some(0) => return Ok(Vec::new()),
+            _ if wanted == 0 => return Ok(Vec::new()),
             Some(_) => {}
             None => {
                 return Err(self.wrong(
@@ -227,14 +234,24 @@ impl Reader<'_> {
                 ))
             }
         }
-        let v = d.read_f64().map_err(|e| hdf5_error(self.path, name, e))?;
-        if v.len() as u64 != expected.iter().product::<u64>() {
+        let mut v = if is_rows {
+            let bytes = d.read_raw().map_err(|e| hdf5_error(self.path, name, e))?;
+            bytes
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+                .collect()
+        } else {
+            d.read_f64().map_err(|e| hdf5_error(self.path, name, e))?
+        };
+        let total = width * shape.iter().product::<u64>();
+        if v.len() as u64 != total {
             return Err(self.wrong(
                 name,
-                format!("{} values", expected.iter().product::<u64>()),
+                format!("{total} values"),
                 format!("{} values", v.len()),
             ));
         }
+        v.truncate(wanted as usize);
         Ok(v)
     }
 
@@ -336,7 +353,7 @@ pub(crate) fn decode(path: &Path, bytes: Vec<u8>) -> Result<Decoded, ResultsErro
         .get("format_version")
         .and_then(|v| v.as_i64())
         .ok_or_else(|| r.bad_attr("/", "format_version", "integer"))?;
-    if version != FORMAT_VERSION {
+    if !(1..=FORMAT_VERSION).contains(&version) {
         return Err(ResultsError::UnsupportedVersion {
             path: path.to_path_buf(),
             found: version,

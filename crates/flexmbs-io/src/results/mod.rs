@@ -15,12 +15,14 @@
 
 mod animation;
 mod export;
+mod flusher;
 mod h5;
+mod stream;
 mod writer;
 
 pub use animation::{AnimationBody, AnimationWriter};
 pub use export::{plot_series, write_csv};
-pub use writer::{ResultsWriter, DEFAULT_FLUSH_INTERVAL};
+pub use writer::{ResultsWriter, DEFAULT_FLUSH_INTERVAL, MAX_PENDING_BYTES};
 
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -28,8 +30,10 @@ use thiserror::Error;
 /// Value of the root attribute `format` that marks a flexmbs results file.
 pub const FORMAT_NAME: &str = "flexmbs-results";
 
-/// Version of the on-disk layout written by [`ResultsWriter`]; [`read_results`] reads this version.
-pub const FORMAT_VERSION: i64 = 1;
+/// Version of the on-disk layout written by [`ResultsWriter`]; [`read_results`] reads this
+/// version and every older one (1: fixed-size datasets; 2: extensible datasets grown by in-place
+/// appends, which may hold more rows than `time` after a killed run).
+pub const FORMAT_VERSION: i64 = 2;
 
 /// Column names of the `energy` dataset (order of `flexmbs_core::system::Energy`).
 pub const ENERGY_COLUMNS: [&str; 4] = ["kinetic", "gravity", "elastic", "springs"];
@@ -211,7 +215,9 @@ pub enum ResultsError {
         reason: String,
     },
     /// The file was written with a layout version this program does not read.
-    #[error("{path}: unsupported format_version {found} (this program reads version {supported})")]
+    #[error(
+        "{path}: unsupported format_version {found} (this program reads versions 1 to {supported})"
+    )]
     UnsupportedVersion {
         /// File concerned.
         path: PathBuf,
@@ -355,6 +361,34 @@ impl Columns {
     fn rows(&self) -> usize {
         self.time.len()
     }
+
+    /// Appends the rows of `other`.
+    fn append(&mut self, other: &Columns) {
+        self.time.extend_from_slice(&other.time);
+        self.q.extend_from_slice(&other.q);
+        self.u.extend_from_slice(&other.u);
+        self.lambda.extend_from_slice(&other.lambda);
+        self.energy.extend_from_slice(&other.energy);
+        self.drift.extend_from_slice(&other.drift);
+        self.step.extend_from_slice(&other.step);
+        self.signals.extend_from_slice(&other.signals);
+    }
+
+    /// Empties every column, keeping the allocations.
+    fn clear(&mut self) {
+        for v in [
+            &mut self.time,
+            &mut self.q,
+            &mut self.u,
+            &mut self.lambda,
+            &mut self.energy,
+            &mut self.drift,
+            &mut self.step,
+            &mut self.signals,
+        ] {
+            v.clear();
+        }
+    }
 }
 
 /// The content of a results file, as read by [`read_results`].
@@ -374,7 +408,7 @@ pub struct Results {
 /// Reads a results file written by [`ResultsWriter`], also one of a run that is still going,
 /// was interrupted, failed or was killed (status `running`). Never panics on a damaged file.
 pub fn read_results(path: &Path) -> Result<Results, ResultsError> {
-    let bytes = std::fs::read(path).map_err(|source| ResultsError::Io {
+    let bytes = crate::source_file::read(path).map_err(|source| ResultsError::Io {
         path: path.to_path_buf(),
         source,
     })?;
