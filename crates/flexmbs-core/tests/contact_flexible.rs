@@ -12,62 +12,21 @@
 
 #[path = "support/counting_alloc.rs"]
 mod counting_alloc;
+#[path = "support/plate.rs"]
+mod plate;
 
-use faer::Mat;
 use flexmbs_core::contact::{
     Contact, ContactLaw, ContactWork, FlexibleBand, NeutralCurve, NeutralSurface, SphereContour,
 };
 use flexmbs_core::ffr::contour::{ContourSettings, FfrCurveContour, FfrSurfaceContour};
-use flexmbs_core::ffr::{FfrBody, FfrElement, FfrInvariants, RotationParam};
+use flexmbs_core::ffr::FfrElement;
 use flexmbs_core::integrator::{MoreauSettings, MoreauStepper, Stepper};
 use flexmbs_core::rotation::rotation_vector_matrix;
 use flexmbs_core::{
     system, BodyId, Joint, Model, ModelError, ModelSpec, RigidBody, State, Workspace,
 };
 use nalgebra::{Matrix3, Vector3};
-
-fn rnd(seed: &mut u64) -> f64 {
-    *seed = seed
-        .wrapping_mul(6364136223846793005)
-        .wrapping_add(1442695040888963407);
-    ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-}
-
-const NX: usize = 7;
-const NY: usize = 4;
-const NF: usize = 3;
-
-/// A plate 0.6 x 0.15 m of NX x NY nodes in the plane z = 0 with smooth modes (lumped masses
-/// 0.2 kg, modal stiffness 100).
-fn plate(seed: &mut u64) -> FfrBody {
-    let u0: Vec<[f64; 3]> = (0..NX * NY)
-        .map(|n| [0.1 * (n / NY) as f64, 0.05 * (n % NY) as f64, 0.0])
-        .collect();
-    let masses = vec![0.2; NX * NY];
-    let c: Vec<f64> = (0..3 * NF).map(|_| rnd(seed)).collect();
-    let modes_t = Mat::from_fn(3 * NX * NY, NF, |r, k| {
-        let p = u0[r / 3];
-        let (x, y) = (p[0], p[1]);
-        match r % 3 {
-            2 => {
-                c[3 * k] * (x * x) + c[3 * k + 1] * x * y + 0.1 * (k as f64 + 1.0) * (5.0 * x).sin()
-            }
-            0 => 0.02 * c[3 * k + 2] * x,
-            _ => 0.01 * c[3 * k] * y,
-        }
-    });
-    let k = Mat::from_fn(NF, NF, |i, j| if i == j { 100.0 } else { 0.0 });
-    let inv = FfrInvariants::from_lumped(&u0, &masses, modes_t.as_ref()).unwrap();
-    FfrBody::new(
-        inv,
-        RotationParam::Quaternion,
-        &u0,
-        modes_t.as_ref(),
-        None,
-        k.as_ref(),
-    )
-    .unwrap()
-}
+use plate::{plate, NF, NX, NY};
 
 #[derive(Clone, Copy, Debug)]
 enum Kind {
@@ -138,12 +97,12 @@ fn random_state(seed: &mut u64, model: &Model) -> State {
     let q = &mut s.q;
     let nq0 = model.body_dofs(BodyId(0)).q.len();
     for x in &mut q[nq0 - NF..nq0] {
-        *x = 0.1 * rnd(seed);
+        *x = 0.1 * plate::rnd(seed);
     }
     let ball = r + a * Vector3::new(0.31, 0.06, 0.05);
     model.set_body_pose(&mut s, BodyId(1), ball, Matrix3::identity());
     for x in s.u.iter_mut() {
-        *x = rnd(seed);
+        *x = plate::rnd(seed);
     }
     s
 }

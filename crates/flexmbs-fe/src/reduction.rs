@@ -101,6 +101,27 @@ pub struct ReducedBody {
 }
 
 impl ReducedBody {
+    /// The body restricted to the basis vectors `cols` (0-based, in that order): mode shapes,
+    /// reduced matrices, frequencies and labels.
+    pub fn restricted_to(&self, cols: &[usize]) -> ReducedBody {
+        let nf = self.num_modes();
+        let pick = |m: &Mat<f64>| Mat::from_fn(m.nrows(), cols.len(), |i, j| m[(i, cols[j])]);
+        let square =
+            |m: &Mat<f64>| Mat::from_fn(cols.len(), cols.len(), |i, j| m[(cols[i], cols[j])]);
+        let mut out = self.clone();
+        out.modes_t = pick(&self.modes_t);
+        out.modes_r = self.modes_r.as_ref().map(pick);
+        out.k_red = square(&self.k_red);
+        out.m_red = square(&self.m_red);
+        if self.frequencies_hz.len() == nf {
+            out.frequencies_hz = cols.iter().map(|&c| self.frequencies_hz[c]).collect();
+        }
+        if self.labels.len() == nf {
+            out.labels = cols.iter().map(|&c| self.labels[c].clone()).collect();
+        }
+        out
+    }
+
     /// Number of nodes N_n.
     pub fn num_nodes(&self) -> usize {
         self.nodes.len()

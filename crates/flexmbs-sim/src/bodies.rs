@@ -728,7 +728,7 @@ fn select_modes(
     };
     let cols = mode_columns(ctx, p, reduced.num_modes(), sel)?;
     Ok((
-        restrict_modes(&reduced, &cols),
+        reduced.restricted_to(&cols),
         geometric.map(|g| select_geometric_modes(&g, &cols)),
     ))
 }
@@ -775,28 +775,6 @@ fn mode_columns(
         return Err(ctx.err(&format!("{p}.modes"), NO_MODES_SELECTED));
     }
     Ok(cols)
-}
-
-/// The reduced body restricted to the basis vectors `cols` (0-based).
-fn restrict_modes(body: &ReducedBody, cols: &[usize]) -> ReducedBody {
-    let nf = body.num_modes();
-    let pick =
-        |m: &faer::Mat<f64>| faer::Mat::from_fn(m.nrows(), cols.len(), |i, j| m[(i, cols[j])]);
-    let square = |m: &faer::Mat<f64>| {
-        faer::Mat::from_fn(cols.len(), cols.len(), |i, j| m[(cols[i], cols[j])])
-    };
-    let mut out = body.clone();
-    out.modes_t = pick(&body.modes_t);
-    out.modes_r = body.modes_r.as_ref().map(pick);
-    out.k_red = square(&body.k_red);
-    out.m_red = square(&body.m_red);
-    if body.frequencies_hz.len() == nf {
-        out.frequencies_hz = cols.iter().map(|&c| body.frequencies_hz[c]).collect();
-    }
-    if body.labels.len() == nf {
-        out.labels = cols.iter().map(|&c| body.labels[c].clone()).collect();
-    }
-    out
 }
 
 #[cfg(test)]

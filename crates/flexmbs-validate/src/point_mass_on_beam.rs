@@ -78,20 +78,6 @@ pub fn reduce_beam_with(modes: usize) -> Result<Beam> {
     Ok(Beam { reduced, mass })
 }
 
-/// The first `n` modes of `body`.
-fn first_modes(body: &ReducedBody, n: usize) -> ReducedBody {
-    let pick = |m: &faer::Mat<f64>| faer::Mat::from_fn(m.nrows(), n, |i, j| m[(i, j)]);
-    let square = |m: &faer::Mat<f64>| faer::Mat::from_fn(n, n, |i, j| m[(i, j)]);
-    let mut out = body.clone();
-    out.modes_t = pick(&body.modes_t);
-    out.modes_r = body.modes_r.as_ref().map(pick);
-    out.k_red = square(&body.k_red);
-    out.m_red = square(&body.m_red);
-    out.frequencies_hz.truncate(n);
-    out.labels.truncate(n);
-    out
-}
-
 /// The node closest to `p`.
 fn nearest_node(nodes: &[[f64; 3]], p: [f64; 3]) -> usize {
     let d = |i: usize| (0..3).map(|k| (nodes[i][k] - p[k]).powi(2)).sum::<f64>();
@@ -143,7 +129,8 @@ pub struct Run {
 }
 
 fn model(beam: &Beam, c: &Config) -> Result<(Model, usize)> {
-    let reduced = first_modes(&beam.reduced, c.modes);
+    let cols: Vec<usize> = (0..c.modes).collect();
+    let reduced = beam.reduced.restricted_to(&cols);
     let ffr = FfrBody::from_reduced_consistent(&reduced, &beam.mass, RotationParam::Cardan)?;
     let nodes = &reduced.nodes;
     let probe = nearest_node(nodes, [0.25, 0.05, 0.025]);
