@@ -10,13 +10,19 @@
 //! problem as a [`BodyFileError`] naming the file and the dataset; it never panics, also not on a
 //! truncated or corrupted file.
 
+mod consistency;
 mod geometric;
 mod h5;
 mod rotary;
 mod stress;
+mod text_digest;
 
+pub use consistency::{
+    FREQUENCY_TOLERANCE, MATRIX_SYMMETRY_TOLERANCE, NODE_MASS_TOLERANCE, NULL_SPACE_TOLERANCE,
+};
 pub use geometric::{parse_pattern_name, pattern_name, SYMMETRY_TOLERANCE};
 pub use rotary::ROTARY_INERTIA_TOLERANCE;
+pub use text_digest::text_sha256;
 
 use flexmbs_fe::geometric::GeometricStiffness;
 use flexmbs_fe::reduction::ReducedBody;
@@ -26,8 +32,9 @@ use thiserror::Error;
 /// Value of the root attribute `format` that marks a flexmbs reduced-body file.
 pub const FORMAT_NAME: &str = "flexmbs.reduced_body";
 
-/// Version of the on-disk layout written by [`write_body`]; [`read_body`] reads this version.
-pub const FORMAT_VERSION: i64 = 1;
+/// Version of the on-disk layout written by [`write_body`]; [`read_body`] reads this version and
+/// version 1 (no `text_sha256`).
+pub const FORMAT_VERSION: i64 = 2;
 
 /// Recommended file name extension of a reduced-body file.
 pub const FILE_EXTENSION: &str = "fmb.h5";
@@ -221,6 +228,7 @@ fn write_parts(
     stress: Option<&flexmbs_fe::stress::ModalStress>,
 ) -> Result<(), BodyFileError> {
     h5::check_body(path, body)?;
+    consistency::check_physics(path, body)?;
     if let Some(s) = stress {
         stress::check(path, s, body.num_nodes(), body.num_modes())?;
     }

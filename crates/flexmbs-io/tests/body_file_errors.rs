@@ -89,13 +89,13 @@ fn future_format_version_is_refused() {
     let (_d, path) = written("err-version");
     edit(&path, |f| {
         f.root()
-            .set_attr("format_version", AttrValue::I64(2))
+            .set_attr("format_version", AttrValue::I64(3))
             .unwrap()
     });
     match read_body(&path) {
         Err(BodyFileError::UnsupportedVersion {
-            found: 2,
-            supported: 1,
+            found: 3,
+            supported: 2,
             ..
         }) => {}
         other => panic!("expected UnsupportedVersion, got {other:?}"),

@@ -29,7 +29,7 @@ import sys, h5py, numpy as np
 f = h5py.File(sys.argv[1], 'r')
 a = f.attrs
 assert a['format'] == 'flexmbs.reduced_body', a['format']
-assert int(a['format_version']) == 1
+assert int(a['format_version']) == 2
 assert a['units'] == 'SI(mm)' and a['name'] == 'crank arm' and a['reduction'] == 'craig_bampton'
 assert f['provenance'].attrs['notes'].endswith('(µm mesh)')
 t = f['modes/translation']
@@ -244,6 +244,16 @@ with h5py.File(sys.argv[1], 'a') as f:
     g['load_pattern'] = ['centrifugal_yy', 'centrifugal_zz']
     a = np.arange(16.0).reshape(4, 4) / 3.0
     g['stiffness'] = np.stack([a + a.T, -(a + a.T)])
+    # the text fields changed: recompute their checksum as the format documents it
+    import hashlib
+    h = hashlib.sha256()
+    p = f['provenance'].attrs
+    fields = [f.attrs['name'], f.attrs['units'], f.attrs['reduction'], p['source'], p['program'],
+              p['notes']] + f['modes/label_dominant'].asstr()[()].tolist() \
+             + ['centrifugal_yy', 'centrifugal_zz']
+    for s in fields:
+        h.update(s.encode('utf-8') + b'\0')
+    f.attrs['text_sha256'] = h.hexdigest()
 "#;
     let out = run_python(code, &[path.to_str().unwrap()]);
     assert_eq!(

@@ -218,12 +218,16 @@ pub(crate) fn encode_body(
     fb.set_attr("format_version", AttrValue::I64(FORMAT_VERSION));
     fb.set_attr("name", AttrValue::VarLenString(b.name.clone()));
     fb.set_attr("units", AttrValue::VarLenString(b.units.name().into()));
-    let (kind, internal) = match b.kind {
-        ReductionKind::Modal => ("modal", 0),
-        ReductionKind::FreeFree => ("free_free", 0),
-        ReductionKind::CraigBampton { internal_modes } => ("craig_bampton", internal_modes as i64),
+    let internal = match b.kind {
+        ReductionKind::CraigBampton { internal_modes } => internal_modes as i64,
+        _ => 0,
     };
+    let kind = super::text_digest::reduction_name(&b.kind);
     fb.set_attr("reduction", AttrValue::VarLenString(kind.into()));
+    fb.set_attr(
+        super::text_digest::ATTRIBUTE,
+        AttrValue::VarLenString(super::text_sha256(b, geometric)),
+    );
     fb.set_attr("internal_modes", AttrValue::I64(internal));
     fb.set_attr("num_nodes", AttrValue::I64(n as i64));
     fb.set_attr("num_modes", AttrValue::I64(nf as i64));
@@ -538,7 +542,7 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyF
         }
     }
     let version = attr_int(&r, &root, "/", "format_version")?;
-    if version != FORMAT_VERSION {
+    if !(1..=FORMAT_VERSION).contains(&version) {
         return Err(BodyFileError::UnsupportedVersion {
             path: path.to_path_buf(),
             found: version,
@@ -653,7 +657,11 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyF
         provenance,
     };
     check_body(path, &body)?;
+    super::consistency::check_physics(path, &body)?;
     let geometric = super::geometric::decode(&r, nf)?;
+    if version >= 2 {
+        check_text_digest(&r, &root, &body, geometric.as_ref())?;
+    }
     let rotary_inertia = super::rotary::decode(&r, n)?;
     let stress = super::stress::decode(&r, n, nf)?;
     Ok(BodyFile {
@@ -662,6 +670,27 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyF
         rotary_inertia,
         stress,
     })
+}
+
+/// Compares the root attribute `text_sha256` (format version 2) with the digest of the decoded
+/// text fields.
+fn check_text_digest(
+    r: &Reader,
+    root: &std::collections::HashMap<String, AttrValue>,
+    body: &ReducedBody,
+    geometric: Option<&GeometricStiffness>,
+) -> Result<(), BodyFileError> {
+    let stored = attr_str(r, root, "/", super::text_digest::ATTRIBUTE)?;
+    let computed = super::text_sha256(body, geometric);
+    if stored != computed {
+        let msg = format!(
+            "the text fields (name, units, reduction, provenance, mode labels, load-pattern names) \
+             do not match their checksum (stored {stored}, computed {computed}): the file was \
+             altered after it was written"
+        );
+        return Err(invalid(r.path, "/@text_sha256", msg));
+    }
+    Ok(())
 }
 
 /// Cells from `cells/kind`, `cells/offsets` and `cells/connectivity`.

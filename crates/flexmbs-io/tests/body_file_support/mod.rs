@@ -42,17 +42,29 @@ pub fn sample_body(n: usize, nf: usize, seed: u64) -> ReducedBody {
         nf,
         |i, _| if i % 3 == 0 { 0.0 } else { rng.next() * 1e-2 },
     );
+    // Physically consistent (the reader checks it): K symmetric positive definite, M the lumped
+    // projection of the node masses plus a rotational part, frequencies those of (K, M).
+    let a = Mat::from_fn(nf, nf, |_, _| rng.next());
     let k_red = Mat::from_fn(nf, nf, |i, j| {
-        if i == j {
-            1e6 * (i + 1) as f64
-        } else {
-            rng.next()
-        }
+        let aa: f64 = (0..nf).map(|r| a[(r, i)] * a[(r, j)]).sum();
+        aa + if i == j { 1e6 * (i + 1) as f64 } else { 0.0 }
     });
-    let m_red = Mat::from_fn(nf, nf, |i, j| if i == j { 1.0 } else { 1e-3 * rng.next() });
-    let frequencies_hz: Vec<f64> = (0..nf)
-        .map(|k| 10.0 * (k + 1) as f64 + rng.next())
-        .collect();
+    let m_red = Mat::from_fn(nf, nf, |i, j| {
+        (0..n)
+            .map(|p| {
+                let t: f64 = (0..3)
+                    .map(|d| masses[p] * modes_t[(3 * p + d, i)] * modes_t[(3 * p + d, j)])
+                    .sum();
+                let r: f64 = (0..3)
+                    .map(|d| 1e-3 * modes_r[(3 * p + d, i)] * modes_r[(3 * p + d, j)])
+                    .sum();
+                t + r
+            })
+            .sum()
+    });
+    let (omega2, _) =
+        flexmbs_fe::eigen::dense_generalized(k_red.as_ref(), m_red.as_ref()).expect("sample pair");
+    let frequencies_hz = flexmbs_fe::modes::frequencies_hz(&omega2);
     let dominant = ["ux", "uy", "uz", "rx", "ry", "rz"];
     let labels = (0..nf)
         .map(|k| ModeLabel {
