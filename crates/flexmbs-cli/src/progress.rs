@@ -49,7 +49,7 @@ impl Progress {
             self.key = msg.to_string();
             let b = ProgressBar::new(len);
             b.set_style(
-                ProgressStyle::with_template("{msg:>14} [{bar:40}] {pos}/{len} {elapsed}")
+                ProgressStyle::with_template("{msg:>14} [{bar:40}] {pos}/{len} {elapsed}, ETA {eta}")
                     .unwrap_or(ProgressStyle::default_bar())
                     .progress_chars("=> "),
             );
