@@ -49,9 +49,11 @@ impl Progress {
             self.key = msg.to_string();
             let b = ProgressBar::new(len);
             b.set_style(
-                ProgressStyle::with_template("{msg:>14} [{bar:40}] {pos}/{len} {elapsed}, ETA {eta}")
-                    .unwrap_or(ProgressStyle::default_bar())
-                    .progress_chars("=> "),
+                ProgressStyle::with_template(
+                    "{msg:>14} [{bar:40}] {pos}/{len} {elapsed}, ETA {eta}",
+                )
+                .unwrap_or(ProgressStyle::default_bar())
+                .progress_chars("=> "),
             );
             b.set_message(msg.to_string());
             self.bar = Some(b);
