@@ -101,6 +101,14 @@ pub enum ModelError {
         /// Expected length.
         expected: usize,
     },
+    /// Initial elastic coordinates for a body without a `Vector` node, or of the wrong length.
+    #[error("initial elastic coordinates of body `{body}`: {reason}")]
+    InitialElastic {
+        /// Body name.
+        body: String,
+        /// What is wrong.
+        reason: String,
+    },
 }
 
 /// A body whose element cannot be evaluated at a state ([`crate::system::evaluate`]); the

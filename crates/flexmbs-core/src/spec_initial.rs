@@ -17,6 +17,8 @@ pub(crate) struct InitialSpec {
     velocities: Vec<(BodyId, Vector3<f64>, Vector3<f64>)>,
     /// Spring-dampers whose free length is their length in the initial state.
     unstressed: Vec<LoadId>,
+    /// Elastic (modal) coordinates and their rates of a body's `Vector` node.
+    elastic: Vec<(BodyId, Vec<f64>, Vec<f64>)>,
 }
 
 impl ModelSpec {
@@ -40,6 +42,14 @@ impl ModelSpec {
         omega: Vector3<f64>,
     ) {
         self.initial.velocities.push((body, velocity, omega));
+    }
+
+    /// Initial elastic coordinates `q` and their rates `u` of `body`: the coordinates of its
+    /// element's `Vector` node (the modal coordinates of an FFR body, the internal modes of a
+    /// superelement). `u` may be empty (at rest). Checked by [`ModelSpec::compile`]: the body must
+    /// have exactly one `Vector` node, of the length of `q`.
+    pub fn set_initial_elastic(&mut self, body: BodyId, q: Vec<f64>, u: Vec<f64>) {
+        self.initial.elastic.push((body, q, u));
     }
 
     /// The spring-damper `load` is unstressed in the initial state: [`ModelSpec::compile`] sets its
@@ -67,6 +77,10 @@ impl InitialSpec {
         for (b, p, r) in self.poses {
             check(b, "pose")?;
             model.set_body_pose(&mut s, b, p, r);
+        }
+        for (b, q, u) in self.elastic {
+            check(b, "elastic coordinates")?;
+            model.set_body_elastic(&mut s, b, &q, &u)?;
         }
         for (b, v, w) in self.velocities {
             check(b, "velocity")?;
@@ -96,6 +110,57 @@ impl InitialSpec {
             }
         }
         model.initial = s;
+        Ok(())
+    }
+}
+
+impl Model {
+    /// Sets the elastic coordinates `q` and rates `u` (empty: unchanged) of `body` in `state`:
+    /// the coordinates of its element's single `Vector` node ([`ModelSpec::set_initial_elastic`]).
+    pub fn set_body_elastic(
+        &self,
+        state: &mut crate::State,
+        body: BodyId,
+        q: &[f64],
+        u: &[f64],
+    ) -> Result<(), ModelError> {
+        let b = &self.bodies[body.0];
+        let err = |reason: String| ModelError::InitialElastic {
+            body: b.name.clone(),
+            reason,
+        };
+        let kinds = b.element.node_kinds();
+        let vectors: Vec<usize> = (0..kinds.len())
+            .filter(|&i| matches!(kinds[i], crate::NodeKind::Vector(_)))
+            .collect();
+        let [k] = vectors[..] else {
+            return Err(err(format!(
+                "the body has {} vector (elastic) nodes, expected one",
+                vectors.len()
+            )));
+        };
+        let crate::NodeKind::Vector(n) = kinds[k] else {
+            unreachable!("filtered above")
+        };
+        if q.len() != n || !(u.is_empty() || u.len() == n) {
+            return Err(err(format!(
+                "{} coordinates and {} rates given, the body has {n}",
+                q.len(),
+                u.len()
+            )));
+        }
+        if let Some(x) = q.iter().chain(u).find(|x| !x.is_finite()) {
+            return Err(err(format!("value {x} is not finite")));
+        }
+        let q0: usize = kinds[..k].iter().map(|k| k.nq()).sum();
+        let u0: usize = kinds[..k].iter().map(|k| k.nu()).sum();
+        let dofs = self.body_dofs(body);
+        for (i, x) in q.iter().enumerate() {
+            state.q[dofs.q.global(q0 + i)] = *x;
+        }
+        for (i, x) in u.iter().enumerate() {
+            state.u[dofs.u.global(u0 + i)] = *x;
+        }
         Ok(())
     }
 }

@@ -582,6 +582,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             &format!("{p}.angular_velocity"),
         )?;
         spec.set_initial_velocity(info.id, v, w);
+        crate::initial::set_initial_modal(&ctx, &mut spec, b, info, &p)?;
     }
     for id in free_length_from_initial {
         spec.set_spring_unstressed_initially(id);

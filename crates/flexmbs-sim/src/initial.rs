@@ -12,11 +12,13 @@ pub(crate) fn check_static_start(ctx: &Ctx, mf: &crate::schema::ModelFile) -> Re
         for (key, given) in [
             ("velocity", b.velocity.is_some()),
             ("angular_velocity", b.angular_velocity.is_some()),
+            ("modal_coordinates", b.modal_coordinates.is_some()),
+            ("modal_velocities", b.modal_velocities.is_some()),
         ] {
             if given {
                 return Err(ctx.err(
                     &format!("body[{i}].{key}"),
-                    "solver.initial = \"static\" starts from static equilibrium at rest: remove the initial velocity (or use initial = \"given\")",
+                    format!("solver.initial = \"static\" starts from static equilibrium at rest: remove `{key}` (or use initial = \"given\")"),
                 ));
             }
         }
@@ -58,4 +60,48 @@ pub(crate) fn check_initial_assembly(
         }
         Err(e) => Err(ctx.err("model", e.to_string())),
     }
+}
+
+/// `modal_coordinates` / `modal_velocities` of an ffr body: checked against the kept modes and
+/// handed to [`flexmbs_core::ModelSpec::set_initial_elastic`].
+pub(crate) fn set_initial_modal(
+    ctx: &Ctx,
+    spec: &mut flexmbs_core::ModelSpec,
+    b: &crate::schema::BodySpec,
+    info: &crate::compile::BodyInfo,
+    p: &str,
+) -> Result<(), SimError> {
+    if b.modal_coordinates.is_none() && b.modal_velocities.is_none() {
+        return Ok(());
+    }
+    let n = info.geometry.modes;
+    let mut values = Vec::with_capacity(2);
+    for (key, v) in [
+        ("modal_coordinates", &b.modal_coordinates),
+        ("modal_velocities", &b.modal_velocities),
+    ] {
+        let path = format!("{p}.{key}");
+        let Some(v) = v else {
+            values.push(vec![0.0; n]);
+            continue;
+        };
+        if b.kind != crate::schema::BodyType::Ffr {
+            return Err(ctx.err(&path, "only ffr bodies have modal coordinates"));
+        }
+        if v.len() != n {
+            let msg = format!(
+                "{} values given, the body keeps {n} modes (one value per kept mode, in the order of `modes`)",
+                v.len()
+            );
+            return Err(ctx.err(&path, msg));
+        }
+        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+            return Err(ctx.err(&path, format!("{x} is not a finite number")));
+        }
+        values.push(v.clone());
+    }
+    let u = values.pop().unwrap_or_default();
+    let q = values.pop().unwrap_or_default();
+    spec.set_initial_elastic(info.id, q, u);
+    Ok(())
 }

@@ -216,6 +216,12 @@ pub struct BodySpec {
     pub velocity: Option<[Quantity; 3]>,
     /// Initial angular velocity (global).
     pub angular_velocity: Option<[Quantity; 3]>,
+    /// Initial modal coordinates (ffr), one per kept mode, in the units of the mode shapes in SI
+    /// (the node displacement is `Σ_k Φ_k q_k` in m). Default 0 (undeformed).
+    pub modal_coordinates: Option<Vec<f64>>,
+    /// Initial modal velocities (ffr), one per kept mode (units of `modal_coordinates` per
+    /// second). Default 0.
+    pub modal_velocities: Option<Vec<f64>>,
 }
 
 /// The `inertia` key: three principal moments (rigid body) or a mass model name (ffr body).
