@@ -630,7 +630,12 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             source,
         }
     })?;
-    let initial = model.initial_state();
+    let mut initial = model.initial_state();
+    if let Some(r) = &mf.solver.restart {
+        crate::initial::check_restart_allowed(&ctx, &mf, &solver)?;
+        let t_end = solver.t_end();
+        crate::restart::apply_restart(&ctx, r, base, &model, &bodies, t_end, &mut initial)?;
+    }
     for (i, info) in bodies.iter().enumerate() {
         let (q, u) = (
             model.body_q(info.id, &initial.q),

@@ -105,3 +105,40 @@ pub(crate) fn set_initial_modal(
     spec.set_initial_elastic(info.id, q, u);
     Ok(())
 }
+
+/// `solver.restart` needs a time integrator and excludes `initial = "static"` and initial
+/// velocities or modal coordinates given in the bodies (the restart row replaces them).
+pub(crate) fn check_restart_allowed(
+    ctx: &Ctx,
+    mf: &crate::schema::ModelFile,
+    solver: &crate::SolverConfig,
+) -> Result<(), SimError> {
+    if matches!(solver, crate::SolverConfig::Statics { .. }) {
+        return Err(ctx.err(
+            "solver.restart",
+            "statics has no initial state to restart from: remove `restart`",
+        ));
+    }
+    if mf.solver.initial == Some(crate::schema::InitialName::Static) {
+        return Err(ctx.err(
+            "solver.initial",
+            "`initial = \"static\"` and `restart` both define the initial state: keep one",
+        ));
+    }
+    for (i, b) in mf.body.iter().enumerate() {
+        for (key, given) in [
+            ("velocity", b.velocity.is_some()),
+            ("angular_velocity", b.angular_velocity.is_some()),
+            ("modal_coordinates", b.modal_coordinates.is_some()),
+            ("modal_velocities", b.modal_velocities.is_some()),
+        ] {
+            if given {
+                return Err(ctx.err(
+                    &format!("body[{i}].{key}"),
+                    format!("with `solver.restart` the state comes from the results file: remove `{key}`"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}

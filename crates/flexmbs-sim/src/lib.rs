@@ -18,6 +18,7 @@ pub mod initial;
 pub mod locate;
 pub mod mass_model;
 pub mod provenance;
+pub mod restart;
 pub mod run;
 pub mod schema;
 pub mod signals;

@@ -97,6 +97,19 @@ pub struct SolverSpec {
     pub linear_solver: Option<LinearSolverName>,
     /// Initial state of a time integration, default `given`.
     pub initial: Option<InitialName>,
+    /// Start from a row of an earlier run's results file (time integrators).
+    pub restart: Option<RestartSpec>,
+}
+
+/// `[solver.restart]`: the results file of an earlier run of a model with the same coordinates
+/// and the output time to start from.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RestartSpec {
+    /// Results file (`results.h5`), relative to the model file.
+    pub results: PathBuf,
+    /// Output time to start from, default the last row.
+    pub time: Option<Quantity>,
 }
 
 /// `solver.initial` values.
