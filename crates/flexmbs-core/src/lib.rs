@@ -64,6 +64,7 @@ pub mod linsolve;
 pub mod load;
 pub mod model;
 pub mod node;
+pub mod point_mass;
 pub mod power;
 pub mod rigid;
 pub mod rotation;

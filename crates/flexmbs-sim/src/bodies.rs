@@ -33,6 +33,8 @@ pub enum BuiltElement {
     Rigid(RigidBody),
     /// FFR body.
     Ffr(Box<FfrElement>),
+    /// Point mass (particle).
+    PointMass(flexmbs_core::point_mass::PointMass),
 }
 
 /// What the runner needs to know about a body besides its element.
@@ -136,6 +138,10 @@ pub fn build_body(
                 ],
             )?;
             ffr_body(ctx, &p, b, base)
+        }
+        BodyType::PointMass => {
+            ctx.only(&p, "a point mass", &present, &["mass", "box"])?;
+            crate::point_mass_body::point_mass_body(ctx, &p, b)
         }
     }
 }
@@ -280,7 +286,7 @@ pub fn equivalent_box(mass: f64, inertia: &Matrix3<f64>) -> Vector3<f64> {
 }
 
 /// The 8 corners of a centred box in VTK hexahedron order.
-fn box_corners(s: &Vector3<f64>) -> Vec<[f64; 3]> {
+pub(crate) fn box_corners(s: &Vector3<f64>) -> Vec<[f64; 3]> {
     let (x, y, z) = (s.x / 2.0, s.y / 2.0, s.z / 2.0);
     vec![
         [-x, -y, -z],

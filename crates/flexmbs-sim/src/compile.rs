@@ -8,6 +8,7 @@ use crate::drives::{check_drive_smoothness, DriveLevel};
 use crate::error::SimError;
 use crate::fe_frames::{check_rotation_lock_at_node, RotationUse};
 use crate::locate::{line_of, line_of_path};
+use crate::point_mass_body::{refuse_rotation_on_point_mass, RotationalUse};
 use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
 use crate::units::{Dimension, Quantity};
@@ -177,6 +178,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     let mut frames: HashMap<String, FrameId> = HashMap::new();
     let mut bodies = Vec::new();
     // frames fixed in the floating frame of an ffr body whose modes do not clamp it
+    let mut point_frames: HashMap<FrameId, String> = HashMap::new();
     let mut abstract_frames: HashMap<FrameId, String> = HashMap::new();
     let mut abstract_bodies = Vec::new();
     // frames on FE nodes: (body index, node index)
@@ -191,10 +193,12 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         }
         abstract_bodies.push(match &element {
             BuiltElement::Ffr(f) => !f.body().floating_frame_is_material(),
-            BuiltElement::Rigid(_) => false,
+            BuiltElement::Rigid(_) | BuiltElement::PointMass(_) => false,
         });
+        let point_mass = matches!(element, BuiltElement::PointMass(_));
         let id = match element {
             BuiltElement::Rigid(r) => spec.add_body(&b.name, r),
+            BuiltElement::PointMass(p) => spec.add_body(&b.name, p),
             BuiltElement::Ffr(f) => {
                 let stiffened_body = f.body().geometric_stiffening().map(|_| f.body().clone());
                 let id = spec.add_body(&b.name, *f);
@@ -204,6 +208,9 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         };
         let frame = spec.add_frame(&b.name, id, Vector3::zeros(), i3);
         frames.insert(b.name.clone(), frame);
+        if point_mass {
+            point_frames.insert(frame, b.name.clone());
+        }
         if abstract_bodies[i] {
             abstract_frames.insert(frame, b.name.clone());
         }
@@ -252,6 +259,9 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                     &format!("{p}.position"),
                 )?;
                 let id = spec.add_frame(&f.name, body.id, pos, rotation);
+                if point_frames.values().any(|n| n == &f.body) {
+                    point_frames.insert(id, f.body.clone());
+                }
                 if abstract_bodies[bi] {
                     abstract_frames.insert(id, f.body.clone());
                 }
@@ -418,6 +428,11 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         if joint.locked[3..].iter().any(|&l| l) || j.angle.is_some() || j.angular_velocity.is_some()
         {
             for (side, name, id) in [("a", &j.a, a), ("b", &j.b, b)] {
+                if let Some(body) = point_frames.get(&id) {
+                    let path = format!("{p}.{side}");
+                    let user = RotationalUse::Joint(&j.name);
+                    refuse_rotation_on_point_mass(&ctx, &path, user, name, body)?;
+                }
                 if let Some(&(bi, n)) = node_frames.get(&id) {
                     check_rotation_lock_at_node(
                         &ctx,
@@ -435,6 +450,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         joint_refs.push(crate::forces::JointRef::of(&joint));
         spec.add_joint(joint);
     }
+    check_forces_on_point_masses(&ctx, &mf, &frames, &point_frames)?;
     crate::forces::add_forces(&ctx, &mf.force, &mut spec, &frame, &joint_refs)?;
     let mut free_length_from_initial = Vec::new();
     for (i, l) in mf.load.iter().enumerate() {
@@ -463,6 +479,10 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                     .as_ref()
                     .ok_or_else(|| ctx.err(&p, "needs `frame`"))?;
                 let frame = frame(f, format!("{p}.frame"))?;
+                if let (LoadType::Torque, Some(body)) = (l.kind, point_frames.get(&frame)) {
+                    let path = format!("{p}.frame");
+                    refuse_rotation_on_point_mass(&ctx, &path, RotationalUse::Torque, f, body)?;
+                }
                 if let (LoadType::Torque, Some(&(bi, n))) = (l.kind, node_frames.get(&frame)) {
                     check_rotation_lock_at_node(
                         &ctx,
@@ -693,6 +713,53 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         initial_static,
         text: text.to_string(),
     })
+}
+
+/// Force elements that act on rotations at a point mass's frame: a bushing with rotational
+/// stiffness or damping, a joint-axis element on the rotation axis of a joint at a point mass.
+fn check_forces_on_point_masses(
+    ctx: &Ctx,
+    mf: &ModelFile,
+    frames: &HashMap<String, FrameId>,
+    point_frames: &HashMap<FrameId, String>,
+) -> Result<(), SimError> {
+    use crate::forces::{AxisName, ForceType};
+    let on_point = |name: &Option<String>| {
+        name.as_ref()
+            .and_then(|n| frames.get(n))
+            .and_then(|id| point_frames.get(id).map(|b| (n_of(name), b.clone())))
+    };
+    fn n_of(name: &Option<String>) -> String {
+        name.clone().unwrap_or_default()
+    }
+    for (i, f) in mf.force.iter().enumerate() {
+        let sides: Vec<(String, Option<String>)> = match f.kind {
+            ForceType::Bushing
+                if f.rotational_stiffness.is_some() || f.rotational_damping.is_some() =>
+            {
+                vec![("a".into(), f.a.clone()), ("b".into(), f.b.clone())]
+            }
+            ForceType::Bushing => Vec::new(),
+            _ if f.axis == Some(AxisName::Rotation) || f.axis.is_none() => {
+                let joint = mf.joint.iter().find(|j| Some(&j.name) == f.joint.as_ref());
+                joint.map_or_else(Vec::new, |j| {
+                    vec![
+                        ("joint".into(), Some(j.a.clone())),
+                        ("joint".into(), Some(j.b.clone())),
+                    ]
+                })
+            }
+            _ => Vec::new(),
+        };
+        for (key, frame) in sides {
+            if let Some((frame, body)) = on_point(&frame) {
+                let path = format!("force[{i}].{key}");
+                let user = RotationalUse::Force(&f.name);
+                refuse_rotation_on_point_mass(ctx, &path, user, &frame, &body)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// DOF names in mask order.

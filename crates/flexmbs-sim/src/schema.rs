@@ -171,6 +171,9 @@ pub enum BodyType {
     Rigid,
     /// Floating-frame-of-reference flexible body.
     Ffr,
+    /// A particle: mass only, three translations.
+    #[serde(rename = "point_mass")]
+    PointMass,
 }
 
 /// Rotation parametrizations.

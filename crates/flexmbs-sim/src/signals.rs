@@ -303,6 +303,11 @@ pub fn coordinate_names(
         un.extend(XYZ.iter().map(|c| format!("w_{c}")));
         un.extend((1..=g.modes).map(|k| format!("qd_f{k}")));
         let el = &model.bodies[b.id.0].element;
+        if el.nq() == 3 && el.nu() == 3 && g.modes == 0 {
+            // a point mass: its position and velocity
+            qn.truncate(3);
+            un.truncate(3);
+        }
         if qn.len() != el.nq() {
             qn = (0..el.nq()).map(|k| format!("q{k}")).collect();
         }
