@@ -109,6 +109,9 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
                 _ => "Newton iterations",
             };
             print_summary(&summary, statics, work);
+            for w in &summary.warnings {
+                eprintln!("warning: {w}");
+            }
             Ok(match summary.status {
                 RunStatus::Interrupted { .. } => EXIT_INTERRUPTED,
                 _ => 0,

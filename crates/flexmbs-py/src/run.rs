@@ -124,6 +124,7 @@ fn summary_dict<'py>(py: Python<'py>, s: &RunSummary) -> PyResult<Bound<'py, PyD
     d.set_item("external_work", s.external_work)?;
     d.set_item("position_drift", s.position_drift)?;
     d.set_item("velocity_drift", s.velocity_drift)?;
+    d.set_item("warnings", s.warnings.clone())?;
     d.set_item("rows", s.rows)?;
     let files: Vec<String> = s.files.iter().map(|f| f.display().to_string()).collect();
     d.set_item("files", files)?;

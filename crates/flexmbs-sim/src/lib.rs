@@ -17,6 +17,7 @@ pub mod forces;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;
+pub mod plausibility;
 mod point_mass_body;
 pub mod provenance;
 pub mod restart;

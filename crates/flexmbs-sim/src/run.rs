@@ -95,6 +95,9 @@ pub struct RunSummary {
     pub position_drift: f64,
     /// Largest velocity constraint violation `max |G u + g_t|`.
     pub velocity_drift: f64,
+    /// Plausibility warnings (large elastic deformation, constraint drift;
+    /// `crate::plausibility`).
+    pub warnings: Vec<String>,
     /// Output rows written.
     pub rows: usize,
     /// Files written.
@@ -231,6 +234,8 @@ struct Recorder<'a> {
     error: Option<ResultsError>,
     /// Statics: every load increment is a row, at "time" = load factor.
     statics: bool,
+    /// Plausibility warnings (large deformation, constraint drift).
+    plausibility: crate::plausibility::Plausibility,
 }
 
 impl<'a> Recorder<'a> {
@@ -285,10 +290,14 @@ impl<'a> Recorder<'a> {
         w.push(&row)?;
         self.last_t = t;
         let rows = w.rows();
+        let anim_row = self.anim.is_some() && (rows - 1) % self.cm.output.animation_every == 0;
+        if anim_row || (rows - 1) % crate::plausibility::DEFORMATION_CHECK_EVERY == 0 {
+            let (fk, pos, el) = (&mut self.body_fk, &mut self.positions, &mut self.elastic);
+            crate::animation_points::body_points(m, self.cm, s, &mut self.eval, fk, pos, el);
+            self.plausibility.observe_deformation(t, &self.elastic);
+        }
         if let Some(anim) = self.anim.as_mut() {
-            if (rows - 1) % self.cm.output.animation_every == 0 {
-                let (fk, pos, el) = (&mut self.body_fk, &mut self.positions, &mut self.elastic);
-                crate::animation_points::body_points(m, self.cm, s, &mut self.eval, fk, pos, el);
+            if anim_row {
                 let refs: Vec<&[[f64; 3]]> = self.positions.iter().map(|p| p.as_slice()).collect();
                 let el: Vec<&[[f64; 3]]> = self.elastic.iter().map(|p| p.as_slice()).collect();
                 if self.cm.output.stress {
@@ -349,6 +358,10 @@ impl<'a> Recorder<'a> {
         self.last_h = st.h;
         self.g_max = self.g_max.max(st.g_max);
         self.g_dot_max = self.g_dot_max.max(st.g_dot_max);
+        if !self.statics {
+            self.plausibility
+                .observe_drift(st.t, st.g_max, st.g_dot_max, &s.u);
+        }
         let due = match self.cm.output.every {
             _ if self.statics => true,
             OutputEvery::Steps(n) => self.steps.is_multiple_of(n),
@@ -509,6 +522,7 @@ pub fn run_model(
         last_h: 0.0,
         error: None,
         statics: matches!(cm.solver, SolverConfig::Statics { .. }),
+        plausibility: crate::plausibility::Plausibility::new(cm),
     };
     let mut s = cm.initial.clone();
     let mut ws = Workspace::with_linear_solver(m, cm.linear_solver);
@@ -592,6 +606,7 @@ pub fn run_model(
         velocity_drift: rec.g_dot_max,
         rows,
         files,
+        warnings: rec.plausibility.warnings(cm),
     })
 }
 
