@@ -9,6 +9,7 @@
 pub mod body_file;
 pub mod calculix;
 pub mod error;
+mod fe_quantity;
 pub mod file_kind;
 pub mod inp_writer;
 pub mod model;
@@ -22,6 +23,7 @@ pub mod sha256;
 pub mod source_file;
 pub mod test_tools;
 pub mod toml_locate;
+pub mod units;
 pub mod vtk;
 
 pub use error::IoError;

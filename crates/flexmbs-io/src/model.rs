@@ -164,10 +164,12 @@ pub struct FeBodySpec {
 #[serde(deny_unknown_fields)]
 pub struct MaterialSpec {
     /// Young's modulus.
+    #[serde(deserialize_with = "crate::fe_quantity::pressure")]
     pub e: f64,
     /// Poisson's ratio.
     pub nu: f64,
     /// Density.
+    #[serde(deserialize_with = "crate::fe_quantity::density")]
     pub rho: f64,
 }
 
@@ -211,8 +213,10 @@ impl From<ElementName> for ElementKind {
 #[serde(deny_unknown_fields)]
 pub struct BoxSpec {
     /// Lower corner.
+    #[serde(deserialize_with = "crate::fe_quantity::length3")]
     pub min: [f64; 3],
     /// Upper corner.
+    #[serde(deserialize_with = "crate::fe_quantity::length3")]
     pub max: [f64; 3],
 }
 
@@ -223,44 +227,58 @@ pub enum ProfileSpec {
     /// Rectangle `width` (y) x `height` (z).
     Rectangle {
         /// Width in y.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         width: f64,
         /// Height in z.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         height: f64,
     },
     /// T section: flange on top (z max), web centred below.
     T {
         /// Flange width (y).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         flange_width: f64,
         /// Flange thickness (z).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         flange_thickness: f64,
         /// Web width (y).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         web_width: f64,
         /// Web height (z, without the flange).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         web_height: f64,
     },
     /// L section: vertical leg at y = 0, horizontal leg at z = 0.
     L {
         /// Leg length along y.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         width: f64,
         /// Leg length along z.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         height: f64,
         /// Wall thickness.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         thickness: f64,
     },
     /// I section: two flanges and a centred web.
     I {
         /// Flange width (y).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         flange_width: f64,
         /// Flange thickness (z).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         flange_thickness: f64,
         /// Web thickness (y).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         web_thickness: f64,
         /// Total height (z).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         height: f64,
     },
     /// Rectilinear polygon with vertices `[y, z]`.
     Polygon {
         /// Vertices in order.
+        #[serde(deserialize_with = "crate::fe_quantity::vertices")]
         vertices: Vec<[f64; 2]>,
     },
 }
@@ -272,31 +290,40 @@ pub enum SectionSpec {
     /// Solid rectangle.
     Rectangle {
         /// Width (local y).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         width: f64,
         /// Height (local z).
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         height: f64,
     },
     /// Solid circle.
     Circle {
         /// Diameter.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         diameter: f64,
     },
     /// Circular tube.
     Tube {
         /// Outer radius.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         outer_radius: f64,
         /// Wall thickness.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         wall: f64,
     },
     /// Section constants given directly.
     General {
         /// Area.
+        #[serde(deserialize_with = "crate::fe_quantity::area")]
         area: f64,
         /// Second moment about local y.
+        #[serde(deserialize_with = "crate::fe_quantity::area_moment")]
         iy: f64,
         /// Second moment about local z.
+        #[serde(deserialize_with = "crate::fe_quantity::area_moment")]
         iz: f64,
         /// Torsion constant.
+        #[serde(deserialize_with = "crate::fe_quantity::area_moment")]
         j: f64,
         /// Shear factor in y.
         #[serde(default = "five_sixths")]
@@ -374,6 +401,7 @@ pub enum MeshSpec {
     /// Structured box `[0, size]` with `divisions` elements per axis.
     Box {
         /// Edge lengths.
+        #[serde(deserialize_with = "crate::fe_quantity::length3")]
         size: [f64; 3],
         /// Elements per axis.
         divisions: [usize; 3],
@@ -388,6 +416,7 @@ pub enum MeshSpec {
         /// The boxes.
         boxes: Vec<BoxSpec>,
         /// Largest element edge per axis.
+        #[serde(deserialize_with = "crate::fe_quantity::length3")]
         element_size: [f64; 3],
         /// Element type.
         #[serde(default = "default_element")]
@@ -400,8 +429,10 @@ pub enum MeshSpec {
         /// Cross-section.
         profile: ProfileSpec,
         /// Length along x.
+        #[serde(deserialize_with = "crate::fe_quantity::length")]
         length: f64,
         /// Largest element edge per axis.
+        #[serde(deserialize_with = "crate::fe_quantity::length3")]
         element_size: [f64; 3],
         /// Element type.
         #[serde(default = "default_element")]
@@ -412,8 +443,10 @@ pub enum MeshSpec {
     /// Straight beam of 2-node beam elements.
     Beam {
         /// Start point.
+        #[serde(deserialize_with = "crate::fe_quantity::length3")]
         start: [f64; 3],
         /// End point.
+        #[serde(deserialize_with = "crate::fe_quantity::length3")]
         end: [f64; 3],
         /// Number of elements.
         elements: usize,
@@ -476,8 +509,10 @@ pub struct PlaneSpec {
     /// `x`, `y` or `z`.
     pub axis: String,
     /// Coordinate value.
+    #[serde(deserialize_with = "crate::fe_quantity::length")]
     pub value: f64,
     /// Tolerance (default 1e-9 x model size).
+    #[serde(default, deserialize_with = "crate::fe_quantity::opt_length")]
     pub tol: Option<f64>,
 }
 
@@ -490,6 +525,7 @@ pub struct RigidSpec {
     /// Slave nodes.
     pub nodes: NodeSelector,
     /// Interface node location (default: centroid of the nodes).
+    #[serde(default, deserialize_with = "crate::fe_quantity::opt_length3")]
     pub point: Option<[f64; 3]>,
 }
 
@@ -598,6 +634,7 @@ pub fn parse_fe_model(text: &str, file: &Path) -> Result<FeModelFile, ModelError
     let doc = SpannedDoc::new(text, root.clone());
     crate::model_check::check_kind(&doc, file)?;
     let de = toml::Deserializer::from(root);
+    let _units = crate::fe_quantity::UnitsScope::new(declared_units(text));
     let model: FeModelFile = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
@@ -616,6 +653,20 @@ pub fn parse_fe_model(text: &str, file: &Path) -> Result<FeModelFile, ModelError
     })?;
     crate::model_check::check_values(&model, file).map_err(|e| e.located(&doc))?;
     Ok(model)
+}
+
+/// `body.units` as written (SI when absent or not a known name: the schema reports a bad name),
+/// needed before the rest is read because unit strings are converted to it.
+fn declared_units(text: &str) -> flexmbs_fe::UnitSystem {
+    let units = toml::from_str::<toml::Value>(text).ok().and_then(|v| {
+        v.get("body")?
+            .get("units")
+            .and_then(|u| u.as_str().map(str::to_string))
+    });
+    match units.as_deref() {
+        Some("SI(mm)" | "SI_mm" | "mm") => flexmbs_fe::UnitSystem::SiMm,
+        _ => flexmbs_fe::UnitSystem::Si,
+    }
 }
 
 /// Reads and parses a model file. An HDF5 or other binary file, or a multibody model file, is

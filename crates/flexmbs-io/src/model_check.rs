@@ -341,7 +341,12 @@ impl<'de> Visitor<'de> for SelectorVisitor {
                 within: map.next_value::<BoxSpec>()?,
             },
             "nearest" => {
-                let p = map.next_value::<Vec<f64>>()?;
+                let q = map.next_value::<Vec<crate::units::Quantity>>()?;
+                let p = q
+                    .iter()
+                    .map(crate::fe_quantity::length_value)
+                    .collect::<Result<Vec<f64>, String>>()
+                    .map_err(de::Error::custom)?;
                 let nearest: [f64; 3] = p.as_slice().try_into().map_err(|_| {
                     de::Error::custom(format!(
                         "`nearest` needs a point [x, y, z], got {} numbers; expected {SELECTOR_FORMS}",

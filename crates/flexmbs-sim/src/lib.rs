@@ -26,7 +26,7 @@ pub mod schema;
 pub mod signals;
 pub mod stiffening;
 pub mod stress;
-pub mod units;
+pub use flexmbs_io::units;
 
 pub use compile::{compile_model, is_multibody_model, load_model, CompiledModel, SolverConfig};
 pub use error::SimError;

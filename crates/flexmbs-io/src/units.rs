@@ -88,11 +88,19 @@ pub enum Dimension {
     RotationalStiffness,
     /// Rotational damping (N m s/rad).
     RotationalDamping,
+    /// Pressure, stress, Young's modulus (Pa).
+    Pressure,
+    /// Density (kg/m^3).
+    Density,
+    /// Area (m^2).
+    Area,
+    /// Second moment of area, torsion constant (m^4).
+    AreaMoment,
 }
 
 impl Dimension {
     /// Every dimension (for "this unit is a ... unit" messages).
-    pub const ALL: [Dimension; 16] = [
+    pub const ALL: [Dimension; 20] = [
         Dimension::Dimensionless,
         Dimension::Length,
         Dimension::Mass,
@@ -109,6 +117,10 @@ impl Dimension {
         Dimension::Frequency,
         Dimension::RotationalStiffness,
         Dimension::RotationalDamping,
+        Dimension::Pressure,
+        Dimension::Density,
+        Dimension::Area,
+        Dimension::AreaMoment,
     ];
 
     /// Name used in messages.
@@ -130,6 +142,10 @@ impl Dimension {
             Dimension::Frequency => "frequency",
             Dimension::RotationalStiffness => "rotational stiffness",
             Dimension::RotationalDamping => "rotational damping coefficient",
+            Dimension::Pressure => "pressure (stress, modulus)",
+            Dimension::Density => "density",
+            Dimension::Area => "area",
+            Dimension::AreaMoment => "second moment of area",
         }
     }
 
@@ -172,6 +188,23 @@ impl Dimension {
                 ("N*mm*s/rad", 1e-3),
                 ("kN*m*s/rad", 1e3),
             ],
+            Dimension::Pressure => &[
+                ("Pa", 1.0),
+                ("kPa", 1e3),
+                ("MPa", 1e6),
+                ("GPa", 1e9),
+                ("N/mm^2", 1e6),
+                ("N/m^2", 1.0),
+            ],
+            Dimension::Density => &[
+                ("kg/m^3", 1.0),
+                ("g/cm^3", 1e3),
+                ("kg/dm^3", 1e3),
+                ("t/mm^3", 1e12),
+                ("t/m^3", 1e3),
+            ],
+            Dimension::Area => &[("m^2", 1.0), ("cm^2", 1e-4), ("mm^2", 1e-6)],
+            Dimension::AreaMoment => &[("m^4", 1.0), ("cm^4", 1e-8), ("mm^4", 1e-12)],
         }
     }
 
