@@ -363,40 +363,20 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
             return Err(e.into());
         }
     };
-    let g = if geometric && !prepared.bc.fixed.is_empty() {
-        p.stage(flexmbs_reduce::pipeline::Stage::Started(
-            "geometric stiffness (unit-load method)".into(),
-        ));
-        let mass = flexmbs_reduce::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
-        flexmbs_reduce::geometric::centrifugal_geometric_stiffness(&prepared, mass, &body)
-    } else {
-        Ok(None)
-    };
+    let built =
+        flexmbs_reduce::body_file::body_file_of(spec, &prepared, body, geometric, &mut |s| {
+            p.stage(s)
+        });
     p.finish();
-    let geometric = g.context("geometric stiffness")?;
-    // beam meshes: the lumped node rotary inertias a multibody model applies to an FE source
-    let rotary_inertia =
-        flexmbs_reduce::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
-            .map_err(anyhow::Error::msg)
-            .context("node rotary inertias")?;
-    // modal stress fields: stress recovery in a run (`[output] stress`); a body whose elements
-    // cannot give stresses is still written, without them
-    let stress = match flexmbs_reduce::stress::modal_stress_fields(spec, &prepared, &body) {
-        Ok(s) => Some(s),
-        Err(e) => {
-            eprintln!(
-                "warning: no modal stress fields written (no stress output from this file): {}",
-                src.locate(e)
-            );
-            None
-        }
-    };
-    Ok(BodyFile {
-        body,
-        geometric,
-        rotary_inertia,
-        stress,
-    })
+    let (file, no_stress) = built?;
+    // a body whose elements cannot give stresses is still written, without them
+    if let Some(e) = no_stress {
+        eprintln!(
+            "warning: no modal stress fields written (no stress output from this file): {}",
+            src.locate(e)
+        );
+    }
+    Ok(file)
 }
 
 fn cmd_modal(model: &Path, modes: Option<usize>, json: bool, quiet: bool) -> Result<()> {

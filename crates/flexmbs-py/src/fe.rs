@@ -147,27 +147,12 @@ fn reduce_body(
     let body = py
         .detach(|| run_reduction(spec, &prepared, &mut |_: Stage| {}))
         .map_err(|e| located(py, src, e, origin))?;
-    let geometric = if geometric && !prepared.bc.fixed.is_empty() {
-        let mass = flexmbs_reduce::geometric::system_mass_kind(&spec.mesh, spec.reduction.mass);
-        py.detach(|| {
-            flexmbs_reduce::geometric::centrifugal_geometric_stiffness(&prepared, mass, &body)
-        })
-        .map_err(|e| raise(py, "Error", format!("geometric stiffness: {e}"), &[]))?
-    } else {
-        None
-    };
-    let rotary_inertia =
-        flexmbs_reduce::full_mass::beam_node_rotary_inertias(&prepared.mesh, body.num_nodes())
-            .map_err(|e| raise(py, "Error", format!("node rotary inertias: {e}"), &[]))?;
-    // modal stress fields as `flexmbs reduce` writes them (a body whose elements cannot give
-    // stresses is written without them)
-    let stress = flexmbs_reduce::stress::modal_stress_fields(spec, &prepared, &body).ok();
-    Ok(BodyFile {
-        body,
-        geometric,
-        rotary_inertia,
-        stress,
-    })
+    let built = py.detach(|| {
+        flexmbs_reduce::body_file::body_file_of(spec, &prepared, body, geometric, &mut |_| {})
+    });
+    // a body whose elements cannot give stresses is written without them, as by `flexmbs reduce`
+    let (file, _no_stress) = built.map_err(|e| raise(py, "Error", e.to_string(), &[]))?;
+    Ok(file)
 }
 
 /// Reduces an FE body model and writes the reduced-body file `output` (as `flexmbs reduce`);

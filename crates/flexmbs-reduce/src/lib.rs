@@ -6,6 +6,7 @@
 //! stiffness ([`geometric`]); frequency tables of modal analyses ([`report`]); modal stress fields ([`stress`]).
 #![warn(missing_docs)]
 
+pub mod body_file;
 pub mod full_mass;
 pub mod geometric;
 pub mod pipeline;
