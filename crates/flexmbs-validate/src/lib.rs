@@ -15,6 +15,8 @@ pub mod result;
 pub mod rotating_beam;
 pub mod rotating_beam_reference;
 pub mod slider_crank_2d;
+pub mod slider_crank_reference;
+pub mod slider_crank_superelement;
 
 pub use result::ValidationResult;
 use std::path::Path;
@@ -44,7 +46,7 @@ pub fn cases() -> Vec<Case> {
         },
         Case {
             name: "slider_crank_2d",
-            description: "seed 001 §5.1: flexible slider-crank, rod as one FFR body (reference pending)",
+            description: "seed 001 §5.1: flexible slider-crank, rod as 10 and 2 superelements and as one FFR body vs a corotational-beam reference",
             run: slider_crank_2d::run,
         },
         Case {
