@@ -14,6 +14,7 @@ pub mod point_mass_on_beam;
 pub mod result;
 pub mod rotating_beam;
 pub mod rotating_beam_reference;
+pub mod rotating_beam_superelement;
 pub mod slider_crank_2d;
 pub mod slider_crank_reference;
 pub mod slider_crank_superelement;
@@ -51,7 +52,7 @@ pub fn cases() -> Vec<Case> {
         },
         Case {
             name: "rotating_beam",
-            description: "seed 001 §5.2: rotating tube, FFR body with and without geometric stiffening vs a nonlinear finite-segment reference",
+            description: "seed 001 §5.2: rotating tube, FFR body with and without geometric stiffening and chains of 1, 2, 3, 10 superelements vs a nonlinear finite-segment reference",
             run: rotating_beam::run,
         },
         Case {
