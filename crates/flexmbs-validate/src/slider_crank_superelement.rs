@@ -10,7 +10,8 @@ use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
 use flexmbs_core::superelement::{beam_segment, BeamSegmentSpec, FrameLocation, Superelement};
 use flexmbs_core::{
-    Joint, ModelSpec, NodeKind, PrescribedMotion, RigidBody, TimeFunction, Workspace,
+    FrameId, Joint, Model, ModelSpec, NodeKind, PrescribedMotion, RigidBody, State, TimeFunction,
+    Workspace,
 };
 use flexmbs_fe::mesh::{BeamSection, BeamTheory};
 use flexmbs_fe::Material;
@@ -37,6 +38,49 @@ pub fn simulate_with(
     solver: LinearSolver,
     modified: bool,
 ) -> Result<Vec<f64>> {
+    let (model, mut s, [a, r1, m]) = slider_crank_model(bodies)?;
+    let mut ws = Workspace::with_linear_solver(&model, solver);
+    let ga = GenAlpha::new(GenAlphaSettings {
+        rho_inf: 0.8,
+        newton: NewtonSettings {
+            modified,
+            ..NewtonSettings::default()
+        },
+    })?;
+    ga.initialize(&model, &mut s, &mut ws)?;
+    let mut out = vec![0.0];
+    let mut failed = false;
+    ga.integrate(
+        &model,
+        &mut s,
+        &mut ws,
+        h,
+        revolutions * 2.0 * PI / OMEGA,
+        |st, _| {
+            let k = (
+                model.frame_kinematics(st, a),
+                model.frame_kinematics(st, r1),
+                model.frame_kinematics(st, m),
+            );
+            match k {
+                (Some(a), Some(b), Some(m)) => {
+                    let chord = (b.position - a.position).normalize();
+                    let normal = Vector3::new(-chord[1], chord[0], 0.0);
+                    out.push((m.position - a.position).dot(&normal));
+                }
+                _ => failed = true,
+            }
+        },
+    )
+    .with_context(|| format!("time integration of the slider-crank, {bodies} superelements"))?;
+    anyhow::ensure!(!failed, "frame kinematics failed");
+    Ok(out)
+}
+
+/// The slider-crank with the rod as `bodies` (even) superelements in its initial state (crank
+/// angle 0, rod straight, rigid-mechanism velocities); the frames at the rod's first, last and
+/// middle interface nodes.
+fn slider_crank_model(bodies: usize) -> Result<(Model, State, [FrameId; 3])> {
     anyhow::ensure!(
         bodies >= 2 && bodies.is_multiple_of(2),
         "the midpoint must be an interface node: an even number of bodies (got {bodies})"
@@ -127,42 +171,7 @@ pub fn simulate_with(
             Vector3::new(0.0, 0.0, omega_rod),
         );
     }
-    let mut ws = Workspace::with_linear_solver(&model, solver);
-    let ga = GenAlpha::new(GenAlphaSettings {
-        rho_inf: 0.8,
-        newton: NewtonSettings {
-            modified,
-            ..NewtonSettings::default()
-        },
-    })?;
-    ga.initialize(&model, &mut s, &mut ws)?;
-    let mut out = vec![0.0];
-    let mut failed = false;
-    ga.integrate(
-        &model,
-        &mut s,
-        &mut ws,
-        h,
-        revolutions * 2.0 * PI / OMEGA,
-        |st, _| {
-            let k = (
-                model.frame_kinematics(st, a),
-                model.frame_kinematics(st, r1),
-                model.frame_kinematics(st, m),
-            );
-            match k {
-                (Some(a), Some(b), Some(m)) => {
-                    let chord = (b.position - a.position).normalize();
-                    let normal = Vector3::new(-chord[1], chord[0], 0.0);
-                    out.push((m.position - a.position).dot(&normal));
-                }
-                _ => failed = true,
-            }
-        },
-    )
-    .with_context(|| format!("time integration of the slider-crank, {bodies} superelements"))?;
-    anyhow::ensure!(!failed, "frame kinematics failed");
-    Ok(out)
+    Ok((model, s, [a, r1, m]))
 }
 
 #[cfg(test)]
