@@ -14,7 +14,10 @@ pub mod point_mass_on_beam;
 pub mod result;
 pub mod rotating_beam;
 pub mod rotating_beam_reference;
+pub mod rotating_beam_superelement;
 pub mod slider_crank_2d;
+pub mod slider_crank_reference;
+pub mod slider_crank_superelement;
 
 pub use result::ValidationResult;
 use std::path::Path;
@@ -44,12 +47,12 @@ pub fn cases() -> Vec<Case> {
         },
         Case {
             name: "slider_crank_2d",
-            description: "seed 001 §5.1: flexible slider-crank, rod as one FFR body (reference pending)",
+            description: "seed 001 §5.1: flexible slider-crank, rod as 10 and 2 superelements and as one FFR body vs a corotational-beam reference",
             run: slider_crank_2d::run,
         },
         Case {
             name: "rotating_beam",
-            description: "seed 001 §5.2: rotating tube, FFR body with and without geometric stiffening vs a nonlinear finite-segment reference",
+            description: "seed 001 §5.2: rotating tube, FFR body with and without geometric stiffening and chains of 1, 2, 3, 10 superelements vs a nonlinear finite-segment reference",
             run: rotating_beam::run,
         },
         Case {

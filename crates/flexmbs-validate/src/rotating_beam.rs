@@ -9,6 +9,9 @@
 //! - the geometrically nonlinear reference: a planar finite-segment chain in minimal coordinates
 //!   ([`crate::rotating_beam_reference`]), converged in the number of segments.
 //!
+//! - chains of 1, 2, 3, 10 superelements, floating frames at the centres of mass or at the
+//!   interface points ([`crate::rotating_beam_superelement`]).
+//!
 //! The tip force acts at the tip node with its direction fixed in the floating (hub) frame: the
 //! node frame is taken without rotational modes, so it does not follow the tip slope.
 
@@ -264,5 +267,13 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     };
     plot.write(&out.join("w_tip.png"))?;
     plot.write(&out.join("w_tip.svg"))?;
+    crate::rotating_beam_superelement::run_chains(
+        &mut res,
+        (&ref_run.t, &ref_run.w, ref_peak, ref_omega),
+        H,
+        T_END,
+        out,
+        quiet,
+    )?;
     Ok(res)
 }

@@ -1,10 +1,15 @@
 //! `slider_crank_2d` (seed 001 §5.1): rigid crank 0.15 m at a prescribed 150 rad/s, flexible
-//! connecting rod 0.3 m (solid circle 6 mm, E = 200 GPa, rho = 7870 kg/m^3) as ONE FFR body with
-//! free-free beam modes, slider of half the rod mass on a frictionless prismatic joint, gravity 0.
-//! Lagrange-multiplier joints at the rod's end-node frames. Output: the rod midpoint deflection
-//! perpendicular to the pin-slider chord over 4 revolutions. The reference (10+ superelements)
-//! comes with the superelement issue; until then no quantity has a reference.
+//! connecting rod 0.3 m (solid circle 6 mm, E = 200 GPa, rho = 7870 kg/m^3), slider of half the
+//! rod mass on a frictionless prismatic joint, gravity 0; start straight with the rigid-mechanism
+//! velocities at crank angle 0. Output: the rod midpoint deflection perpendicular to the
+//! pin-slider chord over 4 revolutions, sampled every 1e-5 s. Models: the rod as 10 and 2
+//! superelements ([`crate::slider_crank_superelement`]) and as ONE FFR body with free-free beam
+//! modes ([`simulate`], Lagrange-multiplier joints at its end-node frames; no geometric
+//! stiffening). Reference: a planar corotational beam of its own
+//! ([`crate::slider_crank_reference`]), converged in elements and step.
 
+use crate::slider_crank_reference::SliderCrank;
+use crate::slider_crank_superelement;
 use crate::ValidationResult;
 use anyhow::{Context, Result};
 use flexmbs_core::ffr::{FfrBody, FfrElement, RotationParam as FfrRot};
@@ -31,9 +36,16 @@ const ROD: f64 = 0.3;
 const OMEGA: f64 = 150.0;
 const ELEMENTS: usize = 20;
 
-/// Simulates 4 revolutions with `modes` free-free rod modes; returns (crank angle, w_mid) samples and
-/// the largest position-constraint violation.
+/// Simulates 4 revolutions of the FFR rod with `modes` free-free modes; returns (crank angle,
+/// w_mid) samples after every 10th step and the largest position-constraint violation.
 pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
+    let (mut w, g_max) = simulate_sampled(modes, h, 10)?;
+    w.remove(0);
+    Ok((w, g_max))
+}
+
+/// [`simulate`] with samples from the start (crank angle 0) and after every `every`-th step.
+pub fn simulate_sampled(modes: usize, h: f64, every: usize) -> Result<(Vec<(f64, f64)>, f64)> {
     let material = Material {
         e: 200e9,
         nu: 0.3,
@@ -140,7 +152,7 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
         rb.element.frame_kinematics(q, u, &mut e, &f, &mut fk);
         fk.position
     };
-    let mut out = Vec::new();
+    let mut out = vec![(0.0, 0.0)];
     let mut g_max: f64 = 0.0;
     let mut k = 0usize;
     ga.integrate(
@@ -152,7 +164,7 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
         |st, stats| {
             k += 1;
             g_max = g_max.max(stats.g_max);
-            if k.is_multiple_of(10) {
+            if k.is_multiple_of(every) {
                 let (q, u) = (model.body_q(rod_id, &st.q), model.body_u(rod_id, &st.u));
                 let (a, b, m) = (
                     node_pos(q, u, 0),
@@ -169,37 +181,173 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
     Ok((out, g_max))
 }
 
+/// Sample interval of every model (s): the superelement and FFR step, the reference's output.
+const SAMPLE_DT: f64 = 1e-5;
+/// Element counts of the reference's convergence study (the last one is the reference).
+pub const REFERENCE_ELEMENTS: [usize; 3] = [8, 16, 32];
+
+/// First-revolution extremes and the RMS over all samples of a deflection history sampled every
+/// [`SAMPLE_DT`] from `t = 0`: `(max, min, rms)`.
+pub fn extremes_and_rms(w: &[f64]) -> (f64, f64, f64) {
+    let rev1 = (2.0 * PI / OMEGA / SAMPLE_DT).round() as usize + 1;
+    let first = &w[..rev1.min(w.len())];
+    let max = first.iter().copied().fold(f64::MIN, f64::max);
+    let min = first.iter().copied().fold(f64::MAX, f64::min);
+    let rms = (w.iter().map(|x| x * x).sum::<f64>() / w.len() as f64).sqrt();
+    (max, min, rms)
+}
+
+/// RMS of `w - reference` over their common samples, relative to the RMS of `reference`.
+pub fn rms_deviation(w: &[f64], reference: &[f64]) -> f64 {
+    let n = w.len().min(reference.len());
+    let d: f64 = (0..n).map(|i| (w[i] - reference[i]).powi(2)).sum();
+    let r: f64 = reference[..n].iter().map(|x| x * x).sum();
+    (d / r).sqrt()
+}
+
+/// The reference: the corotational beam with [`REFERENCE_ELEMENTS`] elements, each at the step
+/// `h` (half the stable step, rounded to divide [`SAMPLE_DT`]) and `h/2`; records the
+/// convergence table and returns the finest-element history at `h`.
+fn reference(res: &mut ValidationResult, quiet: bool) -> Result<Vec<f64>> {
+    let mut finest = None;
+    let mut previous: Option<(usize, (f64, f64, f64))> = None;
+    for &n in &REFERENCE_ELEMENTS {
+        let model = SliderCrank::seed(n);
+        let substeps = (SAMPLE_DT / (0.5 * model.critical_step())).ceil() as usize;
+        for (k, sub) in [(1, substeps), (2, 2 * substeps)] {
+            let run = model
+                .simulate(4.0, SAMPLE_DT, sub)
+                .map_err(|e| anyhow::anyhow!("reference, {n} elements: {e}"))?;
+            let (max, min, rms) = extremes_and_rms(&run.w);
+            if !quiet {
+                eprintln!(
+                    "  reference {n:2} elements, h = {:.3e} s: w_mid in revolution 1 in [{min:.5e}, {max:.5e}] m, rms {rms:.5e} m, max compression {:.0} N",
+                    run.h, run.compression_max
+                );
+            }
+            let tag = format!("n{n}{}", if k == 2 { "_half_step" } else { "" });
+            res.record(&format!("reference_w_mid_max_rev1_{tag}"), max);
+            res.record(&format!("reference_w_mid_min_rev1_{tag}"), min);
+            res.record(&format!("reference_w_mid_rms_{tag}"), rms);
+            if k == 1 {
+                res.record(&format!("reference_step_n{n}"), run.h);
+                res.record(
+                    &format!("reference_compression_max_n{n}"),
+                    run.compression_max,
+                );
+                if n == REFERENCE_ELEMENTS[REFERENCE_ELEMENTS.len() - 1] {
+                    // Richardson with the previous count, O(1/n^2): an error estimate, recorded
+                    if let Some((n0, (mx0, mn0, r0))) = previous {
+                        let f = (n0 * n0) as f64 / ((n * n - n0 * n0) as f64);
+                        res.record(
+                            "reference_w_mid_max_rev1_extrapolated",
+                            max + f * (max - mx0),
+                        );
+                        res.record(
+                            "reference_w_mid_min_rev1_extrapolated",
+                            min + f * (min - mn0),
+                        );
+                        res.record("reference_w_mid_rms_extrapolated", rms + f * (rms - r0));
+                    }
+                    finest = Some(run.w);
+                }
+                previous = Some((n, (max, min, rms)));
+            }
+        }
+    }
+    finest.context("no reference run")
+}
+
+/// Compares a model's history with the reference: extremes of revolution 1 and the RMS over 4
+/// revolutions checked within `tol` (`None`: recorded with the deviation only), the RMS of the
+/// difference recorded.
+fn compare(
+    res: &mut ValidationResult,
+    suffix: &str,
+    w: &[f64],
+    reference: &[f64],
+    tol: Option<f64>,
+) {
+    let (max, min, rms) = extremes_and_rms(w);
+    let (rmax, rmin, rrms) = extremes_and_rms(reference);
+    for (name, v, r) in [
+        ("w_mid_max_rev1", max, rmax),
+        ("w_mid_min_rev1", min, rmin),
+        ("w_mid_rms", rms, rrms),
+    ] {
+        let key = format!("{name}{suffix}");
+        match tol {
+            Some(t) => res.check(&key, v, r, t),
+            None => {
+                res.record(&key, v);
+                res.record(&format!("{key}_deviation"), v / r - 1.0);
+            }
+        }
+    }
+    res.record(
+        &format!("w_mid_rms_of_difference{suffix}"),
+        rms_deviation(w, reference),
+    );
+}
+
 /// Runs the case.
 pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     let mut res = ValidationResult::new("slider_crank_2d");
+    let w_ref = reference(&mut res, quiet)?;
+    let plot_points = |w: &[f64]| -> Vec<(f64, f64)> {
+        w.iter()
+            .enumerate()
+            .step_by(10)
+            .map(|(i, x)| (i as f64 * SAMPLE_DT * OMEGA / (2.0 * PI), x * 1e3))
+            .collect()
+    };
+    let n_ref = REFERENCE_ELEMENTS[REFERENCE_ELEMENTS.len() - 1];
     let mut series = Vec::new();
-    for modes in [2usize, 4] {
-        let (w, g_max) = simulate(modes, 1e-5)?;
-        let rev1: Vec<f64> = w.iter().filter(|p| p.0 <= 2.0 * PI).map(|p| p.1).collect();
-        let max = rev1.iter().copied().fold(f64::MIN, f64::max);
-        let min = rev1.iter().copied().fold(f64::MAX, f64::min);
+    for (bodies, suffix, tol) in [(10usize, "", 0.02), (2, "_n2", 0.05)] {
+        let w = slider_crank_superelement::simulate(bodies, SAMPLE_DT, 4.0)?;
+        compare(&mut res, suffix, &w, &w_ref, Some(tol));
         if !quiet {
-            eprintln!("  FFR rod, {modes} modes: w_mid in revolution 1 in [{min:.4e}, {max:.4e}] m, max |g| {g_max:.2e}");
+            let (max, min, rms) = extremes_and_rms(&w);
+            eprintln!("  {bodies} superelements: w_mid in revolution 1 in [{min:.5e}, {max:.5e}] m, rms {rms:.5e} m");
         }
+        series.push(Series {
+            name: format!("{bodies} superelements"),
+            points: plot_points(&w),
+            style: Style::Line,
+        });
+    }
+    for modes in [2usize, 4] {
+        let (w, g_max) = simulate_sampled(modes, SAMPLE_DT, 1)?;
+        let w: Vec<f64> = w.iter().map(|p| p.1).collect();
         let suffix = if modes == 4 {
             "_ffr".to_string()
         } else {
             format!("_ffr_{modes}modes")
         };
-        res.record(&format!("w_mid_max_rev1{suffix}"), max);
-        res.record(&format!("w_mid_min_rev1{suffix}"), min);
+        // the FFR rod has no geometric stiffening (issue 9 item 6): compared, not checked
+        compare(&mut res, &suffix, &w, &w_ref, None);
         res.record(&format!("constraint_violation_max{suffix}"), g_max);
-        // the only checkable property until the superelement reference exists: the index-3 position
-        // constraints hold (bound fixed before the run)
         if g_max.is_nan() || g_max > 1e-8 {
             res.pass = false;
         }
-        series.push(Series {
-            name: format!("FFR rod, {modes} free-free modes"),
-            points: w.iter().map(|p| (p.0 / (2.0 * PI), p.1 * 1e3)).collect(),
-            style: Style::Line,
-        });
+        if !quiet {
+            let (max, min, _) = extremes_and_rms(&w);
+            eprintln!("  FFR rod, {modes} modes: w_mid in revolution 1 in [{min:.5e}, {max:.5e}] m, max |g| {g_max:.2e}");
+        }
+        if modes == 4 {
+            series.push(Series {
+                name: "FFR rod, 4 free-free modes, no geometric stiffening".into(),
+                points: plot_points(&w),
+                style: Style::Line,
+            });
+        }
     }
+    // drawn last, on top: the 10-superelement curve lies under it
+    series.push(Series {
+        name: format!("reference: corotational beam, {n_ref} elements"),
+        points: plot_points(&w_ref),
+        style: Style::Line,
+    });
     let plot = LinePlot {
         title: "Flexible slider-crank: rod midpoint deflection".into(),
         x_label: "crank revolutions".into(),
