@@ -172,9 +172,11 @@ pub fn load_geometric_stiffness(
     let relief = sys.map.fixed_nodes.is_empty();
     let supports = if relief {
         inertia_relief(sys, &mut f);
-        vec![relief_support(sys).ok_or_else(|| GeometricError::NoReliefSupport {
-            body: body.name.clone(),
-        })?]
+        vec![
+            relief_support(sys).ok_or_else(|| GeometricError::NoReliefSupport {
+                body: body.name.clone(),
+            })?,
+        ]
     } else {
         Vec::new()
     };

@@ -116,7 +116,10 @@ fn free_beam_under_end_force_with_inertia_relief_matches_fe_eigen_solution() {
     let kg_ref = project(&b, &ks);
     let scale = kg_ref.norm_max();
     let diff = Mat::from_fn(nf, nf, |i, j| g.matrices[0][(i, j)] * -p - kg_ref[(i, j)]).norm_max();
-    eprintln!("projected K_G: max |diff| / max |K_G| = {:.2e}", diff / scale);
+    eprintln!(
+        "projected K_G: max |diff| / max |K_G| = {:.2e}",
+        diff / scale
+    );
     assert!(diff <= 1e-9 * scale, "{}", diff / scale);
     // reduced frequencies
     let kr = Mat::from_fn(nf, nf, |i, j| {
@@ -194,10 +197,7 @@ fn inertia_relief_balances_loads_and_removes_rigid_acceleration_patterns() {
 fn bad_node_loads_give_typed_errors() {
     let (mesh, sys) = free_beam();
     let bad = |p: UnitLoad| unit_load_vectors(&mesh, &sys, MassKind::Lumped, &[p]).unwrap_err();
-    let e = bad(UnitLoad::Node(NodeLoad::Force {
-        node: 99,
-        axis: 0,
-    }));
+    let e = bad(UnitLoad::Node(NodeLoad::Force { node: 99, axis: 0 }));
     assert!(matches!(
         e,
         crate::geometric::GeometricError::NodeOutOfRange { node: 99, .. }

@@ -526,6 +526,7 @@ fn newton_residual(
     let nu = model.nu;
     system::evaluate(model, &b.q_new, &b.u_new, sys).map_err(IterateError::Element)?;
     system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, sys);
+    system::add_load_stiffening_forces(model, t1, 1.0, &b.u_dot_new, &b.lambda_new, sys);
     system::update_constraints(model, t1, sys);
     let r_acc = &mut b.rhs[..nu];
     saddle.mass_times_vector(model, &b.q_new, &b.u_dot_new, sys, r_acc);
