@@ -27,7 +27,8 @@
 
 use crate::element::MassKind;
 use crate::geometric::{
-    inertial_loads, project_stress_stiffness, static_solve, GeometricError, InertialLoad,
+    inertial_loads, project_stress_stiffness, static_solve, GeometricError, GeometricStiffness,
+    InertialLoad,
 };
 use crate::reduction::ReducedBody;
 use crate::system::{sparse_times, FeSystem};
@@ -73,6 +74,41 @@ pub struct LoadGeometricStiffness {
     pub matrices: Vec<Mat<f64>>,
     /// Whether the static problems used inertia relief (body without fixed nodes).
     pub inertia_relief: bool,
+}
+
+impl LoadGeometricStiffness {
+    /// The centrifugal patterns (for the engine's centrifugal stiffening, e.g.
+    /// `FfrBody::with_geometric_stiffening`; relieved for a free-free body).
+    pub fn centrifugal(&self) -> GeometricStiffness {
+        let (mut load_patterns, mut matrices) = (Vec::new(), Vec::new());
+        for (p, m) in self.patterns.iter().zip(&self.matrices) {
+            if let UnitLoad::Inertial(c @ InertialLoad::Centrifugal(..)) = *p {
+                load_patterns.push(c);
+                matrices.push(m.clone());
+            }
+        }
+        GeometricStiffness {
+            load_patterns,
+            matrices,
+        }
+    }
+
+    /// All patterns except the centrifugal ones (node loads, accelerations).
+    pub fn without_centrifugal(&self) -> LoadGeometricStiffness {
+        let keep = |p: &UnitLoad| !matches!(p, UnitLoad::Inertial(InertialLoad::Centrifugal(..)));
+        let (patterns, matrices) = self
+            .patterns
+            .iter()
+            .zip(&self.matrices)
+            .filter(|(p, _)| keep(p))
+            .map(|(p, m)| (*p, m.clone()))
+            .unzip();
+        LoadGeometricStiffness {
+            patterns,
+            matrices,
+            inertia_relief: self.inertia_relief,
+        }
+    }
 }
 
 /// Load vectors (columns, independent DOFs of `sys`) of `patterns`; inertial patterns from the

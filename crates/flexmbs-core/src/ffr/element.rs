@@ -30,9 +30,9 @@ pub struct FfrEval {
     pub state: FfrScratch,
     /// Work buffers of [`FfrBody::force_tangents`].
     pub tangent: FfrTangentScratch,
-    /// Coefficients of the node-load stiffening at this state ([`super::LoadStiffening`]): set by
-    /// [`crate::system::add_load_stiffening_forces`] after the evaluation, zeroed by
-    /// [`Element::update`]; empty without load stiffening.
+    /// Coefficients of the node-load stiffening ([`super::LoadStiffening`]): set by
+    /// [`crate::system::add_load_stiffening_forces`] after an evaluation and kept until it sets
+    /// them again (zero in a new scratch); empty without load stiffening.
     pub load_coefficients: Vec<f64>,
 }
 
@@ -210,9 +210,7 @@ impl Element for FfrElement {
 
     /// [`FfrBody::update`]: rotation state, `q_f`, `q_f_dot` and the deformed moments.
     fn update(&self, q: &[f64], u: &[f64], s: &mut ElementScratch) -> Result<(), ElementError> {
-        let e = eval(s);
-        e.load_coefficients.fill(0.0);
-        Ok(self.body.update(q, u, &mut e.state)?)
+        Ok(self.body.update(q, u, &mut eval(s).state)?)
     }
 
     /// Rotation state, `q_f`, `q_f_dot` only (bitwise the values of a full update), without the

@@ -2,7 +2,7 @@
 //! the load coefficients of each load-stiffened body from the joint multipliers, the loads and the
 //! accelerations of an iterate, and the force `−K_load(c) q_f` they give.
 
-use crate::element::FrameKinematics;
+use crate::element::{ElementScratch, FrameKinematics};
 use crate::ffr::{FfrBody, FfrEval, LoadStiffening};
 use crate::ids::BodyId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
@@ -101,10 +101,11 @@ pub fn load_coefficients(
     }
 }
 
-/// For every body with node-load stiffening ([`crate::Element::load_stiffened_ffr`]): its load
-/// coefficients at the iterate evaluated in `sys` ([`super::evaluate`]; multipliers `lambda`,
-/// accelerations `u_dot`, loads scaled by `load_factor`) into its scratch
-/// ([`FfrEval::load_coefficients`], which the element's tangent reads), and the force
+/// For every body with node-load stiffening ([`crate::Element::load_stiffened_ffr`]): with
+/// `update_coefficients`, its load coefficients at the iterate evaluated in `sys`
+/// ([`super::evaluate`]; multipliers `lambda`, accelerations `u_dot`, loads scaled by
+/// `load_factor`) into its scratch ([`FfrEval::load_coefficients`], which the element's tangent
+/// reads); without, the coefficients kept there (frozen, see `docs/engine.md`); then the force
 /// `−K_load(c) q_f` added to `sys.h` (after [`super::assemble_forces`]). No-op for a model without
 /// such bodies; no allocation.
 pub fn add_load_stiffening_forces(
@@ -113,6 +114,7 @@ pub fn add_load_stiffening_forces(
     load_factor: f64,
     u_dot: &[f64],
     lambda: &[f64],
+    update_coefficients: bool,
     sys: &mut SystemBuffers,
 ) {
     for (i, b) in model.bodies.iter().enumerate() {
@@ -125,27 +127,41 @@ pub fn add_load_stiffening_forces(
         let (o, nu) = (b.u_offset, b.element.nu());
         let e = sys.eval[i].get_mut::<FfrEval>();
         let mut c = std::mem::take(&mut e.load_coefficients);
-        load_coefficients(
-            model,
-            i,
-            body,
-            t,
-            load_factor,
-            &sys.frames,
-            lambda,
-            &u_dot[o..o + nu],
-            e,
-            &mut c,
-        );
+        if update_coefficients {
+            load_coefficients(
+                model,
+                i,
+                body,
+                t,
+                load_factor,
+                &sys.frames,
+                lambda,
+                &u_dot[o..o + nu],
+                e,
+                &mut c,
+            );
+        }
         ls.add_force(&c, &e.state.qf, &mut sys.h[o..o + nu]);
         e.load_coefficients = c;
     }
 }
 
-/// Power `q̇_fᵀ (−K_load(c) q_f)` of the node-load stiffening forces of all bodies, at the state
-/// evaluated in `sys` after [`add_load_stiffening_forces`] (coefficients in the scratches) with
-/// velocities `u`. Zero without such bodies.
-pub fn load_stiffening_power(model: &Model, u: &[f64], sys: &mut SystemBuffers) -> f64 {
+/// Power `q̇_fᵀ (−K_load(c) q_f)` of the node-load stiffening forces of all bodies at an accepted
+/// state `(t, u)` with its accelerations `u_dot` and multipliers `lambda`, from the elements
+/// evaluated there (`eval`, [`super::evaluate_elements`]) and all frames (`frames`,
+/// [`super::update_frames`]); the coefficients are recomputed into the scratches. The power the
+/// energy balance adds for this non-potential force, like [`crate::power::stiffening_power`] for
+/// the centrifugal one. Zero without such bodies; no allocation.
+#[allow(clippy::too_many_arguments)]
+pub fn load_stiffening_power(
+    model: &Model,
+    t: f64,
+    u: &[f64],
+    u_dot: &[f64],
+    lambda: &[f64],
+    eval: &mut [ElementScratch],
+    frames: &[FrameKinematics],
+) -> f64 {
     let mut p = 0.0;
     for (i, b) in model.bodies.iter().enumerate() {
         let Some(body) = b.element.load_stiffened_ffr() else {
@@ -155,8 +171,12 @@ pub fn load_stiffening_power(model: &Model, u: &[f64], sys: &mut SystemBuffers) 
             continue;
         };
         let (o, nu) = (b.u_offset, b.element.nu());
-        let e = sys.eval[i].get::<FfrEval>();
-        p += ls.power(&e.load_coefficients, &e.state.qf, &u[o + 6..o + nu]);
+        let e = eval[i].get_mut::<FfrEval>();
+        let mut c = std::mem::take(&mut e.load_coefficients);
+        let ud = &u_dot[o..o + nu];
+        load_coefficients(model, i, body, t, 1.0, frames, lambda, ud, e, &mut c);
+        p += ls.power(&c, &e.state.qf, &u[o + 6..o + nu]);
+        e.load_coefficients = c;
     }
     p
 }
