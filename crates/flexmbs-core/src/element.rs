@@ -396,6 +396,12 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn elastic_energy_evaluated(&self, q: &[f64], _scratch: &mut ElementScratch) -> f64 {
         self.elastic_energy(q)
     }
+    /// The FFR body of an element with geometric stiffening by node loads
+    /// ([`crate::ffr::LoadStiffening`]), whose force the system stage adds
+    /// ([`crate::system::add_load_stiffening_forces`]); default `None`.
+    fn load_stiffened_ffr(&self) -> Option<&crate::ffr::FfrBody> {
+        None
+    }
     /// A fresh scratch evaluated at `(q, u)`: for set-up code and tests outside a time step
     /// (allocates). Time steps use the workspace's scratches.
     fn evaluated(&self, q: &[f64], u: &[f64]) -> Result<ElementScratch, ElementError> {

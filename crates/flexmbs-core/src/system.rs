@@ -10,7 +10,9 @@ use crate::model::{FrameOwner, Model};
 use crate::state::{ElementBuffers, State, SystemBuffers, Workspace};
 use faer::MatMut;
 
+mod load_stiffening;
 mod local_tangent;
+pub use load_stiffening::{add_load_stiffening_forces, load_coefficients, load_stiffening_power};
 pub use local_tangent::{add_load_tangents, subtract_constraint_force_tangent};
 pub(crate) use local_tangent::{
     add_one_load_tangent, subtract_one_constraint_force_tangent, TangentSink,

@@ -164,6 +164,27 @@ pub enum GeometricError {
         /// Rows of the reduced body's translational modes.
         found: usize,
     },
+    /// A node load at a node index out of range.
+    #[error("node load at node {node} out of range (mesh has {nodes} nodes)")]
+    NodeOutOfRange {
+        /// The node.
+        node: NodeIdx,
+        /// Number of mesh nodes.
+        nodes: usize,
+    },
+    /// A node load with an axis out of range, or a moment at a node without rotational DOFs.
+    #[error("invalid node load {load:?} (axes 0..3; moments only at nodes with rotations)")]
+    BadNodeLoad {
+        /// The load.
+        load: crate::geometric_loads::NodeLoad,
+    },
+    /// Inertia relief of a free-free body needs a statically determinate support: a node with six
+    /// independent DOFs.
+    #[error("the unit-load problems of the free-free body '{body}' need a node with six DOFs (a beam node or a rigid interface node) as the determinate support of inertia relief; solid meshes need a rigid interface")]
+    NoReliefSupport {
+        /// Body name.
+        body: String,
+    },
     /// A support node index is out of range.
     #[error("support node {node} out of range (mesh has {nodes} nodes)")]
     SupportOutOfRange {
@@ -503,13 +524,36 @@ pub fn geometric_stiffness(
             found: body.modes_t.nrows(),
         });
     }
-    let nf = body.num_modes();
     let f = inertial_loads(mesh, sys, mass, patterns)?;
     let v = static_solve(sys, &f, supports, &body.name)?;
+    let k_g = project_stress_stiffness(mesh, sys, body, &v)?;
+    Ok(GeometricStiffness {
+        load_patterns: patterns.to_vec(),
+        matrices: k_g,
+    })
+}
+
+/// Projected stress stiffness `K_G,i = Φᵀ K_σ(v_i) Φ` (symmetrized, `n_f × n_f`) of each column
+/// `v_i` of `v` (independent-DOF displacements of `sys`, e.g. static unit-load solutions), with
+/// the modes of `body` (translations and rotations of its nodal fields).
+pub fn project_stress_stiffness(
+    mesh: &Mesh,
+    sys: &FeSystem,
+    body: &ReducedBody,
+    v: &Mat<f64>,
+) -> Result<Vec<Mat<f64>>, GeometricError> {
+    let nn = sys.map.nodes.len();
+    if body.modes_t.nrows() != 3 * nn {
+        return Err(GeometricError::NodeMismatch {
+            nodes: nn,
+            found: body.modes_t.nrows(),
+        });
+    }
+    let nf = body.num_modes();
     let (t, r) = sys.map.expand(v.as_ref());
     let zero_r = Mat::<f64>::zeros(3 * nn, nf);
     let modes_r = body.modes_r.as_ref().unwrap_or(&zero_r);
-    let mut k_g = vec![Mat::<f64>::zeros(nf, nf); patterns.len()];
+    let mut k_g = vec![Mat::<f64>::zeros(nf, nf); v.ncols()];
     let mut ue = Vec::new();
     let mut phi_e: Vec<Vec<f64>> = vec![Vec::new(); nf];
     for ei in 0..mesh.elements.len() {
@@ -534,8 +578,5 @@ pub fn geometric_stiffness(
         let s = Mat::from_fn(nf, nf, |i, j| 0.5 * (kg[(i, j)] + kg[(j, i)]));
         *kg = s;
     }
-    Ok(GeometricStiffness {
-        load_patterns: patterns.to_vec(),
-        matrices: k_g,
-    })
+    Ok(k_g)
 }

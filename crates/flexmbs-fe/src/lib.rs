@@ -13,6 +13,9 @@ pub mod eigen;
 pub mod element;
 pub mod error;
 pub mod geometric;
+pub mod geometric_loads;
+#[cfg(test)]
+mod geometric_loads_tests;
 #[cfg(test)]
 mod geometric_tests;
 pub mod material;

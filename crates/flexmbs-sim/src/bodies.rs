@@ -98,6 +98,7 @@ pub fn build_body(
     i: usize,
     b: &BodySpec,
     base: &Path,
+    frames: &[crate::schema::FrameSpec],
 ) -> Result<(BuiltElement, BodyGeometry), SimError> {
     let p = format!("body[{i}]");
     let present = [
@@ -111,6 +112,7 @@ pub fn build_body(
         ("damping", b.damping.is_some()),
         ("geometric_stiffening", b.geometric_stiffening.is_some()),
         ("rotary_inertia", b.rotary_inertia.is_some()),
+        ("load_stiffening", b.load_stiffening.is_some()),
     ];
     match b.kind {
         BodyType::Rigid => {
@@ -135,9 +137,10 @@ pub fn build_body(
                     "geometric_stiffening",
                     "inertia",
                     "rotary_inertia",
+                    "load_stiffening",
                 ],
             )?;
-            ffr_body(ctx, &p, b, base)
+            ffr_body(ctx, &p, b, base, frames)
         }
         BodyType::PointMass => {
             ctx.only(&p, "a point mass", &present, &["mass", "box"])?;
@@ -386,6 +389,7 @@ fn ffr_body(
     p: &str,
     b: &BodySpec,
     base: &Path,
+    frames: &[crate::schema::FrameSpec],
 ) -> Result<(BuiltElement, BodyGeometry), SimError> {
     let source = b.source.as_ref().ok_or_else(|| {
         ctx.err(
@@ -468,6 +472,16 @@ fn ffr_body(
         rotating: rotating_nodes(&si),
         stress,
     };
+    let body = crate::stiffening::with_load_stiffening(
+        ctx,
+        p,
+        b,
+        frames,
+        &geometry,
+        fe.as_ref(),
+        &reduced,
+        body,
+    )?;
     Ok((BuiltElement::Ffr(Box::new(FfrElement::new(body))), geometry))
 }
 
@@ -528,6 +542,16 @@ fn geometric_stiffness(
 ) -> Result<Option<GeometricStiffness>, SimError> {
     let gkey = format!("{p}.geometric_stiffening");
     if !b.geometric_stiffening.unwrap_or(false) {
+        return Ok(None);
+    }
+    // a free-free body with load stiffening: relieved centrifugal patterns, built with the node
+    // loads (`stiffening::with_load_stiffening`)
+    if b.load_stiffening == Some(true)
+        && loaded
+            .fe
+            .as_ref()
+            .is_some_and(|fe| fe.prepared.bc.fixed.is_empty())
+    {
         return Ok(None);
     }
     match (&loaded.fe, &loaded.geometric) {

@@ -187,7 +187,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     // the ffr bodies flexible contours are built from (only when the model has contacts)
     let mut contour_bodies: HashMap<String, flexmbs_core::ffr::FfrBody> = HashMap::new();
     for (i, b) in mf.body.iter().enumerate() {
-        let (element, geometry) = build_body(&ctx, i, b, base)?;
+        let (element, geometry) = build_body(&ctx, i, b, base, &mf.frame)?;
         if let (BuiltElement::Ffr(f), false) = (&element, mf.contact.is_empty()) {
             contour_bodies.insert(b.name.clone(), f.body().clone());
         }
@@ -633,6 +633,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             "the model has contacts: they are solved by `type = \"moreau\"` only",
         ));
     }
+    crate::stiffening::check_load_stiffening_solver(&ctx, &mf.body, &solver)?;
     let model = spec.compile().map_err(|source| {
         if let ModelError::InvalidContact { contact, reason } = &source {
             if let Some(i) = mf.contact.iter().position(|c| &c.name == contact) {

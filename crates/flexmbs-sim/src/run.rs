@@ -325,6 +325,17 @@ impl<'a> Recorder<'a> {
 
     /// Adds the step to `s.t` to the external work (with frames updated to `s`), if tracked.
     fn meter_work(&mut self, s: &State) {
+        if self.work.is_none() {
+            return;
+        }
+        // node-load stiffening: coefficients from all frames at the accepted state
+        let load_stiffening = if has_load_stiffening(&self.cm.model) {
+            self.evaluate(s);
+            let (m, eval, frames) = (&self.cm.model, &mut self.eval, &self.frames);
+            system::load_stiffening_power(m, s.t, &s.u, &s.u_dot, &s.lambda, eval, frames)
+        } else {
+            0.0
+        };
         let Some(meter) = self.work.as_mut() else {
             return;
         };
@@ -336,7 +347,7 @@ impl<'a> Recorder<'a> {
         }
         let (ids, eval) = (&self.power_frames, &mut self.eval);
         system::update_selected_frames(m, &s.q, &s.u, eval, ids, &mut self.frames);
-        let mut power = external_power(m, s.t, &self.frames, &s.lambda).total();
+        let mut power = external_power(m, s.t, &self.frames, &s.lambda).total() + load_stiffening;
         for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
             let (q, u) = (m.body_q(*id, &s.q), m.body_u(*id, &s.u));
             power += stiffening_power(body, q, u, scratch, buf);
@@ -507,7 +518,7 @@ pub fn run_model(
         next_time: 0.0,
         energy0: None,
         energy_drift: 0.0,
-        work: ((has_external_work(m) || !cm.stiffened.is_empty())
+        work: ((has_external_work(m) || !cm.stiffened.is_empty() || has_load_stiffening(m))
             && !matches!(cm.solver, SolverConfig::Statics { .. }))
         .then(WorkMeter::default),
         stiffening: cm
@@ -739,4 +750,12 @@ fn write_requested_outputs(
         files.push(p);
     }
     Ok(files)
+}
+
+/// Whether a body of `m` has node-load stiffening (`load_stiffening = true`), whose power the
+/// energy balance adds.
+fn has_load_stiffening(m: &flexmbs_core::Model) -> bool {
+    m.bodies
+        .iter()
+        .any(|b| b.element.load_stiffened_ffr().is_some())
 }

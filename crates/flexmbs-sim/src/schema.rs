@@ -217,6 +217,9 @@ pub struct BodySpec {
     /// Centrifugal geometric stiffening (ffr, FE model-file source with fixed nodes), default
     /// false.
     pub geometric_stiffening: Option<bool>,
+    /// Geometric stiffening by the joint reactions and loads at the body's node frames (ffr, FE
+    /// model-file source; inertia relief for a free-free body), default false.
+    pub load_stiffening: Option<bool>,
     /// Lumped node rotary inertias of a beam mesh (ffr, FE model-file source or a reduced-body
     /// file that stores them in `nodes/rotary_inertia`), default true when available; false
     /// reproduces the translational-only node masses of seed 000/001.

@@ -62,6 +62,9 @@ pub struct FfrBody {
     pub(super) moments: super::moments::MomentOperator,
     /// Geometric (centrifugal) stiffening, off (`None`) by default (see `stiffening.rs`).
     pub(super) geometric: Option<super::GeometricStiffening>,
+    /// Geometric stiffening by node loads and accelerations, off (`None`) by default
+    /// (`load_stiffening.rs`).
+    pub(super) load_stiffening: Option<super::LoadStiffening>,
 }
 
 /// Per-body work buffers and the evaluated state (created once, reused: no allocation at run time).
@@ -186,6 +189,7 @@ impl FfrBody {
             s_skew,
             invariants,
             geometric: None,
+            load_stiffening: None,
         })
     }
 

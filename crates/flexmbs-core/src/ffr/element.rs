@@ -30,6 +30,10 @@ pub struct FfrEval {
     pub state: FfrScratch,
     /// Work buffers of [`FfrBody::force_tangents`].
     pub tangent: FfrTangentScratch,
+    /// Coefficients of the node-load stiffening ([`super::LoadStiffening`]): set by
+    /// [`crate::system::add_load_stiffening_forces`] after an evaluation and kept until it sets
+    /// them again (zero in a new scratch); empty without load stiffening.
+    pub load_coefficients: Vec<f64>,
 }
 
 impl FfrElement {
@@ -59,6 +63,16 @@ impl FfrElement {
     /// The wrapped body.
     pub fn body(&self) -> &FfrBody {
         &self.body
+    }
+}
+
+impl FfrElement {
+    /// `−K_load(c)` into the modal block of `dh_dq` at the coefficients in the scratch (none
+    /// without load stiffening or before [`crate::system::add_load_stiffening_forces`]).
+    fn add_load_stiffening_tangent(&self, s: &mut ElementScratch, dh_dq: MatMut<'_, f64>) {
+        if let Some(l) = self.body.load_stiffening() {
+            l.add_tangent(&eval(s).load_coefficients, self.body.nf(), dh_dq);
+        }
     }
 }
 
@@ -183,9 +197,14 @@ impl Element for FfrElement {
 
     fn new_scratch(&self) -> ElementScratch {
         let nf = self.body.nf();
+        let nc = self
+            .body
+            .load_stiffening()
+            .map_or(0, |l| l.num_coefficients());
         ElementScratch::new(FfrEval {
             state: FfrScratch::new(nf),
             tangent: FfrTangentScratch::new(nf),
+            load_coefficients: vec![0.0; nc],
         })
     }
 
@@ -263,7 +282,8 @@ impl Element for FfrElement {
         fd: &mut TangentScratch,
     ) {
         if !self.analytic_tangent {
-            finite_difference_tangents(self, t, q, u, gravity, dh_dq, dh_du, fd);
+            finite_difference_tangents(self, t, q, u, gravity, dh_dq.as_mut(), dh_du, fd);
+            self.add_load_stiffening_tangent(s, dh_dq);
             return;
         }
         let e = eval(s);
@@ -279,7 +299,9 @@ impl Element for FfrElement {
         if done.is_err() {
             dh_dq.fill(f64::NAN);
             dh_du.fill(f64::NAN);
+            return;
         }
+        self.add_load_stiffening_tangent(s, dh_dq);
     }
 
     fn frame_kinematics(
@@ -322,6 +344,10 @@ impl Element for FfrElement {
         let st = &eval(s).state;
         let r = Vector3::new(q[0], q[1], q[2]);
         -gravity.dot(&(self.body.invariants.i1 * r + st.a * st.s_t))
+    }
+
+    fn load_stiffened_ffr(&self) -> Option<&FfrBody> {
+        self.body.load_stiffening().map(|_| &self.body)
     }
 
     fn elastic_energy(&self, q: &[f64]) -> f64 {

@@ -17,6 +17,7 @@ pub mod contour;
 mod element;
 mod invariants;
 mod kinematics;
+mod load_stiffening;
 mod load_tangent;
 mod mass_product;
 mod moments;
@@ -31,6 +32,8 @@ mod tests_consistent;
 #[cfg(test)]
 mod tests_dynamics;
 #[cfg(test)]
+mod tests_load_stiffening;
+#[cfg(test)]
 mod tests_stiffening;
 #[cfg(test)]
 mod tests_tangent;
@@ -40,6 +43,7 @@ pub use consistent::consistent_mass_to_si;
 pub use element::{FfrElement, FfrEval};
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
+pub use load_stiffening::{InterfaceStiffness, LoadStiffening};
 pub use rotary::{diagonal_inertia, RotaryInertia};
 pub use si::reduced_body_to_si;
 pub use stiffening::GeometricStiffening;
@@ -120,8 +124,10 @@ pub enum FfrError {
         /// |off-diagonal| / sqrt(diag_i diag_j).
         relative: f64,
     },
-    /// A geometric-stiffness load pattern the engine cannot use (only centrifugal patterns).
-    #[error("unsupported geometric stiffness load pattern {pattern} (only centrifugal patterns)")]
+    /// A geometric-stiffness load pattern the engine cannot use here (centrifugal patterns in
+    /// [`GeometricStiffening`]; node loads, and accelerations of a supported body, in
+    /// [`LoadStiffening`]).
+    #[error("unsupported geometric stiffness load pattern {pattern} here (centrifugal patterns: geometric stiffening; node loads and accelerations of a supported body: load stiffening)")]
     UnsupportedLoadPattern {
         /// The pattern (debug form).
         pattern: String,

@@ -231,7 +231,10 @@ impl GenAlpha {
             } else {
                 &mut ws.saddle
             };
-            let it = newton_residual(model, t1, &mut ws.step, &mut ws.sys, saddle)
+            // node-load stiffening: coefficients from this iterate's multipliers until the
+            // increments are small, then frozen (their multiplier dependence is not in the matrix)
+            let update_c = last_e > LOAD_COEFFICIENT_FREEZE;
+            let it = newton_residual(model, t1, &mut ws.step, &mut ws.sys, saddle, update_c)
                 .map_err(|e| e.at(s.t, h, residual))?;
             residual = it.r_max;
             let b = &ws.step;
@@ -522,10 +525,13 @@ fn newton_residual(
     b: &mut StepBuffers,
     sys: &mut SystemBuffers,
     saddle: &mut SystemMatrix,
+    update_load_coefficients: bool,
 ) -> Result<IterateResidual, IterateError> {
     let nu = model.nu;
     system::evaluate(model, &b.q_new, &b.u_new, sys).map_err(IterateError::Element)?;
     system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, sys);
+    let (ud, l) = (&b.u_dot_new, &b.lambda_new);
+    system::add_load_stiffening_forces(model, t1, 1.0, ud, l, update_load_coefficients, sys);
     system::update_constraints(model, t1, sys);
     let r_acc = &mut b.rhs[..nu];
     saddle.mass_times_vector(model, &b.q_new, &b.u_dot_new, sys, r_acc);
@@ -570,6 +576,14 @@ struct Convergence {
     /// The force residual is at its round-off floor ([`ROUNDOFF_RESIDUAL`]).
     at_roundoff: bool,
 }
+
+/// Scaled Newton increment (1 = converged) below which the node-load stiffening coefficients
+/// (`system::add_load_stiffening_forces`) are frozen for the rest of the step: their dependence on
+/// the multipliers is not in the iteration matrix, and updating them at every iterate can stall
+/// Newton in a cycle at about 1e-10 relative (flexible slider-crank rod); frozen from an iterate
+/// whose multipliers are within about 1e3 tolerances of the solution, they differ from the
+/// converged multipliers' by about 1e-7 relative.
+const LOAD_COEFFICIENT_FREEZE: f64 = 1e3;
 
 /// Force residual at round-off, relative to the force scale: below it, further iterations
 /// only move the iterate by rounding noise (an ill-conditioned direction can amplify that
