@@ -12,7 +12,7 @@ use crate::slider_crank_reference::SliderCrank;
 use crate::slider_crank_superelement;
 use crate::ValidationResult;
 use anyhow::{Context, Result};
-use flexmbs_core::ffr::{FfrBody, FfrElement, RotationParam as FfrRot};
+use flexmbs_core::ffr::{FfrBody, FfrElement, LoadStiffening, RotationParam as FfrRot};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::{
     FrameKinematics, Joint, LocalFrame, ModelSpec, PrescribedMotion, RigidBody, TimeFunction,
@@ -21,6 +21,8 @@ use flexmbs_core::{
 use flexmbs_fe::constraint::BoundaryConditions;
 use flexmbs_fe::eigen::EigenOptions;
 use flexmbs_fe::element::MassKind;
+use flexmbs_fe::geometric::InertialLoad;
+use flexmbs_fe::geometric_loads::{load_geometric_stiffness, NodeLoad, UnitLoad};
 use flexmbs_fe::mesh::generate::beam_line;
 use flexmbs_fe::mesh::{BeamSection, BeamTheory};
 use flexmbs_fe::reduction::{modal_analysis, reduce_modal, Provenance};
@@ -46,6 +48,18 @@ pub fn simulate(modes: usize, h: f64) -> Result<(Vec<(f64, f64)>, f64)> {
 
 /// [`simulate`] with samples from the start (crank angle 0) and after every `every`-th step.
 pub fn simulate_sampled(modes: usize, h: f64, every: usize) -> Result<(Vec<(f64, f64)>, f64)> {
+    simulate_rod(modes, h, every, false)
+}
+
+/// [`simulate_sampled`], the rod with geometric stiffening under its end loads (joint reactions,
+/// unit-load patterns at both end nodes with inertia relief) and the relieved centrifugal
+/// patterns if `stiffened`.
+pub fn simulate_rod(
+    modes: usize,
+    h: f64,
+    every: usize,
+    stiffened: bool,
+) -> Result<(Vec<(f64, f64)>, f64)> {
     let material = Material {
         e: 200e9,
         nu: 0.3,
@@ -75,7 +89,26 @@ pub fn simulate_sampled(modes: usize, h: f64, every: usize) -> Result<(Vec<(f64,
         .context("lumped rod masses")?
         .iter()
         .sum();
-    let rod = FfrElement::new(FfrBody::from_reduced(&body, FfrRot::Cardan)?);
+    let mut rod = FfrBody::from_reduced(&body, FfrRot::Cardan)?;
+    if stiffened {
+        let mut patterns = Vec::new();
+        for node in [0, ELEMENTS] {
+            for axis in 0..3 {
+                patterns.push(UnitLoad::Node(NodeLoad::Force { node, axis }));
+                patterns.push(UnitLoad::Node(NodeLoad::Moment { node, axis }));
+            }
+        }
+        patterns.extend(
+            InertialLoad::centrifugal()
+                .into_iter()
+                .map(UnitLoad::Inertial),
+        );
+        let g = load_geometric_stiffness(&mesh, &sys, &body, MassKind::Lumped, &patterns)?;
+        rod = rod
+            .with_load_stiffening(LoadStiffening::from_fe(&g.without_centrifugal(), modes)?)?
+            .with_geometric_stiffening(&g.centrifugal())?;
+    }
+    let rod = FfrElement::new(rod);
 
     let mut spec = ModelSpec::new();
     let i3 = Matrix3::identity();
@@ -316,15 +349,17 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
             style: Style::Line,
         });
     }
-    for modes in [2usize, 4] {
-        let (w, g_max) = simulate_sampled(modes, SAMPLE_DT, 1)?;
+    for (modes, stiffened) in [(2usize, false), (4, false), (4, true)] {
+        let (w, g_max) = simulate_rod(modes, SAMPLE_DT, 1, stiffened)?;
         let w: Vec<f64> = w.iter().map(|p| p.1).collect();
-        let suffix = if modes == 4 {
-            "_ffr".to_string()
-        } else {
-            format!("_ffr_{modes}modes")
+        let suffix = match (modes, stiffened) {
+            (4, false) => "_ffr".to_string(),
+            (4, true) => "_ffr_stiffened".to_string(),
+            _ => format!("_ffr_{modes}modes"),
         };
-        // the FFR rod has no geometric stiffening (issue 9 item 6): compared, not checked
+        // the linear FFR rod is compared, not checked: about 20 % too flexible without
+        // stiffening; with it within 2 % on the largest deflection but 7 % on the smallest
+        // (README), outside the issue's 5 %
         compare(&mut res, &suffix, &w, &w_ref, None);
         res.record(&format!("constraint_violation_max{suffix}"), g_max);
         if g_max.is_nan() || g_max > 1e-8 {
@@ -332,11 +367,16 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         }
         if !quiet {
             let (max, min, _) = extremes_and_rms(&w);
-            eprintln!("  FFR rod, {modes} modes: w_mid in revolution 1 in [{min:.5e}, {max:.5e}] m, max |g| {g_max:.2e}");
+            eprintln!("  FFR rod, {modes} modes (stiffened: {stiffened}): w_mid in revolution 1 in [{min:.5e}, {max:.5e}] m, max |g| {g_max:.2e}");
         }
         if modes == 4 {
+            let what = if stiffened {
+                "with geometric stiffening under its end loads"
+            } else {
+                "no geometric stiffening"
+            };
             series.push(Series {
-                name: "FFR rod, 4 free-free modes, no geometric stiffening".into(),
+                name: format!("FFR rod, 4 free-free modes, {what}"),
                 points: plot_points(&w),
                 style: Style::Line,
             });
