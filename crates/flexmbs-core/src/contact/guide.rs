@@ -201,14 +201,34 @@ pub(crate) fn check_guides(
                 cf.name
             ))
         })?;
-        super::Contour::check_owner(&g.curve, &state).map_err(|r| invalid(format!("curve: {r}")))?;
+        super::Contour::check_owner(&g.curve, &state)
+            .map_err(|r| invalid(format!("curve: {r}")))?;
         if oc == os {
-            return Err(invalid("the slider frame is on the curve's own body".into()));
+            return Err(invalid(
+                "the slider frame is on the curve's own body".into(),
+            ));
         }
         if !(g.normal.norm() > 0.0 && g.normal.iter().all(|x| x.is_finite())) {
             return Err(invalid(
                 "the normal direction must be a finite non-zero vector".into(),
             ));
+        }
+        // the contour frame needs the normal off the tangent: checked at the curve's nodes
+        let contour = g.curve.contour();
+        let nu = g.normal.normalize();
+        if let Ok(mut st) = contour.state() {
+            for (i, &eta) in contour.interpolator().params().iter().enumerate() {
+                let Ok(f) = contour.fields(&mut st, eta) else {
+                    continue;
+                };
+                if f[1].normalize().dot(&nu).abs() > 0.99 {
+                    return Err(invalid(format!(
+                        "the normal direction {:?} is (nearly) along the curve at its node {i}: \
+                         choose a direction across the curve",
+                        g.normal.as_slice()
+                    )));
+                }
+            }
         }
     }
     Ok(())
@@ -260,11 +280,7 @@ pub fn assemble_guides(
 }
 
 /// The FFR state of the curve's body.
-fn curve_body<'a>(
-    model: &Model,
-    guide: &CurveGuide,
-    eval: &'a [ElementScratch],
-) -> &'a FfrScratch {
+fn curve_body<'a>(model: &Model, guide: &CurveGuide, eval: &'a [ElementScratch]) -> &'a FfrScratch {
     let FrameOwner::Body(b) = model.frames[guide.curve.frame.0].owner else {
         unreachable!("checked when the model was compiled: the curve is on a body")
     };
@@ -329,7 +345,11 @@ fn evaluate_guide(
     let nb = w.jac_w.ncols();
     for j in 0..nb {
         for i in 0..3 {
-            let rot = if (3..6).contains(&j) { ah[(i, j - 3)] } else { 0.0 };
+            let rot = if (3..6).contains(&j) {
+                ah[(i, j - 3)]
+            } else {
+                0.0
+            };
             w.jac_w[(i, j)] = rot + am[i] * w.rate[2][j] + an2[i] * w.rate[1][j];
         }
     }
