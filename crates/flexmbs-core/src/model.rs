@@ -71,6 +71,7 @@ pub struct ModelSpec {
     /// The initial state, resolved in [`ModelSpec::compile`] (`spec_initial.rs`).
     pub(crate) initial: crate::spec_initial::InitialSpec,
     contacts: Vec<Contact>,
+    guides: Vec<crate::contact::CurveGuide>,
 }
 
 impl Default for ModelSpec {
@@ -91,6 +92,7 @@ impl ModelSpec {
             loads: Vec::new(),
             initial: Default::default(),
             contacts: Vec::new(),
+            guides: Vec::new(),
         }
     }
 
@@ -259,6 +261,13 @@ impl ModelSpec {
         self.contacts.len() - 1
     }
 
+    /// Adds a bilateral guide of a frame on a 1D neutral contour ([`crate::contact::guide`]):
+    /// constraint rows after the joints' ([`Model::guide_rows`]), checked by [`Self::compile`].
+    pub fn add_guide(&mut self, guide: crate::contact::CurveGuide) -> usize {
+        self.guides.push(guide);
+        self.guides.len() - 1
+    }
+
     /// Validates the description and builds the immutable model.
     pub fn compile(mut self) -> Result<Model, ModelError> {
         let initial = std::mem::take(&mut self.initial);
@@ -372,6 +381,11 @@ impl ModelSpec {
             joint_rows.push(nc);
             nc += joint.num_rows();
         }
+        let mut guide_rows = Vec::with_capacity(self.guides.len());
+        for guide in &self.guides {
+            guide_rows.push(nc);
+            nc += guide.num_rows();
+        }
         for (l, load) in self.loads.iter().enumerate() {
             let id = LoadId(l);
             match load {
@@ -425,6 +439,7 @@ impl ModelSpec {
         }
         let owner_state = |b: usize| bodies.get(b).map(|b: &Body| b.element.new_scratch());
         crate::contact::check_contacts(&self.frames, &owner_state, &mut self.contacts)?;
+        crate::contact::guide::check_guides(&self.frames, &owner_state, &self.guides)?;
         let frame_cols = self
             .frames
             .iter()
@@ -445,6 +460,8 @@ impl ModelSpec {
             joint_rows,
             loads: self.loads,
             contacts: self.contacts,
+            guides: self.guides,
+            guide_rows,
             nq,
             nu,
             nc,
@@ -548,6 +565,10 @@ pub struct Model {
     pub loads: Vec<Load>,
     /// Contacts ([`crate::contact`]; each pair in the dispatch table's order).
     pub contacts: Vec<Contact>,
+    /// Bilateral guides on 1D neutral contours ([`crate::contact::guide`]).
+    pub guides: Vec<crate::contact::CurveGuide>,
+    /// First constraint row of each guide (after all joints' rows).
+    pub guide_rows: Vec<usize>,
     /// Total position coordinates.
     pub nq: usize,
     /// Total velocity coordinates.

@@ -111,6 +111,8 @@ pub struct SystemBuffers {
     pub h_plus: Vec<f64>,
     /// Load forces at the minus perturbation (nu).
     pub h_minus: Vec<f64>,
+    /// Evaluation buffers of the guides ([`crate::contact::guide`]), in model order.
+    pub guides: Vec<crate::contact::guide::GuideWork>,
 }
 
 /// Buffers of the integrators.
@@ -222,6 +224,7 @@ impl Workspace {
                 dv_pert: v(nu),
                 h_plus: v(nu),
                 h_minus: v(nu),
+                guides: crate::contact::guide::new_works(model),
             },
             step: StepBuffers {
                 q_new: v(nq),

@@ -409,6 +409,18 @@ pub fn update_constraints(model: &Model, t: f64, sys: &mut SystemBuffers) {
         &mut sys.g_t,
         &mut sys.g_bias,
     );
+    if !model.guides.is_empty() {
+        crate::contact::guide::assemble_guides(
+            model,
+            &sys.frames,
+            &sys.eval,
+            &mut sys.guides,
+            &mut sys.g,
+            sys.g_jac.as_mut(),
+            &mut sys.g_t,
+            &mut sys.g_bias,
+        );
+    }
 }
 
 /// Constraint values `g`, Jacobian `G`, `g_t` and acceleration bias of all joints at `t`.

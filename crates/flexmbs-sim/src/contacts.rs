@@ -55,6 +55,9 @@ pub struct ContactSpec {
     pub slip_velocity: Option<Quantity>,
     /// Friction directions, default spatial.
     pub directions: Option<DirectionsName>,
+    /// Bilateral contact on a curve: the frame's axes also follow the contour frame (default
+    /// false; `crate::guides`).
+    pub rotations: Option<bool>,
 }
 
 /// A contour: `{ type, frame, radius }` (rigid) or `{ type, body, face | nodes, ... }`
@@ -75,6 +78,9 @@ pub struct ContourSpec {
     pub face: Option<String>,
     /// Surface: the node index matrix (rows of FE node ids); curve, band: ordered node ids.
     pub nodes: Option<NodesSpec>,
+    /// Curve, band: instead of `nodes`, the FE nodes on the segment between two points (body
+    /// axes, model length unit), ordered from the first.
+    pub through: Option<[[f64; 3]; 2]>,
     /// Band: width.
     pub width: Option<Quantity>,
     /// Band: offset along the normal, default 0.
@@ -159,6 +165,16 @@ pub(crate) fn add_contacts(
 ) -> Result<(), SimError> {
     for (i, c) in contacts.iter().enumerate() {
         let p = format!("contact[{i}]");
+        if crate::guides::is_guide(c) {
+            crate::guides::add_guide(ctx, c, &p, frame, owner, spec)?;
+            continue;
+        }
+        if c.rotations.is_some() {
+            return Err(ctx.err(
+                &format!("{p}.rotations"),
+                "only a bilateral contact on a curve has `rotations`",
+            ));
+        }
         let a = any_contour(ctx, &c.a, &format!("{p}.a"), frame, owner)?;
         let b = any_contour(ctx, &c.b, &format!("{p}.b"), frame, owner)?;
         let law = law(ctx, c, &p)?;
@@ -189,6 +205,7 @@ fn any_contour(
         ("body", c.body.is_some()),
         ("face", c.face.is_some()),
         ("nodes", c.nodes.is_some()),
+        ("through", c.through.is_some()),
         ("width", c.width.is_some()),
         ("offset", c.offset.is_some()),
         ("normal", c.normal.is_some()),

@@ -29,6 +29,7 @@ pub(crate) fn flexible_contour(
         ("radius", c.radius.is_some()),
         ("face", c.face.is_some()),
         ("nodes", c.nodes.is_some()),
+        ("through", c.through.is_some()),
         ("width", c.width.is_some()),
         ("offset", c.offset.is_some()),
         ("normal", c.normal.is_some()),
@@ -36,8 +37,8 @@ pub(crate) fn flexible_contour(
     ];
     let allowed: &[&str] = match c.kind {
         ContourName::Surface => &["face", "nodes", "flip_normal"],
-        ContourName::Curve => &["nodes", "radius"],
-        _ => &["nodes", "width", "offset", "normal"],
+        ContourName::Curve => &["nodes", "through", "radius"],
+        _ => &["nodes", "through", "width", "offset", "normal"],
     };
     ctx.only(p, &format!("a {kind} contour"), &present, allowed)?;
     let name = c
@@ -62,7 +63,10 @@ pub(crate) fn flexible_contour(
             ))
         }
         ContourName::Curve | ContourName::Band => {
-            let line = line_nodes(ctx, c, p, &nodes)?;
+            let line = match c.through {
+                Some(ends) => segment_nodes(ctx, c, p, &o.geometry.points, ends)?,
+                None => line_nodes(ctx, c, p, &nodes)?,
+            };
             let curve = FfrCurveContour::new(o.body, &line, ContourSettings::default())
                 .map_err(|e| located("nodes", &e))?;
             let radius = match &c.radius {
@@ -207,6 +211,50 @@ fn line_nodes(
         }
         None => Err(ctx.err(p, "needs `nodes` (ordered FE node ids along the curve)")),
     }
+}
+
+/// The nodes within a small tolerance (1e-6 of the body's size) of the segment `ends` (body
+/// axes), ordered along it; `nodes` and `through` exclude each other.
+fn segment_nodes(
+    ctx: &Ctx,
+    c: &ContourSpec,
+    p: &str,
+    points: &[[f64; 3]],
+    ends: [[f64; 3]; 2],
+) -> Result<Vec<usize>, SimError> {
+    let path = format!("{p}.through");
+    if c.nodes.is_some() {
+        return Err(ctx.err(&path, "give either `nodes` or `through`, not both"));
+    }
+    let (a, b) = (Vector3::from(ends[0]), Vector3::from(ends[1]));
+    let len = (b - a).norm();
+    if !(len > 0.0 && len.is_finite()) {
+        return Err(ctx.err(&path, "the two points must differ"));
+    }
+    let pts: Vec<Vector3<f64>> = points.iter().map(|x| Vector3::from(*x)).collect();
+    let (lo, hi) = bounding_box(&pts);
+    let tol = 1e-6 * (hi - lo).norm().max(len);
+    let dir = (b - a) / len;
+    let mut on: Vec<(f64, usize)> = pts
+        .iter()
+        .enumerate()
+        .filter_map(|(i, x)| {
+            let s = dir.dot(&(x - a));
+            let off = (x - a - s * dir).norm();
+            (off <= tol && s >= -tol && s <= len + tol).then_some((s, i))
+        })
+        .collect();
+    on.sort_by(|x, y| x.0.total_cmp(&y.0));
+    if on.len() < 4 {
+        return Err(ctx.err(
+            &path,
+            format!(
+                "{} FE nodes lie on this segment: a cubic curve needs at least 4",
+                on.len()
+            ),
+        ));
+    }
+    Ok(on.into_iter().map(|(_, i)| i).collect())
 }
 
 /// A band on `curve` from `width`, `offset` and `normal`.

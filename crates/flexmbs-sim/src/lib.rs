@@ -14,6 +14,7 @@ pub mod error;
 pub mod fe_frames;
 mod flexible_contours;
 pub mod forces;
+mod guides;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;

@@ -162,6 +162,22 @@ pub fn parse_signals(
             } else {
                 ("N m".to_string(), xyz(), SignalKind::JointTorque(j))
             }
+        } else if what == "reaction" && model.guides.iter().any(|g| g.name == *item) {
+            // a bilateral contact on a curve: its constraint rows (`crate::guides`)
+            let g = model
+                .guides
+                .iter()
+                .position(|g| g.name == *item)
+                .unwrap_or(0);
+            let guide = &model.guides[g];
+            (
+                "N | N m".to_string(),
+                guide.row_names().iter().map(|n| n.to_string()).collect(),
+                SignalKind::Reaction {
+                    row: model.guide_rows[g],
+                    rows: guide.num_rows(),
+                },
+            )
         } else if what == "reaction" {
             let Some(j) = joints.iter().position(|(n, _)| n == item) else {
                 let names: Vec<&str> = joints.iter().map(|(n, _)| n.as_str()).collect();
@@ -332,6 +348,9 @@ pub fn coordinate_names(
         if j.prescribed.is_some() {
             lambda.push(format!("{}.motion", j.name));
         }
+    }
+    for g in &model.guides {
+        lambda.extend(g.row_names().iter().map(|r| format!("{}.{r}", g.name)));
     }
     (q, u, lambda)
 }

@@ -18,6 +18,7 @@ pub mod rotating_beam_superelement;
 pub mod slider_crank_2d;
 pub mod slider_crank_reference;
 pub mod slider_crank_superelement;
+pub mod sliding_balls;
 
 pub use result::ValidationResult;
 use std::path::Path;
@@ -69,6 +70,11 @@ pub fn cases() -> Vec<Case> {
             name: "point_mass_on_beam",
             description: "seed 000 §5.2: a point mass hits a soft FFR cantilever (hex20 25x5x5): 2D neutral NURBS contour and FlexibleBand, Newton impact and penalty, Moreau fixed and step-size controlled; energy laws and mode convergence",
             run: point_mass_on_beam::run,
+        },
+        Case {
+            name: "sliding_balls",
+            description: "seed 000 §5.3: a ball kept on a soft FFR cantilever's neutral axis (bilateral guide, rotations follow), 10/20/50/100 modes, 0.5 s (5 s with SLIDING_BALLS_T_END=5); energy, no velocity jumps, mode convergence",
+            run: sliding_balls::run,
         },
     ]
 }

@@ -66,6 +66,12 @@ impl ColumnLists {
                 constraint_rows.push(cols.clone());
             }
         }
+        for guide in &model.guides {
+            let cols = owners(&[guide.curve.frame, guide.frame]);
+            for _ in 0..guide.num_rows() {
+                constraint_rows.push(cols.clone());
+            }
+        }
         Self {
             elements,
             loads,

@@ -10,6 +10,7 @@
 
 pub mod contour;
 pub mod flexible;
+pub mod guide;
 pub mod law;
 pub mod pair;
 
@@ -17,6 +18,7 @@ pub use contour::{
     CircleContour, Contour, ContourKind, ContourScratch, PlaneContour, PointContour, SphereContour,
 };
 pub use flexible::{FlexibleBand, NeutralCurve, NeutralSurface};
+pub use guide::CurveGuide;
 pub use law::{ContactLaw, Friction, NormalLaw, TangentDirections};
 pub use pair::{ContactGeometry, PairFn, Side};
 

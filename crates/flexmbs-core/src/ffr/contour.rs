@@ -459,6 +459,31 @@ impl FfrCurveContour {
         Ok(p)
     }
 
+    /// The deformed curve (body axes) at `eta`: `[ū, ū', ū'']` (derivatives by `eta`), from
+    /// the state updated by [`Self::update`]. Allocation-free.
+    pub fn fields(
+        &self,
+        state: &mut CurveContourState,
+        eta: f64,
+    ) -> Result<[Vector3<f64>; 3], ContourError> {
+        Ok(self
+            .interp
+            .field_derivatives(&state.net, eta, &mut state.scratch)?)
+    }
+
+    /// Mode `k`'s interpolated shape on the curve at `eta`: `[Φ_k, Φ_k', Φ_k'']` (body axes).
+    /// Allocation-free.
+    pub fn mode_fields(
+        &self,
+        state: &mut CurveContourState,
+        eta: f64,
+        k: usize,
+    ) -> Result<[Vector3<f64>; 3], ContourError> {
+        Ok(self
+            .interp
+            .field_derivatives(&self.nets.modes[k], eta, &mut state.scratch)?)
+    }
+
     /// `J_T` (3 x n_u) of the curve point at `eta` into `jt`.
     pub fn jacobian_translation(
         &self,
