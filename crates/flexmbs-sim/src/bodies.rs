@@ -98,7 +98,7 @@ pub fn build_body(
     base: &Path,
 ) -> Result<(BuiltElement, BodyGeometry), SimError> {
     let p = format!("body[{i}]");
-    let present = [
+    let mut present = vec![
         ("mass", b.mass.is_some()),
         ("inertia", b.inertia.is_some()),
         ("inertia_matrix", b.inertia_matrix.is_some()),
@@ -110,6 +110,7 @@ pub fn build_body(
         ("geometric_stiffening", b.geometric_stiffening.is_some()),
         ("rotary_inertia", b.rotary_inertia.is_some()),
     ];
+    present.extend(crate::superelements::superelement_keys_present(b));
     match b.kind {
         BodyType::Rigid => {
             ctx.only(
@@ -136,6 +137,10 @@ pub fn build_body(
                 ],
             )?;
             ffr_body(ctx, &p, b, base)
+        }
+        // compiled by `crate::superelements::add_superelement_beams`
+        BodyType::SuperelementBeam => {
+            Err(ctx.err(&p, "internal: superelement_beam bodies are not built here"))
         }
     }
 }

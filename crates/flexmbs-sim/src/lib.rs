@@ -23,6 +23,8 @@ pub mod schema;
 pub mod signals;
 pub mod stiffening;
 pub mod stress;
+mod superelement_output;
+pub mod superelements;
 pub mod units;
 
 pub use compile::{compile_model, is_multibody_model, load_model, CompiledModel, SolverConfig};
