@@ -207,7 +207,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         };
         let frame = spec.add_frame(&b.name, id, Vector3::zeros(), i3);
         frames.insert(b.name.clone(), frame);
-        if abstract_bodies[i] {
+        if abstract_bodies.last() == Some(&true) {
             abstract_frames.insert(frame, b.name.clone());
         }
         bodies.push(BodyInfo {

@@ -262,3 +262,214 @@ fn free_vibration_equals_rust_chain() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The tip of a static model-file run (runner), at every load increment.
+fn static_tip(text: &str, name: &str, tip: &str) -> Vec<f64> {
+    let cm = compiled(text);
+    let out = common::work_dir("se", name);
+    let summary = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap();
+    assert_eq!(summary.status, RunStatus::Completed);
+    let r = read_results(&out.join("results.h5")).unwrap();
+    let y = r.series(&format!("{tip}.position.y")).unwrap().to_vec();
+    let _ = std::fs::remove_dir_all(&out);
+    y
+}
+
+/// Two components joined by naming the same interface (the second starts at `beam.i4`, its
+/// position taken from there) are the single 10-superelement cantilever: the same nodes and
+/// bodies, initial positions equal up to the round-off of summing lengths, so the tip path
+/// agrees to 1e-10 relative.
+#[test]
+fn components_joined_at_a_named_interface_are_one_chain() {
+    let one = static_tip(CANTILEVER, "one", "beam.i10");
+    let two_text = CANTILEVER
+        .replace(
+            "length = \"1 m\"\nsegments = 10",
+            "length = \"0.4 m\"\nsegments = 4",
+        )
+        .replace(
+            "[[load]]",
+            r#"[[body]]
+name = "outer"
+type = "superelement_beam"
+material = { e = 70e9, nu = 0.3, rho = 2700.0 }
+section = { shape = "tube", outer_radius = 0.01, wall = 0.001 }
+lengths = ["100 mm", "100 mm", 0.1, 0.1, 0.1, 0.1]
+interfaces = ["beam.i4", "o1", "o2", "o3", "o4", "o5", "end"]
+
+[[load]]"#,
+        )
+        .replace("frame = \"beam.i10\"", "frame = \"end\"")
+        .replace(
+            "\"beam.i10.position\", \"beam.s9.deformation\"",
+            "\"end.position\", \"outer.s5.deformation\"",
+        )
+        .replace("beam.s9.frame_iterations", "outer.s5.frame_iterations");
+    let two = static_tip(&two_text, "two", "end");
+    assert_eq!(one.len(), two.len());
+    let scale = one.last().unwrap().abs();
+    for (a, b) in one.iter().zip(&two) {
+        assert!((a - b).abs() <= 1e-10 * scale, "{a} vs {b}");
+    }
+}
+
+/// A rigid body welded (fixed joint, through a `[[frame]]` on interface `i5`) to the tip of a
+/// clamped 5-superelement beam under gravity loads it like its weight as a tip force: the same
+/// static tip to 1e-9 relative (the mass's centre at the interface point, so no moment).
+#[test]
+fn rigid_body_jointed_to_an_interface_point() {
+    let beam = r#"
+[model]
+name = "se_tip_mass"
+gravity = [0, "-9.81 m/s^2", 0]
+
+[solver]
+type = "statics"
+load_steps = 10
+
+[[body]]
+name = "beam"
+type = "superelement_beam"
+material = { e = 70e9, nu = 0.3, rho = 2700.0 }
+section = { shape = "tube", outer_radius = 0.01, wall = 0.001 }
+length = "1 m"
+segments = 5
+fixed = ["i0"]
+"#;
+    let with_mass = format!(
+        "{beam}{}",
+        r#"
+[[body]]
+name = "mass"
+type = "rigid"
+mass = 20.0
+inertia = [0.1, 0.1, 0.1]
+position = [1, 0, 0]
+
+[[frame]]
+name = "tip"
+body = "beam"
+interface = "i5"
+
+[[joint]]
+name = "weld"
+type = "fixed"
+a = "tip"
+b = "mass"
+
+[output]
+signals = ["beam.i5.position", "weld.force"]
+animation = false
+"#
+    );
+    let with_force = format!(
+        "{beam}{}",
+        r#"
+[[load]]
+type = "force"
+frame = "beam.i5"
+vector = [0, -196.2, 0]
+
+[output]
+signals = ["beam.i5.position"]
+animation = false
+"#
+    );
+    let a = static_tip(&with_mass, "mass", "beam.i5");
+    let b = static_tip(&with_force, "force", "beam.i5");
+    assert_eq!(a.len(), b.len());
+    let scale = b.last().unwrap().abs();
+    assert!(scale > 0.05, "tip deflection {scale}");
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() <= 1e-9 * scale, "{x} vs {y}");
+    }
+}
+
+/// Bad input is refused by `check` (the compiler) at its key path.
+#[test]
+fn bad_superelement_input_names_the_key_path() {
+    let second = r#"[[body]]
+name = "outer"
+type = "superelement_beam"
+material = { e = 70e9, nu = 0.3, rho = 2700.0 }
+section = { shape = "tube", outer_radius = 0.01, wall = 0.001 }
+INTERFACE
+
+[[load]]"#;
+    let cases: Vec<(String, &str, &str)> = vec![
+        (CANTILEVER.replace("segments = 10", "segments = 0"), "body[0].segments", "at least 1"),
+        (
+            CANTILEVER.replace("length = \"1 m\"\nsegments = 10", "lengths = []"),
+            "body[0].lengths",
+            "at least 1",
+        ),
+        (
+            CANTILEVER.replace("length = \"1 m\"\nsegments = 10", "lengths = [0.5, \"-1 m\"]"),
+            "body[0].lengths[1]",
+            "must be > 0",
+        ),
+        (
+            CANTILEVER.replace("length = \"1 m\"", "length = \"1 m\"\nlengths = [1.0]"),
+            "body[0]`",
+            "not both",
+        ),
+        (CANTILEVER.replace("wall = 0.001", "wall = 0.02"), "body[0].section", "positive"),
+        (
+            CANTILEVER.replace("e = 70e9", "e = -70e9"),
+            "body[0].material",
+            "e > 0",
+        ),
+        (
+            CANTILEVER.replace("segments = 10", "segments = 10\ninternal_modes = 20"),
+            "body[0].internal_modes",
+            "interior DOFs",
+        ),
+        (CANTILEVER.replace("[\"i0\"]", "[\"root\"]"), "body[0].fixed[0]", "unknown interface `root`"),
+        (
+            CANTILEVER.replace("segments = 10", "segments = 10\nmass = 2.0"),
+            "body[0].mass",
+            "not used by a superelement_beam body",
+        ),
+        (
+            CANTILEVER.replace("frame = \"beam.i10\"", "frame = \"beam.i11\""),
+            "load[0].frame",
+            "unknown frame `beam.i11`",
+        ),
+        (
+            CANTILEVER.replace("[[load]]", &second.replace("INTERFACE", "length = 1.0\nsegments = 2\ninterfaces = [\"beam.i10\", \"a\", \"b\"]\nposition = [1.5, 0, 0]")),
+            "body[1].interfaces[0]",
+            "must coincide at t = 0",
+        ),
+        (
+            CANTILEVER.replace("[[load]]", &second.replace("INTERFACE", "length = 1.0\nsegments = 2\ninterfaces = [\"a\", \"b\", \"beam.i10\"]")),
+            "body[1].interfaces[2]",
+            "not this body's first interface",
+        ),
+        (
+            CANTILEVER.replace("[[load]]", &second.replace("INTERFACE", "length = 1.0\nsegments = 2\ninterfaces = [\"a\", \"b\"]")),
+            "body[1].interfaces",
+            "one per interface point (3)",
+        ),
+        (
+            CANTILEVER.replace("[[load]]", "[[frame]]\nname = \"f\"\nbody = \"beam\"\ninterface = \"i12\"\n\n[[load]]"),
+            "frame[0].interface",
+            "unknown interface `i12`",
+        ),
+        (
+            CANTILEVER.replace("[[load]]", "[[frame]]\nname = \"g\"\nbody = \"ground\"\n\n[[joint]]\nname = \"pin\"\ntype = \"spherical\"\na = \"g\"\nb = \"beam.s3\"\n\n[[load]]"),
+            "joint[0].b",
+            "floating frame of superelement `beam.s3`",
+        ),
+        (
+            CANTILEVER.replace("beam.s9.deformation", "beam.i3.deformation"),
+            "output.signals[1]",
+            "not a node frame",
+        ),
+    ];
+    for (text, path, fragment) in cases {
+        let err = compile_model(&text, &file()).expect_err(path).to_string();
+        assert!(err.contains(&format!("at `{path}")), "{path}: {err}");
+        assert!(err.contains(fragment), "{path}: {err}");
+        assert!(err.contains("superelement.toml:"), "{err}");
+    }
+}
