@@ -7,7 +7,9 @@
 mod common;
 
 use flexmbs_core::integrator::{self, GenAlpha, GenAlphaStepper, Statics, StaticsStepper, Stepper};
-use flexmbs_core::superelement::{beam_segment, BeamSegmentSpec, FrameLocation, Superelement};
+use flexmbs_core::superelement::{
+    beam_segment, BeamSegmentSpec, FictitiousForces, FrameLocation, Superelement, TransformMatrices,
+};
 use flexmbs_core::{
     FrameId, Joint, Load, LoadCoordinates, Model, ModelSpec, NodeKind, State, TimeFunction,
     Workspace,
@@ -61,13 +63,31 @@ fn compiled(text: &str) -> CompiledModel {
     compile_model(text, &file()).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// Options of a Rust-built chain.
+#[derive(Clone, Copy)]
+struct ChainOptions {
+    n: usize,
+    internal_modes: usize,
+    frame: FrameLocation,
+    matrices: TransformMatrices,
+    fictitious: FictitiousForces,
+}
+
+const VALIDATION_CHAIN: ChainOptions = ChainOptions {
+    n: 10,
+    internal_modes: 0,
+    frame: FrameLocation::CentreOfMass,
+    matrices: TransformMatrices::Exact,
+    fictitious: FictitiousForces::Neglected,
+};
+
 /// The Rust-built chain of the validation cases: `n` equal tube superelements on shared pose
-/// nodes, a ground frame and a fixed joint at node 0, a force `force(t)` down at the tip.
-fn rust_chain(n: usize, force: f64, time: TimeFunction) -> (Model, FrameId) {
+/// nodes (internal-mode nodes between their interface nodes), a ground frame and a fixed joint
+/// at node 0, a force `force(t)` down at the tip.
+fn rust_chain(o: ChainOptions, force: f64, time: TimeFunction) -> (Model, FrameId) {
+    let n = o.n;
     let mut spec = ModelSpec::new();
-    let nodes: Vec<_> = (0..=n)
-        .map(|i| spec.add_node(&format!("n{i}"), NodeKind::Pose))
-        .collect();
+    let mut nodes = vec![spec.add_node("n0", NodeKind::Pose)];
     let mut bodies = Vec::new();
     for i in 0..n {
         let data = beam_segment(&BeamSegmentSpec {
@@ -80,12 +100,21 @@ fn rust_chain(n: usize, force: f64, time: TimeFunction) -> (Model, FrameId) {
             section: BeamSection::tube(0.01, 0.001),
             theory: BeamTheory::EulerBernoulli,
             elements: 2,
-            internal_modes: 0,
-            frame: FrameLocation::CentreOfMass,
+            internal_modes: o.internal_modes,
+            frame: o.frame,
         })
         .unwrap();
-        let se = Superelement::new(data).unwrap();
-        bodies.push(spec.add_body_on(&format!("b{i}"), se, &nodes[i..i + 2]));
+        let se = Superelement::new(data)
+            .unwrap()
+            .with_matrices(o.matrices)
+            .with_fictitious_forces(o.fictitious);
+        let mut on = vec![nodes[i]];
+        if o.internal_modes > 0 {
+            on.push(spec.add_node(&format!("eta{i}"), NodeKind::Vector(o.internal_modes)));
+        }
+        nodes.push(spec.add_node(&format!("n{}", i + 1), NodeKind::Pose));
+        on.push(nodes[i + 1]);
+        bodies.push(spec.add_body_on(&format!("b{i}"), se, &on));
     }
     let ground = spec.add_ground_frame("clamp", Vector3::zeros(), Matrix3::identity());
     let root = spec.add_node_owned_frame("root", nodes[0], Vector3::zeros(), Matrix3::identity());
@@ -100,7 +129,11 @@ fn rust_chain(n: usize, force: f64, time: TimeFunction) -> (Model, FrameId) {
     let l = 1.0 / n as f64;
     let mut x = 0.0;
     for b in &bodies {
-        spec.set_initial_pose(*b, Vector3::new(x + 0.5 * l, 0.0, 0.0), Matrix3::identity());
+        let origin = match o.frame {
+            FrameLocation::CentreOfMass => x + 0.5 * l,
+            FrameLocation::FirstInterface => x,
+        };
+        spec.set_initial_pose(*b, Vector3::new(origin, 0.0, 0.0), Matrix3::identity());
         x += l;
     }
     (spec.compile().unwrap(), tip)
@@ -183,7 +216,7 @@ fn static_cantilever_equals_rust_chain_and_elastica() {
     let cm = compiled(CANTILEVER);
     let tip = cm.model.frame_id("beam.i10").unwrap();
     let from_file = statics_path(&cm, &cm.model, tip);
-    let (rust, rust_tip) = rust_chain(10, 1000.0, TimeFunction::Constant(1.0));
+    let (rust, rust_tip) = rust_chain(VALIDATION_CHAIN, 1000.0, TimeFunction::Constant(1.0));
     let reference = statics_path(&cm, &rust, rust_tip);
     let last = *reference.last().unwrap();
     let scale = (last - Vector3::x()).amax();
@@ -218,13 +251,9 @@ fn static_cantilever_equals_rust_chain_and_elastica() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// The free vibration (first bending period about 52 ms) after a 2 ms tip pulse of a clamped
-/// chain of 10 superelements: the file's
-/// model under the runner's generalized-alpha equals the Rust-built chain bitwise (to 1e-12 of
-/// the peak deflection asserted), and the runner writes the same history.
-#[test]
-fn free_vibration_equals_rust_chain() {
-    let text = CANTILEVER
+/// The cantilever with a 2 ms tip pulse of 100 N under generalized-alpha for 60 ms.
+fn vibration_text() -> String {
+    CANTILEVER
         .replace(
             "type = \"statics\"\nload_steps = 20",
             "type = \"generalized-alpha\"\nh = \"0.1 ms\"\nt_end = \"60 ms\"",
@@ -232,22 +261,40 @@ fn free_vibration_equals_rust_chain() {
         .replace(
             "vector = [0, \"-1 kN\", 0]",
             "vector = [0, \"-100 N\", 0]\ntime = { type = \"pulse\", value = 1, t0 = 0, t1 = \"2 ms\" }",
-        );
-    let cm = compiled(&text);
-    let tip = cm.model.frame_id("beam.i10").unwrap();
+        )
+}
+
+/// The tip histories of the file's model and the Rust-built chain `o` (the runner's
+/// generalized-alpha stepper), with the peak deflection; asserts they agree to 1e-12 of it.
+fn file_vs_rust_vibration(text: &str, o: ChainOptions) -> (CompiledModel, Vec<Vector3<f64>>, f64) {
+    let cm = compiled(text);
+    let tip = cm
+        .model
+        .frame_id("beam.i10")
+        .unwrap_or_else(|| cm.model.frame_id("beam.i3").unwrap());
     let from_file = dynamic_path(&cm, &cm.model, tip);
     let pulse = TimeFunction::Pulse {
         value: 1.0,
         t0: 0.0,
         t1: 2e-3,
     };
-    let (rust, rust_tip) = rust_chain(10, 100.0, pulse);
+    let (rust, rust_tip) = rust_chain(o, 100.0, pulse);
     let reference = dynamic_path(&cm, &rust, rust_tip);
     let peak = reference.iter().map(|p| p.y.abs()).fold(0.0, f64::max);
     assert!(peak > 1e-3, "peak deflection {peak}");
     let diff = max_rel_diff(&from_file, &reference, peak);
     eprintln!("dynamic: file vs Rust chain {diff:e} of the peak {peak}");
     assert!(diff <= 1e-12, "file vs Rust chain: {diff:e} of the peak");
+    (cm, reference, peak)
+}
+
+/// The free vibration (first bending period about 52 ms) after a 2 ms tip pulse of a clamped
+/// chain of 10 superelements: the file's model under the runner's generalized-alpha equals the
+/// Rust-built chain bitwise (to 1e-12 of the peak deflection asserted), and the runner writes
+/// the same history.
+#[test]
+fn free_vibration_equals_rust_chain() {
+    let (cm, reference, peak) = file_vs_rust_vibration(&vibration_text(), VALIDATION_CHAIN);
     // it vibrates: the tip crosses its rest position after the pulse
     let after: Vec<f64> = reference.iter().skip(25).map(|p| p.y).collect();
     assert!(after.iter().any(|&y| y > 0.0) && after.iter().any(|&y| y < 0.0));
@@ -261,6 +308,30 @@ fn free_vibration_equals_rust_chain() {
         assert!((a - b.y).abs() <= 1e-12 * peak, "runner {a} vs {}", b.y);
     }
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The other options map to the engine's: 3 superelements with 2 internal modes each (node
+/// order `n0, eta0, n1, ...`), floating frames at the first interfaces, approximated matrices,
+/// fictitious forces from `M_CB`: the same history as the Rust-built chain to 1e-12.
+#[test]
+fn superelement_options_equal_rust_chain() {
+    let text = vibration_text()
+        .replace(
+            "segments = 10",
+            "segments = 3\ninternal_modes = 2\nframe = \"interface\"\nmatrices = \"approximated\"\nfictitious_forces = \"from_mcb\"",
+        )
+        .replace("beam.i10", "beam.i3")
+        .replace("beam.s9", "beam.s2");
+    let options = ChainOptions {
+        n: 3,
+        internal_modes: 2,
+        frame: FrameLocation::FirstInterface,
+        matrices: TransformMatrices::Approximated,
+        fictitious: FictitiousForces::FromMcb,
+    };
+    let (cm, _, _) = file_vs_rust_vibration(&text, options);
+    // 3 pose nodes and 3 mode nodes: 4 x 7 + 3 x 2 position coordinates
+    assert_eq!(cm.model.nq, 4 * 7 + 3 * 2);
 }
 
 /// The tip of a static model-file run (runner), at every load increment.
@@ -472,4 +543,68 @@ INTERFACE
         assert!(err.contains(fragment), "{path}: {err}");
         assert!(err.contains("superelement.toml:"), "{err}");
     }
+}
+
+/// The cantilever along global z (`direction = [0, 0, 1]`) under the same load deflects like
+/// the one along x: the model is invariant under the rotation (1e-9 relative).
+#[test]
+fn beam_direction_rotates_the_chain() {
+    let along_x = static_tip(CANTILEVER, "x", "beam.i10");
+    let along_z = static_tip(
+        &CANTILEVER.replace("segments = 10", "segments = 10\ndirection = [0, 0, 1]"),
+        "z",
+        "beam.i10",
+    );
+    let scale = along_x.last().unwrap().abs();
+    for (a, b) in along_x.iter().zip(&along_z) {
+        assert!((a - b).abs() <= 1e-9 * scale, "{a} vs {b}");
+    }
+}
+
+/// A component continuing a chain at a right angle (an L frame): the shared node keeps the axes
+/// of the first component and the second one's first interface is rotated accordingly, so the
+/// initial state is undeformed (no elastic energy), and it sags under gravity.
+#[test]
+fn chain_continued_at_an_angle_starts_undeformed() {
+    let text = CANTILEVER
+        .replace(
+            "[[load]]",
+            r#"[[body]]
+name = "leg"
+type = "superelement_beam"
+material = { e = 70e9, nu = 0.3, rho = 2700.0 }
+section = { shape = "tube", outer_radius = 0.01, wall = 0.001 }
+direction = [0, 1, 0]
+length = 0.5
+segments = 2
+interfaces = ["beam.i10", "knee", "foot"]
+
+[[load]]"#,
+        )
+        .replace("\"-1 kN\"", "0")
+        .replace("beam.i10.position", "foot.position");
+    let cm = compiled(&text);
+    let mut eval: Vec<_> = cm
+        .model
+        .bodies
+        .iter()
+        .map(|b| b.element.new_scratch())
+        .collect();
+    let s = cm.initial.clone();
+    flexmbs_core::system::evaluate_elements(&cm.model, &s.q, &s.u, &mut eval).unwrap();
+    let frames = cm.model.frame_buffers();
+    let e = flexmbs_core::system::energy(&cm.model, &s.q, &s.u, &mut eval, &frames);
+    assert!(e.elastic.abs() < 1e-20, "elastic energy {:e}", e.elastic);
+    let foot = cm.model.frame_id("foot").unwrap();
+    let p0 = cm.model.frame_kinematics(&s, foot).unwrap().position;
+    assert!((p0 - Vector3::new(1.0, 0.5, 0.0)).amax() < 1e-15, "{p0}");
+    // under gravity the beam sags and its end rotates: the leg standing on it tilts away from the
+    // clamp
+    let loaded = compiled(&text.replace(
+        "name = \"se_cantilever\"",
+        "name = \"l\"\ngravity = [0, -9.81, 0]",
+    ));
+    let path = statics_path(&loaded, &loaded.model, foot);
+    let d = path.last().unwrap() - p0;
+    assert!(d.y < -1e-3 && d.x > 1e-4, "foot displacement {d}");
 }
