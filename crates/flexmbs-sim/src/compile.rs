@@ -269,6 +269,9 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                 }
                 id
             } else {
+                if let Some(message) = se.segment_node_frame_message(&f.body) {
+                    return Err(ctx.err(&p, message));
+                }
                 let g = &body.geometry;
                 let n = crate::fe_frames::frame_node(&ctx, &p, f, g)?;
                 let id = spec.add_oriented_node_frame(

@@ -134,6 +134,22 @@ impl SuperelementBuild {
         self.interfaces.get(name).map(|i| i.node)
     }
 
+    /// Why a `[[frame]]` with `node`, `nearest` or `interface` may not sit on body `body`, if it
+    /// is a superelement.
+    pub fn segment_node_frame_message(&self, body: &str) -> Option<String> {
+        let c = self.components.iter().find(|c| {
+            body.strip_prefix(c.name.as_str())
+                .is_some_and(|s| s.starts_with(".s"))
+        })?;
+        Some(format!(
+            "`{body}` is a superelement of `{}`: frames on its points use `body = \"{}\"` with \
+             `interface` (one of {})",
+            c.name,
+            c.name,
+            c.interfaces.join(", ")
+        ))
+    }
+
     /// Why a joint may not use a frame fixed in the floating frame of superelement `body`, if
     /// `body` is one.
     pub fn floating_frame_joint_message(&self, frame: &str, body: &str) -> Option<String> {
@@ -194,28 +210,7 @@ fn component_input(
     p: &str,
     b: &BodySpec,
 ) -> Result<ComponentInput, SimError> {
-    let mut present = vec![
-        ("mass", b.mass.is_some()),
-        ("inertia", b.inertia.is_some()),
-        ("inertia_matrix", b.inertia_matrix.is_some()),
-        ("box", b.box_size.is_some()),
-        ("source", b.source.is_some()),
-        ("units", b.units.is_some()),
-        ("modes", b.modes.is_some()),
-        ("damping", b.damping.is_some()),
-        ("geometric_stiffening", b.geometric_stiffening.is_some()),
-        ("rotary_inertia", b.rotary_inertia.is_some()),
-    ];
-    present.extend(superelement_keys_present(b));
-    let allowed: Vec<&str> = superelement_keys_present(b).iter().map(|k| k.0).collect();
-    ctx.only(p, "a superelement_beam body", &present, &allowed)?;
-    if b.rotation != RotationName::Cardan {
-        return Err(ctx.err(
-            &format!("{p}.rotation"),
-            "a superelement_beam body has no rotation coordinates of its own (its interface \
-             points rotate by quaternions): remove `rotation`",
-        ));
-    }
+    check_keys(ctx, p, b)?;
     let material = beam_material(ctx, p, b)?;
     let section = beam_section(ctx, p, b)?;
     let lengths = segment_lengths(ctx, p, b)?;
@@ -270,6 +265,33 @@ fn component_input(
         rotation: beam_axes(ctx, p, b)?,
         names,
     })
+}
+
+/// Refuses the keys of rigid and ffr bodies.
+fn check_keys(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(), SimError> {
+    let mut present = vec![
+        ("mass", b.mass.is_some()),
+        ("inertia", b.inertia.is_some()),
+        ("inertia_matrix", b.inertia_matrix.is_some()),
+        ("box", b.box_size.is_some()),
+        ("source", b.source.is_some()),
+        ("units", b.units.is_some()),
+        ("modes", b.modes.is_some()),
+        ("damping", b.damping.is_some()),
+        ("geometric_stiffening", b.geometric_stiffening.is_some()),
+        ("rotary_inertia", b.rotary_inertia.is_some()),
+    ];
+    present.extend(superelement_keys_present(b));
+    let allowed: Vec<&str> = superelement_keys_present(b).iter().map(|k| k.0).collect();
+    ctx.only(p, "a superelement_beam body", &present, &allowed)?;
+    if b.rotation != RotationName::Cardan {
+        return Err(ctx.err(
+            &format!("{p}.rotation"),
+            "a superelement_beam body has no rotation coordinates of its own (its interface \
+             points rotate by quaternions): remove `rotation`",
+        ));
+    }
+    Ok(())
 }
 
 /// `material`: `e > 0`, `rho > 0`, `-1 < nu < 0.5`.
@@ -454,30 +476,8 @@ fn add_component(
     last_node: &mut Option<NodeId>,
 ) -> Result<(), SimError> {
     let shared = shared_start(ctx, p, b, input, build, *last_node)?;
-    let start = match (&b.position, &shared) {
-        (Some(v), _) => ctx.vec3(v, Dimension::Length, &format!("{p}.position"))?,
-        (None, Some(s)) => s.position,
-        (None, None) => Vector3::zeros(),
-    };
+    let start = component_start(ctx, p, b, input, shared.as_ref())?;
     let r = input.rotation;
-    if let Some(s) = &shared {
-        let tol = 1e-9 * input.lengths.iter().sum::<f64>().max(1.0);
-        let gap = (s.position - start).norm();
-        if gap > tol {
-            return Err(ctx.err(
-                &format!("{p}.interfaces[0]"),
-                format!(
-                    "interface `{}` of `{}` (created at `{}`) is at {:?} m, but this body starts \
-                     at {:?} m ({gap:e} m apart): shared interfaces must coincide at t = 0",
-                    input.names[0],
-                    b.name,
-                    s.owner,
-                    s.position.as_slice(),
-                    start.as_slice()
-                ),
-            ));
-        }
-    }
     let (v, w) = initial_velocity(ctx, p, b)?;
     let mut component = Component {
         name: b.name.clone(),
@@ -539,6 +539,41 @@ fn add_component(
     }
     build.components.push(component);
     Ok(())
+}
+
+/// The start point: `position`, or the shared interface point it continues (which `position`
+/// must then meet to 1e-9 of the component's length).
+fn component_start(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    input: &ComponentInput,
+    shared: Option<&InterfacePoint>,
+) -> Result<Vector3<f64>, SimError> {
+    let start = match (&b.position, shared) {
+        (Some(v), _) => ctx.vec3(v, Dimension::Length, &format!("{p}.position"))?,
+        (None, Some(s)) => s.position,
+        (None, None) => Vector3::zeros(),
+    };
+    if let Some(s) = shared {
+        let tol = 1e-9 * input.lengths.iter().sum::<f64>().max(1.0);
+        let gap = (s.position - start).norm();
+        if gap > tol {
+            return Err(ctx.err(
+                &format!("{p}.interfaces[0]"),
+                format!(
+                    "interface `{}` of `{}` (created at `{}`) is at {:?} m, but this body starts \
+                     at {:?} m ({gap:e} m apart): shared interfaces must coincide at t = 0",
+                    input.names[0],
+                    b.name,
+                    s.owner,
+                    s.position.as_slice(),
+                    start.as_slice()
+                ),
+            ));
+        }
+    }
+    Ok(start)
 }
 
 /// The existing interface point this component's first interface names, if any; refused when it

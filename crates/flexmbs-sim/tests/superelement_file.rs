@@ -532,6 +532,14 @@ INTERFACE
             "floating frame of superelement `beam.s3`",
         ),
         (
+            CANTILEVER.replace(
+                "[[load]]",
+                "[[frame]]\nname = \"f\"\nbody = \"beam.s2\"\nnearest = [0, 0, 0]\n\n[[load]]",
+            ),
+            "frame[0]",
+            "frames on its points use `body = \"beam\"`",
+        ),
+        (
             CANTILEVER.replace("beam.s9.deformation", "beam.i3.deformation"),
             "output.signals[1]",
             "not a node frame",
