@@ -31,7 +31,9 @@ pub(crate) fn body_points(
             let mut lf = LocalFrame::at(Vector3::from(*p));
             b.element.frame_kinematics(q, u, e, &lf, kin);
             let rigid = kin.position;
-            lf.mesh_node = info.geometry.fe_nodes.then_some(n);
+            // points past the element's mesh nodes (a superelement's floating frame) are fixed
+            // in the body frame
+            lf.mesh_node = (info.geometry.fe_nodes && n < b.element.num_mesh_nodes()).then_some(n);
             b.element.frame_kinematics(q, u, e, &lf, kin);
             let d = kin.position - rigid;
             let x = rigid + k * d;

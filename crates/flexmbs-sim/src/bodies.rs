@@ -101,7 +101,7 @@ pub fn build_body(
     frames: &[crate::schema::FrameSpec],
 ) -> Result<(BuiltElement, BodyGeometry), SimError> {
     let p = format!("body[{i}]");
-    let present = [
+    let mut present = vec![
         ("mass", b.mass.is_some()),
         ("inertia", b.inertia.is_some()),
         ("inertia_matrix", b.inertia_matrix.is_some()),
@@ -114,6 +114,7 @@ pub fn build_body(
         ("rotary_inertia", b.rotary_inertia.is_some()),
         ("load_stiffening", b.load_stiffening.is_some()),
     ];
+    present.extend(crate::superelements::superelement_keys_present(b));
     match b.kind {
         BodyType::Rigid => {
             ctx.only(
@@ -145,6 +146,10 @@ pub fn build_body(
         BodyType::PointMass => {
             ctx.only(&p, "a point mass", &present, &["mass", "box"])?;
             crate::point_mass_body::point_mass_body(ctx, &p, b)
+        }
+        // compiled by `crate::superelements::add_superelement_beams`
+        BodyType::SuperelementBeam => {
+            Err(ctx.err(&p, "internal: superelement_beam bodies are not built here"))
         }
     }
 }

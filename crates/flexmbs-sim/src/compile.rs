@@ -9,7 +9,7 @@ use crate::error::SimError;
 use crate::fe_frames::{check_rotation_lock_at_node, RotationUse};
 use crate::locate::{line_of, line_of_path};
 use crate::point_mass_body::{refuse_rotation_on_point_mass, RotationalUse};
-use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
+use crate::schema::{BodyType, CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
 use crate::units::{Dimension, Quantity};
 use flexmbs_core::ffr::FfrBody;
@@ -187,6 +187,9 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     // the ffr bodies flexible contours are built from (only when the model has contacts)
     let mut contour_bodies: HashMap<String, flexmbs_core::ffr::FfrBody> = HashMap::new();
     for (i, b) in mf.body.iter().enumerate() {
+        if b.kind == BodyType::SuperelementBeam {
+            continue;
+        }
         let (element, geometry) = build_body(&ctx, i, b, base, &mf.frame)?;
         if let (BuiltElement::Ffr(f), false) = (&element, mf.contact.is_empty()) {
             contour_bodies.insert(b.name.clone(), f.body().clone());
@@ -211,7 +214,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         if point_mass {
             point_frames.insert(frame, b.name.clone());
         }
-        if abstract_bodies[i] {
+        if abstract_bodies.last() == Some(&true) {
             abstract_frames.insert(frame, b.name.clone());
         }
         bodies.push(BodyInfo {
@@ -221,6 +224,13 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             geometry,
         });
     }
+    let regular_bodies = bodies.len();
+    let se = crate::superelements::add_superelement_beams(&ctx, &mf, &mut spec, &mut frames)?;
+    for info in &se.bodies {
+        abstract_frames.insert(info.frame, info.name.clone());
+        abstract_bodies.push(true);
+    }
+    bodies.extend(se.bodies.iter().cloned());
     let body_names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
     for (i, f) in mf.frame.iter().enumerate() {
         let p = format!("frame[{i}]");
@@ -239,6 +249,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                 &format!("{p}.position"),
             )?;
             spec.add_ground_frame(&f.name, pos, rotation)
+        } else if let Some(c) = se.component(&f.body) {
+            crate::superelement_output::interface_frame(&ctx, &p, f, c, &se, &mut spec)?
         } else {
             let Some(bi) = bodies.iter().position(|b| b.name == f.body) else {
                 return Err(ctx.err(
@@ -267,6 +279,9 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
                 }
                 id
             } else {
+                if let Some(message) = se.segment_node_frame_message(&f.body) {
+                    return Err(ctx.err(&p, message));
+                }
                 let g = &body.geometry;
                 let n = crate::fe_frames::frame_node(&ctx, &p, f, g)?;
                 let id = spec.add_oriented_node_frame(
@@ -306,9 +321,10 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         );
         for (side, name, id) in [("a", &j.a, a), ("b", &j.b, b)] {
             if let Some(body) = abstract_frames.get(&id) {
+                let message = se.floating_frame_joint_message(name, body);
                 return Err(ctx.err(
                     &format!("{p}.{side}"),
-                    floating_frame_joint_message(name, body),
+                    message.unwrap_or_else(|| floating_frame_joint_message(name, body)),
                 ));
             }
         }
@@ -452,6 +468,12 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     }
     check_forces_on_point_masses(&ctx, &mf, &frames, &point_frames)?;
     crate::forces::add_forces(&ctx, &mf.force, &mut spec, &frame, &joint_refs)?;
+    // `fixed` interface points of superelement beams, after the file's joints
+    let mut fixed_joint_names = Vec::new();
+    for j in &se.fixed {
+        fixed_joint_names.push((j.joint.name.clone(), j.joint.num_rows()));
+        spec.add_joint(j.joint.clone());
+    }
     let mut free_length_from_initial = Vec::new();
     for (i, l) in mf.load.iter().enumerate() {
         let p = format!("load[{i}]");
@@ -576,7 +598,12 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             free_length_from_initial.push(id);
         }
     }
-    for (i, (b, info)) in mf.body.iter().zip(&bodies).enumerate() {
+    let regular = mf
+        .body
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| b.kind != BodyType::SuperelementBeam);
+    for ((i, b), info) in regular.zip(&bodies[..regular_bodies]) {
         let p = format!("body[{i}]");
         let pos = opt_vec(
             &ctx,
@@ -626,7 +653,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         }
     };
     crate::contacts::add_contacts(&ctx, &mf.contact, &frame, &owner, &mut spec)?;
-    let solver = solver_config(&ctx, &mf, &spec_has_joints(&mf))?;
+    let has_joints = spec_has_joints(&mf) || !se.fixed.is_empty();
+    let solver = solver_config(&ctx, &mf, &has_joints)?;
     if !mf.contact.is_empty() && !matches!(solver, SolverConfig::Moreau { .. }) {
         return Err(ctx.err(
             "solver.type",
@@ -679,6 +707,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         .iter()
         .zip(&joint_rows)
         .map(|(j, &r)| (j.name.clone(), r))
+        .chain(fixed_joint_names)
         .collect();
     let signals = parse_signals(
         &ctx,

@@ -27,6 +27,8 @@ pub mod schema;
 pub mod signals;
 pub mod stiffening;
 pub mod stress;
+mod superelement_output;
+pub mod superelements;
 pub use flexmbs_io::units;
 
 pub use compile::{compile_model, is_multibody_model, load_model, CompiledModel, SolverConfig};

@@ -257,6 +257,11 @@ impl<'a> Recorder<'a> {
             &mut self.signals,
         );
         crate::stress::fill_stress_signals(&self.cm.signals, m, &s.q, &mut self.signals);
+        crate::superelement_output::fill_superelement_signals(
+            &self.cm.signals,
+            &self.eval,
+            &mut self.signals,
+        );
         // energies of the output row from the state itself (the integrator computes none per
         // step, see `GenAlpha::step_energy`); the same function the integrator monitor uses
         let mut e = system::energy(m, &s.q, &s.u, &mut self.eval, &self.frames);

@@ -174,6 +174,9 @@ pub enum BodyType {
     /// A particle: mass only, three translations.
     #[serde(rename = "point_mass")]
     PointMass,
+    /// A straight beam split into a chain of superelements ([`crate::superelements`]).
+    #[serde(rename = "superelement_beam")]
+    SuperelementBeam,
 }
 
 /// Rotation parametrizations.
@@ -241,6 +244,34 @@ pub struct BodySpec {
     /// Initial modal velocities (ffr), one per kept mode (units of `modal_coordinates` per
     /// second). Default 0.
     pub modal_velocities: Option<Vec<f64>>,
+    /// Beam material `{ e, nu, rho }`, SI (superelement_beam).
+    pub material: Option<flexmbs_io::model::MaterialSpec>,
+    /// Beam cross-section `{ shape = ... }`, SI (superelement_beam).
+    pub section: Option<flexmbs_io::model::SectionSpec>,
+    /// Beam theory of the FE elements (superelement_beam), default Euler-Bernoulli.
+    pub theory: Option<flexmbs_io::model::TheoryName>,
+    /// Beam axis, global (superelement_beam; alternative to `orientation`).
+    pub direction: Option<[f64; 3]>,
+    /// Total length split into `segments` equal superelements (superelement_beam).
+    pub length: Option<Quantity>,
+    /// Number of equal superelements (superelement_beam).
+    pub segments: Option<usize>,
+    /// Lengths of the superelements from the start (superelement_beam).
+    pub lengths: Option<Vec<Quantity>>,
+    /// FE beam elements per superelement (superelement_beam), default 2.
+    pub elements: Option<usize>,
+    /// Internal Craig-Bampton modes per superelement (superelement_beam), default 0.
+    pub internal_modes: Option<usize>,
+    /// Floating-frame location (superelement_beam), default centre of mass.
+    pub frame: Option<crate::superelements::FrameName>,
+    /// Transformation matrices (superelement_beam), default exact.
+    pub matrices: Option<crate::superelements::MatricesName>,
+    /// Fictitious forces (superelement_beam), default neglected.
+    pub fictitious_forces: Option<crate::superelements::FictitiousName>,
+    /// Names of the interface points, start to end (superelement_beam).
+    pub interfaces: Option<Vec<String>>,
+    /// Interface points clamped to ground (superelement_beam).
+    pub fixed: Option<Vec<String>>,
 }
 
 /// The `inertia` key: three principal moments (rigid body) or a mass model name (ffr body).

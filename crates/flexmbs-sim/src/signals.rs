@@ -63,6 +63,13 @@ pub enum SignalKind {
         /// The body's modal stress fields (SI).
         fields: std::sync::Arc<flexmbs_fe::stress::ModalStress>,
     },
+    /// Local coordinates `q_loc` of a superelement (interface displacements and rotation vectors
+    /// in its floating frame, internal-mode amplitudes; written by
+    /// `superelement_output::fill_superelement_signals`, left NaN by [`evaluate_signals`]).
+    SuperelementDeformation(flexmbs_core::BodyId),
+    /// Newton iterations of a superelement's floating-frame recovery (written like
+    /// [`SignalKind::SuperelementDeformation`]).
+    FrameIterations(flexmbs_core::BodyId),
 }
 
 /// A requested output signal.
@@ -211,7 +218,10 @@ pub fn parse_signals(
                     names.join(", ")
                 )));
             };
-            match what {
+            if let Some(sig) = crate::superelement_output::segment_signal(model, bodies, f, what) {
+                sig
+            } else {
+                match what {
                 "position" => ("m".into(), xyz(), SignalKind::Position(f)),
                 "velocity" => ("m/s".into(), xyz(), SignalKind::Velocity(f)),
                 "angular_velocity" => ("rad/s".into(), xyz(), SignalKind::AngularVelocity(f)),
@@ -225,7 +235,8 @@ pub fn parse_signals(
                     let body_frame = bodies.iter().find(|x| x.id == b).map(|x| x.frame).ok_or_else(|| err("internal: body without frame".into()))?;
                     ("m".into(), xyz(), SignalKind::Deformation { frame: f, body_frame, reference: fr.local.position })
                 }
-                _ => return Err(err(format!("unknown quantity `{what}` (frames: position, velocity, angular_velocity, orientation, deformation, stress; joints: force, torque, reaction)"))),
+                _ => return Err(err(format!("unknown quantity `{what}` (frames: position, velocity, angular_velocity, orientation, deformation, stress; superelement frames: deformation, frame_iterations; joints: force, torque, reaction)"))),
+            }
             }
         };
         out.push(Signal {
@@ -296,6 +307,9 @@ pub fn evaluate_signals(
                 out.extend(contacts.get(*c).map_or([f64::NAN; 3], |c| c.impulse))
             }
             SignalKind::Stress { .. } => out.extend([f64::NAN; 7]),
+            SignalKind::SuperelementDeformation(_) | SignalKind::FrameIterations(_) => {
+                out.extend(std::iter::repeat_n(f64::NAN, s.components.len()))
+            }
         }
     }
 }
@@ -306,7 +320,8 @@ pub fn coordinate_names(
     model: &Model,
     bodies: &[BodyInfo],
 ) -> (Vec<String>, Vec<String>, Vec<String>) {
-    let (mut q, mut u) = (Vec::new(), Vec::new());
+    // written at each body's global indices: bodies that share nodes name them alike
+    let (mut q, mut u) = (vec![String::new(); model.nq], vec![String::new(); model.nu]);
     for b in bodies {
         let g = &b.geometry;
         let mut qn: Vec<String> = XYZ.iter().map(|c| format!("R_{c}")).collect();
@@ -330,14 +345,29 @@ pub fn coordinate_names(
         if un.len() != el.nu() {
             un = (0..el.nu()).map(|k| format!("u{k}")).collect();
         }
-        q.extend(qn.into_iter().map(|n| format!("{}.{n}", b.name)));
-        u.extend(un.into_iter().map(|n| format!("{}.{n}", b.name)));
+        let mut qn: Vec<String> = qn.into_iter().map(|n| format!("{}.{n}", b.name)).collect();
+        let mut un: Vec<String> = un.into_iter().map(|n| format!("{}.{n}", b.name)).collect();
+        if let Some(names) = crate::superelement_output::node_coordinate_names(model, b.id) {
+            (qn, un) = names;
+        }
+        let dofs = model.body_dofs(b.id);
+        for (g, n) in dofs.q.iter().zip(qn) {
+            q[g] = n;
+        }
+        for (g, n) in dofs.u.iter().zip(un) {
+            u[g] = n;
+        }
     }
     // bodies the compiler adds (a servo's integral state: after the file's bodies)
     for (i, b) in model.bodies.iter().enumerate() {
         if bodies.iter().all(|x| x.id.0 != i) {
-            q.extend((0..b.element.nq()).map(|k| format!("{}.q{k}", b.name)));
-            u.extend((0..b.element.nu()).map(|k| format!("{}.u{k}", b.name)));
+            let dofs = model.body_dofs(flexmbs_core::BodyId(i));
+            for (k, g) in dofs.q.iter().enumerate() {
+                q[g] = format!("{}.q{k}", b.name);
+            }
+            for (k, g) in dofs.u.iter().enumerate() {
+                u[g] = format!("{}.u{k}", b.name);
+            }
         }
     }
     let mut lambda = Vec::new();

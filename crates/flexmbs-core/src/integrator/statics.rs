@@ -121,7 +121,8 @@ impl Statics {
     }
 
     /// Checks the settings, sets `u = u_dot = 0` and returns the force tolerance
-    /// `force_tol max(1, |h(q0, mu = 1)|_inf)`.
+    /// `force_tol max(1, |h(q0, mu = 1)|_inf)`, at least `16 eps` times the largest
+    /// `Element::force_scale` at `q0`.
     pub(super) fn prepare(
         &self,
         model: &Model,
@@ -142,7 +143,10 @@ impl Statics {
         let sys = &mut ws.sys;
         system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(0.0, 0.0))?;
         system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, sys);
-        Ok(cfg.force_tol * super::max_abs(&ws.sys.h).max(1.0))
+        // not below the round-off of elastic forces of absolute coordinates (superelements:
+        // `Element::force_scale`), which a light load (gravity alone) would otherwise ask for
+        let roundoff = 16.0 * f64::EPSILON * system::force_scale(model, &s.q);
+        Ok((cfg.force_tol * super::max_abs(&ws.sys.h).max(1.0)).max(roundoff))
     }
 
     /// The load increment from `mu` to `target`: Newton from the current state; on failure
