@@ -88,3 +88,22 @@ fn load_stiffening_needs_generalized_alpha() {
         "{e}"
     );
 }
+
+/// `load_stiffening` with `initial = "static"` is an error at the key: the static start would be
+/// computed without it.
+#[test]
+fn load_stiffening_refuses_a_static_start() {
+    let (file, text) = example();
+    let text = text
+        .replace("modes = 4\n", "modes = 4\nload_stiffening = true\n")
+        .replace(
+            "type = \"generalized-alpha\"",
+            "type = \"generalized-alpha\"\ninitial = \"static\"",
+        );
+    assert!(text.contains("initial = \"static\""));
+    let e = compile_model(&text, &file).unwrap_err().to_string();
+    assert!(
+        e.contains("body[1].load_stiffening") && e.contains("initial = \"static\""),
+        "{e}"
+    );
+}
