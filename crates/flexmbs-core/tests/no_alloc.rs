@@ -1,44 +1,12 @@
 //! No heap allocation inside a time step (counting global allocator; own test binary).
 mod chain;
 mod common;
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
 use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{Dopri5, GenAlpha, GenAlphaSettings};
 use flexmbs_core::*;
 use nalgebra::{Matrix3, Vector3};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-thread_local! {
-    /// Counting is on only on the thread running the steps: the test harness's own threads
-    /// (output capture, timers) allocate concurrently under load and made the count flaky.
-    static ON: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-fn count() {
-    if ON.with(|c| c.get()) {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 /// Generalized-alpha steps of an FFR body (analytic tangent, moment cache, full and modified
 /// Newton, prescribed revolute joint, gravity), after the workspace exists and one warm-up step.
@@ -113,14 +81,11 @@ fn ffr_steps_allocations(modified: bool) -> usize {
     let ga = GenAlpha::new(settings).unwrap();
     ga.initialize(&model, &mut s, &mut ws).unwrap();
     ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    for _ in 0..20 {
-        ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    }
-    let n = ALLOCS.load(Ordering::SeqCst) - before;
-    ON.with(|c| c.set(false));
-    n
+    counting_alloc::allocations_in(|| {
+        for _ in 0..20 {
+            ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+        }
+    })
 }
 
 /// Allocations in 20 generalized-alpha steps of `model` from `s0` with the given backend,
@@ -139,14 +104,11 @@ fn steps_allocations(model: &Model, s0: &State, choice: LinearSolver, modified: 
     let ga = GenAlpha::new(settings).unwrap();
     ga.initialize(model, &mut s, &mut ws).unwrap();
     ga.step(model, &mut s, &mut ws, 1e-3).unwrap();
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    for _ in 0..20 {
-        ga.step(model, &mut s, &mut ws, 1e-3).unwrap();
-    }
-    let n = ALLOCS.load(Ordering::SeqCst) - before;
-    ON.with(|c| c.set(false));
-    n
+    counting_alloc::allocations_in(|| {
+        for _ in 0..20 {
+            ga.step(model, &mut s, &mut ws, 1e-3).unwrap();
+        }
+    })
 }
 
 /// Generalized-alpha steps of two rigid bodies sharing one pose node (accumulated element blocks,
@@ -192,14 +154,11 @@ fn shared_node_steps_allocations(choice: LinearSolver) -> usize {
     let ga = GenAlpha::new(GenAlphaSettings::default()).unwrap();
     ga.initialize(&model, &mut s, &mut ws).unwrap();
     ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    for _ in 0..20 {
-        ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    }
-    let n = ALLOCS.load(Ordering::SeqCst) - before;
-    ON.with(|c| c.set(false));
-    n
+    counting_alloc::allocations_in(|| {
+        for _ in 0..20 {
+            ga.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+        }
+    })
 }
 
 /// Generalized-alpha steps (joint, spring, follower force, finite-difference tangents), FFR
@@ -254,13 +213,11 @@ fn steps_do_not_allocate() {
     let mut s = model.initial_state();
     model.set_body_velocity(&mut s, body, Vector3::x(), Vector3::new(0.3, 1.0, 0.2));
     let mut ws = Workspace::new(&model);
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    Dopri5::default()
-        .integrate(&model, &mut s, &mut ws, 0.5, |_, _| {})
-        .unwrap();
-    let n_dp = ALLOCS.load(Ordering::SeqCst) - before;
-    ON.with(|c| c.set(false));
+    let n_dp = counting_alloc::allocations_in(|| {
+        Dopri5::default()
+            .integrate(&model, &mut s, &mut ws, 0.5, |_, _| {})
+            .unwrap();
+    });
     let (n_ffr_full, n_ffr_mod) = (ffr_steps_allocations(false), ffr_steps_allocations(true));
     let (chain, chain0) = chain::chain(4, chain::Link::Flexible, Some(LoadCoordinates::Frame));
     let n_sparse = steps_allocations(&chain, &chain0, LinearSolver::Sparse, false)
@@ -362,13 +319,11 @@ fn moreau_steps_do_not_allocate() {
     let mut st = MoreauStepper::new(MoreauSettings::default());
     st.initialize(&model, &mut s, &mut ws).unwrap();
     st.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    for _ in 0..20 {
-        st.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    }
-    let n = ALLOCS.load(Ordering::SeqCst) - before;
-    ON.with(|c| c.set(false));
+    let n = counting_alloc::allocations_in(|| {
+        for _ in 0..20 {
+            st.step(&model, &mut s, &mut ws, 1e-3).unwrap();
+        }
+    });
     assert!(
         s.contacts[0].active && s.contacts[1].impulse[0] > 0.0,
         "{:?}",
@@ -380,13 +335,11 @@ fn moreau_steps_do_not_allocate() {
     let mut ssc = MoreauSscStepper::new(MoreauSscSettings::default());
     ssc.initialize(&model, &mut s, &mut ws).unwrap();
     ssc.step(&model, &mut s, &mut ws, 1e-3).unwrap();
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    for _ in 0..20 {
-        ssc.step(&model, &mut s, &mut ws, 1e-4).unwrap();
-    }
-    let n = ALLOCS.load(Ordering::SeqCst) - before;
-    ON.with(|c| c.set(false));
+    let n = counting_alloc::allocations_in(|| {
+        for _ in 0..20 {
+            ssc.step(&model, &mut s, &mut ws, 1e-4).unwrap();
+        }
+    });
     assert_eq!(n, 0, "adaptive Moreau steps allocated {n} times");
 }
 

@@ -5,87 +5,13 @@
 
 use faer::{Mat, MatMut};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, NewtonSettings};
+use flexmbs_core::point_mass::PointMass;
 use flexmbs_core::system::{evaluate, integrate_positions};
 use flexmbs_core::ElementScratch;
 use flexmbs_core::{
     Element, FrameKinematics, Joint, Load, LocalFrame, ModelSpec, NodeKind, State, Workspace,
 };
 use nalgebra::{Matrix3, Vector3};
-
-/// A point mass on one `Vector(3)` node (its position).
-#[derive(Debug)]
-struct PointMass {
-    mass: f64,
-}
-
-impl Element for PointMass {
-    fn node_kinds(&self) -> &[NodeKind] {
-        &[NodeKind::Vector(3)]
-    }
-    fn nq(&self) -> usize {
-        3
-    }
-    fn nu(&self) -> usize {
-        3
-    }
-    fn reference_coordinates(&self, q: &mut [f64], u: &mut [f64]) {
-        q.fill(0.0);
-        u.fill(0.0);
-    }
-    fn set_pose(&self, q: &mut [f64], position: &Vector3<f64>, _rotation: &Matrix3<f64>) {
-        q.copy_from_slice(position.as_slice());
-    }
-    fn set_velocity(&self, _q: &[f64], u: &mut [f64], v: &Vector3<f64>, _w: &Vector3<f64>) {
-        u.copy_from_slice(v.as_slice());
-    }
-    fn q_dot(&self, _q: &[f64], u: &[f64], q_dot: &mut [f64]) {
-        q_dot.copy_from_slice(u);
-    }
-    fn mass_matrix(&self, _q: &[f64], _s: &mut ElementScratch, mut m: MatMut<'_, f64>) {
-        m.fill(0.0);
-        for i in 0..3 {
-            m[(i, i)] = self.mass;
-        }
-    }
-    #[allow(clippy::too_many_arguments)]
-    fn forces(
-        &self,
-        _t: f64,
-        _q: &[f64],
-        _u: &[f64],
-        g: &Vector3<f64>,
-        _s: &mut ElementScratch,
-        h: &mut [f64],
-    ) {
-        h.copy_from_slice((g * self.mass).as_slice());
-    }
-    fn frame_kinematics(
-        &self,
-        q: &[f64],
-        u: &[f64],
-        _s: &mut ElementScratch,
-        f: &LocalFrame,
-        out: &mut FrameKinematics,
-    ) {
-        out.position = Vector3::new(q[0], q[1], q[2]);
-        out.rotation = f.rotation;
-        out.velocity = Vector3::new(u[0], u[1], u[2]);
-        out.angular_velocity = Vector3::zeros();
-        out.bias_acc = Vector3::zeros();
-        out.bias_ang_acc = Vector3::zeros();
-        out.jac_t.fill(0.0);
-        out.jac_r.fill(0.0);
-        for i in 0..3 {
-            out.jac_t[(i, i)] = 1.0;
-        }
-    }
-    fn kinetic_energy(&self, _q: &[f64], u: &[f64], _s: &mut ElementScratch) -> f64 {
-        0.5 * self.mass * u.iter().map(|x| x * x).sum::<f64>()
-    }
-    fn gravity_potential(&self, q: &[f64], g: &Vector3<f64>, _s: &mut ElementScratch) -> f64 {
-        -self.mass * g.dot(&Vector3::new(q[0], q[1], q[2]))
-    }
-}
 
 /// A massless linear spring-damper between two `Vector(3)` nodes (the formula of
 /// `Load::SpringDamper`); its frames are material points `x = (1 - xi) x1 + xi x2` with
@@ -194,8 +120,8 @@ fn two_point_masses_on_one_node_are_one_particle() {
         let mut spec = ModelSpec::new();
         spec.set_gravity(Vector3::new(0.0, 0.0, if spring { 0.0 } else { -g }));
         let node = spec.add_node("p", NodeKind::Vector(3));
-        let a = spec.add_body_on("a", PointMass { mass: m1 }, &[node]);
-        let b = spec.add_body_on("b", PointMass { mass: m2 }, &[node]);
+        let a = spec.add_body_on("a", PointMass::new(m1), &[node]);
+        let b = spec.add_body_on("b", PointMass::new(m2), &[node]);
         if spring {
             let fa = spec.add_frame("fa", a, Vector3::zeros(), Matrix3::identity());
             let g0 = spec.add_ground_frame("g0", Vector3::zeros(), Matrix3::identity());
@@ -267,7 +193,7 @@ fn spring_element_chain_equals_spring_damper_loads() {
         for i in 0..=N {
             let node = spec.add_node(&format!("n{i}"), NodeKind::Vector(3));
             nodes.push(node);
-            bodies.push(spec.add_body_on(&format!("m{i}"), PointMass { mass: m }, &[node]));
+            bodies.push(spec.add_body_on(&format!("m{i}"), PointMass::new(m), &[node]));
         }
         let frames: Vec<_> = bodies
             .iter()
@@ -336,7 +262,7 @@ fn frame_spanning_two_nodes_matches_finite_differences() {
         .map(|i| spec.add_node(&format!("n{i}"), NodeKind::Vector(3)))
         .collect();
     for (i, &node) in n.iter().enumerate() {
-        spec.add_body_on(&format!("m{i}"), PointMass { mass: 1.0 }, &[node]);
+        spec.add_body_on(&format!("m{i}"), PointMass::new(1.0), &[node]);
     }
     let spring = Spring {
         stiffness: 1.0,

@@ -2,6 +2,8 @@
 //! binary): a clamped chain of three superelements with internal modes under gravity and a tip
 //! load, dense and sparse backends, fictitious forces neglected (analytic tangent) and from
 //! `M_CB` (finite-difference tangent).
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
 use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::superelement::{
@@ -11,38 +13,6 @@ use flexmbs_core::*;
 use flexmbs_fe::mesh::{BeamSection, BeamTheory};
 use flexmbs_fe::Material;
 use nalgebra::{Matrix3, Vector3};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-thread_local! {
-    static ON: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-fn count() {
-    if ON.with(|c| c.get()) {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 fn chain_steps_allocations(choice: LinearSolver, fictitious: FictitiousForces) -> usize {
     let mut spec = ModelSpec::new();
@@ -93,14 +63,11 @@ fn chain_steps_allocations(choice: LinearSolver, fictitious: FictitiousForces) -
     let ga = GenAlpha::new(GenAlphaSettings::default()).unwrap();
     ga.initialize(&model, &mut s, &mut ws).unwrap();
     ga.step(&model, &mut s, &mut ws, 1e-4).unwrap();
-    ON.with(|c| c.set(true));
-    let before = ALLOCS.load(Ordering::SeqCst);
-    for _ in 0..20 {
-        ga.step(&model, &mut s, &mut ws, 1e-4).unwrap();
-    }
-    let allocs = ALLOCS.load(Ordering::SeqCst) - before;
-    ON.with(|c| c.set(false));
-    allocs
+    counting_alloc::allocations_in(|| {
+        for _ in 0..20 {
+            ga.step(&model, &mut s, &mut ws, 1e-4).unwrap();
+        }
+    })
 }
 
 #[test]
