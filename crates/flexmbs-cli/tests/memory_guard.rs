@@ -1,5 +1,5 @@
 //! `flexmbs check` on a `[1000, 70, 70]` hex20r box (under the 5 M cell limit, about 847 GB of
-//! assembly triplets) is refused within seconds, naming the estimate and the memory available,
+//! assembly) is refused within seconds, naming the estimate and the memory available,
 //! instead of running for minutes and aborting; `FLEXMBS_MEMORY_LIMIT` sets the memory available.
 
 use std::path::Path;
@@ -35,10 +35,10 @@ fn huge_box_is_refused_within_seconds_at_check() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(took < Duration::from_secs(10), "took {took:?}");
-    // 4.9e6 elements x 2 x 60^2 triplets x 24 bytes
+    // 4.9e6 elements x 2106 matrix entries x 42 bytes (pattern, K, M, marks, compacted rows)
     assert!(
         err.contains("4900000 hex elements")
-            && err.contains("846.72 GB")
+            && err.contains("433.41 GB")
             && err.contains("68.72 GB available (FLEXMBS_MEMORY_LIMIT)"),
         "{err}"
     );

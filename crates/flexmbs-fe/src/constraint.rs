@@ -191,6 +191,14 @@ impl ConstraintMap {
                 self.mesh_dofs
             )));
         }
+        if let Some(index) = self.selection() {
+            return Ok(select_submatrix(a, &index, self.num_independent()));
+        }
+        self.project_triplets(a)
+    }
+
+    /// `T^T A T` through triplets (any `T`).
+    fn project_triplets(&self, a: &SparseMatrix) -> Result<SparseMatrix, FeError> {
         let mut t = Vec::with_capacity(a.compute_nnz());
         for (i, j, v) in entries(a) {
             for &(p, tp) in &self.rows[i] {
@@ -200,6 +208,25 @@ impl ConstraintMap {
             }
         }
         sparse_from_triplets(self.num_independent(), &t)
+    }
+
+    /// If `T` only selects DOFs (every DOF fixed or mapped with coefficient 1 to its own
+    /// independent DOF, in increasing order: supports without rigid interfaces), each DOF's
+    /// independent index (`usize::MAX` when fixed).
+    fn selection(&self) -> Option<Vec<usize>> {
+        let mut index = Vec::with_capacity(self.rows.len());
+        let mut next = 0;
+        for row in &self.rows {
+            match row.as_slice() {
+                [] => index.push(usize::MAX),
+                [(p, c)] if *c == 1.0 && *p == next => {
+                    index.push(next);
+                    next += 1;
+                }
+                _ => return None,
+            }
+        }
+        Some(index)
     }
 
     /// Expands independent-DOF vectors (columns of `v`) to nodal fields: translations (3 N x k) and
@@ -256,4 +283,71 @@ pub fn centroid(nodes: &[[f64; 3]], set: &[NodeIdx]) -> [f64; 3] {
     }
     let k = set.len().max(1) as f64;
     [c[0] / k, c[1] / k, c[2] / k]
+}
+
+/// `T^T A T` for a selecting `T` ([`ConstraintMap::selection`]): the submatrix of the kept rows
+/// and columns, built directly (same pattern, explicit zeros included, and values as the
+/// triplet product `1 * 1 * v`).
+fn select_submatrix(a: &SparseMatrix, index: &[usize], n: usize) -> SparseMatrix {
+    let cp = a.symbolic().col_ptr();
+    let ri = a.symbolic().row_idx();
+    let val = a.val();
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    let (mut rows, mut values) = (Vec::new(), Vec::new());
+    for (j, &q) in index.iter().enumerate().take(a.ncols()) {
+        if q == usize::MAX {
+            continue;
+        }
+        for p in cp[j]..cp[j + 1] {
+            let i = index[ri[p]];
+            if i != usize::MAX {
+                rows.push(i);
+                values.push(val[p]);
+            }
+        }
+        col_ptr.push(rows.len());
+    }
+    // independent DOFs without mesh columns (interface nodes) have empty columns
+    col_ptr.resize(n + 1, rows.len());
+    let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, rows);
+    faer::sparse::SparseColMat::new(symbolic, values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::assemble;
+    use crate::element::MassKind;
+    use crate::mesh::generate::box_mesh;
+    use crate::{ElementKind, Material, UnitSystem};
+
+    #[test]
+    fn selection_projection_equals_triplet_projection() {
+        let mesh = box_mesh(
+            [0.4, 0.1, 0.1],
+            [4, 2, 2],
+            ElementKind::Hex20,
+            Material::steel(),
+            UnitSystem::Si,
+        )
+        .unwrap();
+        let a = assemble(&mesh, MassKind::Consistent, &[], &mut |_, _| {}).unwrap();
+        let fixed: Vec<usize> = (0..mesh.num_nodes())
+            .filter(|&n| mesh.nodes[n][0] < 1e-9)
+            .collect();
+        let bc = BoundaryConditions {
+            fixed,
+            rigid: Vec::new(),
+        };
+        let map = ConstraintMap::new(&mesh, &bc).unwrap();
+        assert!(map.selection().is_some());
+        for m in [&a.k, &a.m] {
+            let fast = map.project(m).unwrap();
+            let reference = map.project_triplets(m).unwrap();
+            assert_eq!(fast.symbolic().col_ptr(), reference.symbolic().col_ptr());
+            assert_eq!(fast.symbolic().row_idx(), reference.symbolic().row_idx());
+            assert_eq!(fast.val(), reference.val());
+        }
+    }
 }

@@ -1,11 +1,11 @@
 //! Memory guards refuse, with the estimate and the memory available, instead of allocating:
 //! the sparse factor (estimate from the symbolic analysis, reported before the numeric work and
 //! equal to the factor then computed), the dense eigen path (above a stated size or the memory),
-//! the assembly triplets (before meshing for a structured box, before allocating in `assemble`).
+//! the assembly (before meshing for a structured box, before allocating in `assemble`).
 //! Small limits are injected per thread (`with_memory_limit`); nothing large is allocated.
 
 use faer::sparse::Triplet;
-use flexmbs_fe::assembly::{assemble, sparse_from_triplets, triplet_bytes};
+use flexmbs_fe::assembly::{assemble, assembly_bytes, sparse_from_triplets};
 use flexmbs_fe::constraint::BoundaryConditions;
 use flexmbs_fe::eigen::{lowest_modes, EigenEvent, EigenMethod, EigenOptions, SparseCholesky};
 use flexmbs_fe::element::MassKind;
@@ -110,19 +110,21 @@ fn dense_eigen_path_is_refused_above_its_size() {
     assert_eq!(refused(err), (48 * n * n, 8 * n * n));
 }
 
-/// Triplets: a structured box is refused before meshing (estimate: 2 x 60^2 triplets of
-/// 24 bytes per hex20 element), and `assemble` refuses a mesh before allocating its triplets.
+/// Assembly: a structured box is refused before meshing (estimate: 2106 matrix entries of 42
+/// bytes per hex20 cell: the node-adjacency pattern, the values of K and M, marks, compacted
+/// rows), and `assemble` refuses a mesh before allocating its matrices (the [4, 2, 2] hex20 box:
+/// 141 nodes whose adjacency pattern has 42 741 entries, counted by hand from the grid).
 #[test]
-fn assembly_triplets_are_refused_before_allocation() {
+fn assembly_is_refused_before_allocation() {
     let limit = 1 << 20;
     let err = with_memory_limit(limit, || bar([20, 4, 4])).unwrap_err();
-    assert_eq!(refused(err), (20 * 4 * 4 * 2 * 3600 * 24, limit));
-    assert_eq!(triplet_bytes(1), 24);
+    assert_eq!(refused(err), (20 * 4 * 4 * 2106 * 42, limit));
+    assert_eq!(assembly_bytes(1), 42);
 
     let mesh = bar([4, 2, 2]).unwrap();
     let err = with_memory_limit(100_000, || {
         assemble(&mesh, MassKind::Consistent, &[], &mut |_, _| {})
     })
     .unwrap_err();
-    assert_eq!(refused(err), (16 * 2 * 3600 * 24, 100_000));
+    assert_eq!(refused(err), (42_741 * 42, 100_000));
 }

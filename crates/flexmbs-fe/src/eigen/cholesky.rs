@@ -28,6 +28,8 @@ pub struct SparseCholesky {
     symbolic: SymbolicCholesky<usize>,
     values: Vec<f64>,
     pattern_nnz: usize,
+    /// `values` hold something else than the `L L^T` factor (an `L D L^T` of the Sturm check).
+    stale: bool,
 }
 
 impl SparseCholesky {
@@ -60,6 +62,35 @@ impl SparseCholesky {
         Self::factor_with_symbolic(symbolic, a)
     }
 
+    /// [`SparseCholesky::factor_observed`] of `K - sigma M` without holding the full shifted
+    /// matrix during the numeric work: the symbolic analysis (ordering, size estimate) reads the
+    /// full matrix, which is then dropped; the numeric factorization reads its lower triangle
+    /// only ([`super::shifted_lower`], the same factor bit for bit), one K-sized matrix less at
+    /// the peak of the modal analysis.
+    pub fn factor_shifted_observed(
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        sigma: f64,
+        on_estimate: &mut dyn FnMut(usize, u64),
+    ) -> Result<Self, FeError> {
+        let a = super::shifted(k, m, sigma)?;
+        let symbolic = symbolic_factor(&a)?;
+        let pattern_nnz = a.compute_nnz();
+        drop(a);
+        let req = symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::<LltParams, f64>::default());
+        let bytes = factor_bytes(symbolic.len_val(), req.size_bytes());
+        on_estimate(symbolic.len_val(), bytes);
+        crate::memory::check_allocation(
+            &format!("the sparse Cholesky factor of {} equations", k.nrows()),
+            bytes,
+        )?;
+        let lower = super::shifted_lower(k, m, sigma)?;
+        let mut chol = Self::factor_with_symbolic(symbolic, &lower)?;
+        chol.pattern_nnz = pattern_nnz;
+        Ok(chol)
+    }
+
     /// Numeric factorization of `a` reusing a symbolic analysis of the same pattern.
     fn factor_with_symbolic(
         symbolic: SymbolicCholesky<usize>,
@@ -84,6 +115,7 @@ impl SparseCholesky {
                 symbolic,
                 values,
                 pattern_nnz: a.compute_nnz(),
+                stale: false,
             }),
             Err(e) => Err(FeError::NotPositiveDefinite {
                 what: format!("sparse matrix of dimension {}", a.nrows()),
@@ -95,8 +127,13 @@ impl SparseCholesky {
     /// Solves `A X = B` in place for all columns of `rhs` (`rhs` holds `B` on entry, `X` on exit).
     ///
     /// # Panics
-    /// Panics if `rhs.nrows() != self.dim()` (a programming error, not an input error).
+    /// Panics if `rhs.nrows() != self.dim()` or the storage holds a Sturm check's `L D L^T`
+    /// (programming errors, not input errors).
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
+        assert!(
+            !self.stale,
+            "solve with a factor overwritten by a Sturm check"
+        );
         let par = Par::Seq;
         let req = self
             .symbolic
@@ -104,6 +141,12 @@ impl SparseCholesky {
         let mut mem = MemBuffer::new(req);
         let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.values);
         llt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+    }
+
+    /// The storage holds the `L D L^T` of a Sturm check instead of this factor
+    /// ([`Self::inertia_in_place`]); [`Self::refactor`] restores it.
+    pub(crate) fn is_stale(&self) -> bool {
+        self.stale
     }
 
     /// Dimension of the factored matrix.
@@ -265,28 +308,6 @@ pub struct Inertia {
 /// eigenvalues of `K x = lambda M x` below `b` (Sturm sequence property).
 pub fn ldlt_inertia(a: &SparseMatrix) -> Result<Option<Inertia>, FeError> {
     let symbolic = symbolic_factor(a)?;
-    inertia_with_symbolic(&symbolic, a)
-}
-
-impl SparseCholesky {
-    /// Inertia of `a`, which must have exactly the sparsity pattern of the matrix this
-    /// factorization was computed from (e.g. `K - b M` vs. `K - sigma M` from
-    /// [`super::shifted`]); the symbolic analysis (ordering) is reused.
-    pub(crate) fn inertia_same_pattern(
-        &self,
-        a: &SparseMatrix,
-    ) -> Result<Option<Inertia>, FeError> {
-        if a.nrows() != self.dim() || a.compute_nnz() != self.pattern_nnz {
-            return ldlt_inertia(a);
-        }
-        inertia_with_symbolic(&self.symbolic, a)
-    }
-}
-
-fn inertia_with_symbolic(
-    symbolic: &SymbolicCholesky<usize>,
-    a: &SparseMatrix,
-) -> Result<Option<Inertia>, FeError> {
     let par = Par::Seq;
     let req =
         symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::<LdltParams, f64>::default());
@@ -295,9 +316,65 @@ fn inertia_with_symbolic(
         factor_bytes(symbolic.len_val(), req.size_bytes()),
     )?;
     let mut values = zeros_or_refused(symbolic.len_val())?;
+    inertia_with_symbolic(&symbolic, a, &mut values)
+}
+
+impl SparseCholesky {
+    /// Inertia of `a` (full storage or its lower triangle), whose pattern must lie within the
+    /// pattern of the matrix this factorization was computed from (e.g. `K - b M` vs.
+    /// `K - sigma M`, [`super::shifted_lower`]), computed in this factor's own storage: the
+    /// symbolic analysis (ordering) and the memory of `L` are reused, so the Sturm check needs
+    /// no second factor. The `L L^T` factor is gone afterwards: [`Self::refactor`] before the
+    /// next solve.
+    pub(crate) fn inertia_in_place(
+        &mut self,
+        a: &SparseMatrix,
+    ) -> Result<Option<Inertia>, FeError> {
+        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz {
+            return ldlt_inertia(a);
+        }
+        self.stale = true;
+        inertia_with_symbolic(&self.symbolic, a, &mut self.values)
+    }
+
+    /// Numeric `L L^T` factorization of `a` (full storage or its lower triangle, pattern within
+    /// the original one) into this factor's storage, reusing the symbolic analysis.
+    pub(crate) fn refactor(&mut self, a: &SparseMatrix) -> Result<(), FeError> {
+        let par = Par::Seq;
+        let req = self
+            .symbolic
+            .factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default());
+        let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut self.values,
+                a.as_ref(),
+                Side::Lower,
+                LltRegularization::default(),
+                par,
+                MemStack::new(&mut mem),
+                Spec::<LltParams, f64>::default(),
+            )
+            .map_err(|e| FeError::NotPositiveDefinite {
+                what: format!("sparse matrix of dimension {}", a.nrows()),
+                hint: format!(" ({e:?})"),
+            })?;
+        self.stale = false;
+        Ok(())
+    }
+}
+
+fn inertia_with_symbolic(
+    symbolic: &SymbolicCholesky<usize>,
+    a: &SparseMatrix,
+    values: &mut [f64],
+) -> Result<Option<Inertia>, FeError> {
+    let par = Par::Seq;
+    let req =
+        symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::<LdltParams, f64>::default());
     let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
     let res = symbolic.factorize_numeric_ldlt(
-        &mut values,
+        values,
         a.as_ref(),
         Side::Lower,
         LdltRegularization::default(),
@@ -308,7 +385,7 @@ fn inertia_with_symbolic(
     if res.is_err() {
         return Ok(None);
     }
-    let diag = ldlt_diagonal(symbolic, &values);
+    let diag = ldlt_diagonal(symbolic, values);
     let scale = (0..a.ncols())
         .flat_map(|j| {
             a.row_idx_of_col_raw(j)

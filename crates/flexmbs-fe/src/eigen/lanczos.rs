@@ -49,7 +49,6 @@ impl SplitMix {
 /// State of a block shift-invert Lanczos run.
 pub(crate) struct BlockLanczos<'a> {
     m: &'a SparseMatrix,
-    op: &'a SparseCholesky,
     n: usize,
     block: usize,
     cap: usize,
@@ -70,19 +69,12 @@ pub(crate) struct BlockLanczos<'a> {
 impl<'a> BlockLanczos<'a> {
     /// Sets up the iteration with a random M-orthonormal start block.
     /// `cap` is the maximum basis size (clamped to `[min(n, 3 block), n]`).
-    pub fn new(
-        m: &'a SparseMatrix,
-        op: &'a SparseCholesky,
-        block: usize,
-        cap: usize,
-        seed: u64,
-    ) -> Result<Self, FeError> {
+    pub fn new(m: &'a SparseMatrix, block: usize, cap: usize, seed: u64) -> Result<Self, FeError> {
         let n = m.nrows();
         let block = block.clamp(1, n.max(1));
         let cap = cap.max(3 * block).min(n);
         let mut s = Self {
             m,
-            op,
             n,
             block,
             cap,
@@ -125,11 +117,12 @@ impl<'a> BlockLanczos<'a> {
         self.inject += count;
     }
 
-    /// Runs until the `wanted` leading Ritz pairs have estimates below `tol`, or
-    /// `max_steps` expansions have been made. Returns the leading `report` Ritz pairs
+    /// Runs with the operator `OP = (K - sigma M)^-1` of the factor `op` until the `wanted`
+    /// leading Ritz pairs have estimates below `tol`, or `max_steps` expansions have been made. Returns the leading `report` Ritz pairs
     /// (at least `wanted` if available) and whether the wanted ones converged.
     pub fn run(
         &mut self,
+        op: &SparseCholesky,
         wanted: usize,
         report: usize,
         tol: f64,
@@ -144,7 +137,7 @@ impl<'a> BlockLanczos<'a> {
             self.append_next(&theta, s.as_ref(), wanted)?;
         }
         loop {
-            self.expand()?;
+            self.expand(op)?;
             steps += 1;
             let (theta, s, est) = self.rayleigh_ritz()?;
             let conv = est.iter().take_while(|&&e| e <= tol).count();
@@ -167,7 +160,7 @@ impl<'a> BlockLanczos<'a> {
 
     /// Multiplies the last block by OP, orthogonalises it against the whole basis
     /// (two classical Gram-Schmidt passes) and stores the coefficients in `H`.
-    fn expand(&mut self) -> Result<(), FeError> {
+    fn expand(&mut self, op: &SparseCholesky) -> Result<(), FeError> {
         if self.next.is_some() {
             return Ok(());
         }
@@ -182,7 +175,7 @@ impl<'a> BlockLanczos<'a> {
             1.0,
             Par::Seq,
         );
-        self.op.solve_in_place(w.as_mut());
+        op.solve_in_place(w.as_mut());
         let c = self.project_out(&mut w, used);
         for j in 0..bl {
             for i in 0..used {

@@ -245,8 +245,8 @@ fn sturm_check_catches_block_one_misses() {
     // internal run: block 1 converges to 12 Ritz values that are not the 12 lowest
     let sigma = automatic_shift(&k, &m);
     let chol = SparseCholesky::factor(&shifted(&k, &m, sigma).unwrap()).unwrap();
-    let mut lz = BlockLanczos::new(&m, &chol, 1, 60, 7).unwrap();
-    let (pairs, done) = lz.run(12, 13, 1e-10, 500, &mut |_, _| {}).unwrap();
+    let mut lz = BlockLanczos::new(&m, 1, 60, 7).unwrap();
+    let (pairs, done) = lz.run(&chol, 12, 13, 1e-10, 500, &mut |_, _| {}).unwrap();
     assert!(done);
     let lam: Vec<f64> = pairs.theta.iter().map(|t| sigma + 1.0 / t).collect();
     let cut = 0.5 * (lam[11] + lam[12]);
@@ -516,4 +516,43 @@ fn eigen_timing_31944() {
         sol.sturm
     );
     assert!(err < 1e-9);
+}
+
+/// The lower triangle of `K - sigma M` gives the same factor as the full matrix (the
+/// factorization reads the lower triangle only), and the Sturm check's `L D L^T` in the factor's
+/// own storage gives the inertia of a separate factorization; the factor is restored by
+/// `refactor` bit for bit.
+#[test]
+fn lower_triangle_factor_and_in_place_inertia() {
+    let (k, m) = grid_model(4, false);
+    let n = k.nrows();
+    let sigma = -1.0;
+    let full = shifted(&k, &m, sigma).unwrap();
+    let lower = shifted_lower(&k, &m, sigma).unwrap();
+    assert!(lower.compute_nnz() < full.compute_nnz());
+    for j in 0..full.ncols() {
+        let rows = full.row_idx_of_col_raw(j);
+        let first = rows.partition_point(|&i| i < j);
+        assert_eq!(&rows[first..], lower.row_idx_of_col_raw(j));
+        assert_eq!(&full.val_of_col(j)[first..], lower.val_of_col(j));
+    }
+    let mut chol = SparseCholesky::factor(&full).unwrap();
+    let mut x = Mat::<f64>::from_fn(n, 1, |i, _| (i as f64).sin());
+    let reference = x.clone();
+    chol.solve_in_place(x.as_mut());
+    for cut in [0.5, 3.0, 9.0] {
+        let expected = ldlt_inertia(&shifted(&k, &m, cut).unwrap())
+            .unwrap()
+            .unwrap();
+        let in_place = chol
+            .inertia_in_place(&shifted_lower(&k, &m, cut).unwrap())
+            .unwrap()
+            .unwrap();
+        assert_eq!(in_place, expected);
+        assert!(chol.is_stale());
+    }
+    chol.refactor(&lower).unwrap();
+    let mut y = reference.clone();
+    chol.solve_in_place(y.as_mut());
+    assert_eq!(x, y);
 }

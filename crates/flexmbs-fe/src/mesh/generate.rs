@@ -267,15 +267,14 @@ fn structured_hex_mesh(
     if total > MAX_GRID_CELLS as f64 {
         return Err(too_many_cells(total));
     }
-    // the assembly of K and M (consistent mass) of this many elements, refused before meshing
-    let el_dofs = if quadratic { 60 } else { 24 };
+    // the assembly of K and M (consistent mass) of this many elements, refused before meshing:
+    // an interior cell brings 1 corner and (quadratic) 3 mid-edge nodes, whose 3 DOFs couple
+    // with 27 (linear) or 81 / 51 (corner / mid-edge, quadratic) nodes: 243 or 2106 matrix
+    // entries per cell
+    let entries_per_cell = if quadratic { 2106 } else { 243 };
     crate::memory::check_allocation(
-        &format!("the assembly of K and M of {total:.0} hex elements (stiffness triplets)"),
-        crate::assembly::triplet_bytes(
-            2usize
-                .saturating_mul(el_dofs * el_dofs)
-                .saturating_mul(total as usize),
-        ),
+        &format!("the assembly of K and M of {total:.0} hex elements"),
+        crate::assembly::assembly_bytes((entries_per_cell as f64 * total) as usize),
     )?;
     let mid = |a: usize, i: usize| 0.5 * (grid[a][i] + grid[a][i + 1]);
     let mut cells = Vec::new();
