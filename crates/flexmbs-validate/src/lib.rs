@@ -22,6 +22,7 @@ pub mod slider_crank_3d_reference;
 pub mod slider_crank_reference;
 pub mod slider_crank_superelement;
 pub mod sliding_balls;
+pub mod spinning_beam;
 
 pub use result::ValidationResult;
 use std::path::Path;
@@ -58,6 +59,11 @@ pub fn cases() -> Vec<Case> {
             name: "slider_crank_3d",
             description: "seed 001 §5.1: spatial flexible slider-crank (crank axis offset 0.1 m), rod as 10 and 2 superelements and one FFR body vs a discrete-elastic-rod reference; rigid kinematics vs closed form; planar limit vs slider_crank_2d (2 revolutions; SLIDER_CRANK_3D_REVOLUTIONS=4)",
             run: slider_crank_3d::run,
+        },
+        Case {
+            name: "spinning_beam",
+            description: "seed 001 §5.1 (Cardona & Geradin), consistent variant: beam on a spherical joint spun up to 0.1 rad/s by a torque, vertical tip impulse at 25.2 s, 2 superelements to 50 s; angular momentum, energy, rigid-body angular velocity",
+            run: spinning_beam::run,
         },
         Case {
             name: "rotating_beam",
