@@ -27,7 +27,7 @@ pub const OFFSET: f64 = 0.1;
 pub const PLANAR_MODEL_TOL: f64 = 1e-3;
 /// Largest deviation of the discrete-rod reference in the planar geometry from the planar
 /// corotational reference over one revolution, relative to the largest deflection.
-pub const PLANAR_REFERENCE_TOL: f64 = 0.01;
+pub const PLANAR_REFERENCE_TOL: f64 = 0.005;
 /// Sample interval and step of the flexmbs models (s).
 const SAMPLE_DT: f64 = 1e-5;
 /// Segment counts of the reference's convergence study (the last is the reference).
@@ -266,7 +266,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
                 stiffened: true,
             },
             "_ffr_stiffened",
-            None,
+            Some(0.05),
             "FFR rod, 8 modes, geometric stiffening under end loads".to_string(),
         ),
     ];
@@ -275,7 +275,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         let r = simulate(&crank, rod, SAMPLE_DT, revs)?;
         let cpu = clock.elapsed().as_secs_f64();
         compare(&mut res, "w_y", suffix, &r.w_y, &ref_y, tol);
-        compare(&mut res, "w_z", suffix, &r.w_z, &ref_z, None);
+        compare(&mut res, "w_z", suffix, &r.w_z, &ref_z, tol);
         res.record(&format!("constraint_violation_max{suffix}"), r.g_max);
         if r.g_max.is_nan() || r.g_max > 1e-8 {
             res.pass = false;
