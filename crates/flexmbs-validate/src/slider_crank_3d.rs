@@ -324,7 +324,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
 mod tests {
     use super::*;
 
-    /// Runs the case into a temporary folder and prints its summary (exploration).
+    /// Runs the case into a temporary folder, prints its summary and asserts that it passes.
     #[test]
     #[ignore = "the whole case: run with --ignored"]
     fn whole_case() {
@@ -333,5 +333,6 @@ mod tests {
         let t = std::time::Instant::now();
         let r = run(&dir, false).unwrap();
         eprintln!("{}\n{:.1} s", r.summary(), t.elapsed().as_secs_f64());
+        assert!(r.pass, "{}", r.summary());
     }
 }

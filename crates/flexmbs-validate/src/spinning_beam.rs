@@ -387,7 +387,7 @@ fn write_plots(out: &Path, runs: &[(f64, Run)]) -> Result<()> {
 mod tests {
     use super::*;
 
-    /// Runs the case into a temporary folder and prints its summary (exploration).
+    /// Runs the case into a temporary folder, prints its summary and asserts that it passes.
     #[test]
     #[ignore = "the whole case: run with --ignored"]
     fn whole_case() {
@@ -396,6 +396,7 @@ mod tests {
         let r = run(&dir, false).unwrap();
         eprintln!("{}", r.summary());
         eprintln!("{:?}", r.quantities);
+        assert!(r.pass, "{}", r.summary());
     }
 }
 
