@@ -16,9 +16,13 @@ pub mod rotating_beam;
 pub mod rotating_beam_reference;
 pub mod rotating_beam_superelement;
 pub mod slider_crank_2d;
+pub mod slider_crank_3d;
+pub mod slider_crank_3d_model;
+pub mod slider_crank_3d_reference;
 pub mod slider_crank_reference;
 pub mod slider_crank_superelement;
 pub mod sliding_balls;
+pub mod spinning_beam;
 
 pub use result::ValidationResult;
 use std::path::Path;
@@ -50,6 +54,16 @@ pub fn cases() -> Vec<Case> {
             name: "slider_crank_2d",
             description: "seed 001 §5.1: flexible slider-crank, rod as 10 and 2 superelements and as one FFR body vs a corotational-beam reference",
             run: slider_crank_2d::run,
+        },
+        Case {
+            name: "slider_crank_3d",
+            description: "seed 001 §5.1: spatial flexible slider-crank (crank axis offset 0.1 m), rod as 10 and 2 superelements and one FFR body vs a discrete-elastic-rod reference; rigid kinematics vs closed form; planar limit vs slider_crank_2d (1 revolution; SLIDER_CRANK_3D_REVOLUTIONS=4 for 4)",
+            run: slider_crank_3d::run,
+        },
+        Case {
+            name: "spinning_beam",
+            description: "seed 001 §5.1 (Cardona & Geradin), consistent variant: beam on a spherical joint spun up to 0.1 rad/s by a torque, vertical tip impulse at 25.2 s, 2 superelements to 50 s; angular momentum, energy, rigid-body angular velocity",
+            run: spinning_beam::run,
         },
         Case {
             name: "rotating_beam",
