@@ -54,7 +54,7 @@ pub(crate) fn check(
             asym / scale
         )));
     }
-    if !(g[(0, 0)] > 0.0) {
+    if g[(0, 0)] <= 0.0 {
         return Err(bad(format!(
             "total mass G[0, 0] = {} is not positive",
             g[(0, 0)]
