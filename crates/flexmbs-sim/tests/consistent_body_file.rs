@@ -240,3 +240,41 @@ fn body_files_without_consistent_inertia_read_as_before() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The CalculiX cantilever (`examples/calculix_beam.toml`, `matrices = "ccx"`, 6 modes): reduced
+/// as `flexmbs reduce` does, the file stores the consistent inertia, and its invariants equal those
+/// of the full mass matrix the model compiler exports (1e-12 relative); skipped without `ccx`.
+#[test]
+fn calculix_body_file_keeps_the_consistent_inertia() {
+    if flexmbs_io::test_tools::ccx_or_skip("calculix_body_file_keeps_the_consistent_inertia")
+        .is_none()
+    {
+        return;
+    }
+    let dir = common::work_dir("gram", "ccx");
+    let part = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/calculix_beam.toml")
+        .canonicalize()
+        .unwrap();
+    let file = dir.join("beam.fmb.h5");
+    reduce_to_file(&part, &file);
+    let back = read_body_file(&file).unwrap();
+    let g = back
+        .inertia_gram
+        .expect("no inertia/gram in the CalculiX body file");
+    let base = part.parent().unwrap();
+    let loaded = load_fe_body(&part, base, "beam", flexmbs_fe::UnitSystem::Si, true).unwrap();
+    let si = reduced_body_to_si(&loaded.reduced);
+    let m_si = consistent_mass_to_si(loaded.full_mass.as_ref().unwrap(), loaded.reduced.units);
+    let fe = FfrInvariants::from_consistent(&si.nodes, &m_si, si.modes_t.as_ref()).unwrap();
+    let nf = si.num_modes();
+    let stored = FfrInvariants::from_gram(&gram_to_si(&g, nf, back.body.units), nf).unwrap();
+    let scale = fe.i_kl.abs().max().max(fe.m_ff.abs().max()).max(fe.i1);
+    let d = fe.max_abs_difference(&stored);
+    eprintln!(
+        "ccx: {nf} modes, mass {}, max |invariant difference| = {d:e}",
+        stored.i1
+    );
+    assert!(d <= 1e-12 * scale, "{d:e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
