@@ -64,6 +64,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
         stress: Some(flexmbs_reduce::stress::modal_stress_fields(
             &spec, &body, &reduced,
         )?),
+        inertia_gram: None,
     }
     .write(&body_path)?;
     let vtk_dir = out.join("modes");

@@ -352,9 +352,21 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
         let body = flexmbs_io::seed_body::read_seed_body(&dir, &spec.name, spec.units)?;
         return Ok(BodyFile::plain(body));
     }
-    let (prepared, src) = load(model, quiet)?;
-    let spec = &src.model.body;
+    let src = FeModelSource::read(model)?;
     let mut p = progress::Progress::new(quiet);
+    let prepared =
+        flexmbs_reduce::body_file::prepare_for_body_file(&src.model.body, base, &mut |s| {
+            p.stage(s)
+        })
+        .map_err(|e| src.locate(e));
+    let (prepared, full_mass) = match prepared {
+        Ok(x) => x,
+        Err(e) => {
+            p.finish();
+            return Err(e.into());
+        }
+    };
+    let spec = &src.model.body;
     let r = run_reduction(spec, &prepared, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
     let body = match r {
         Ok(b) => b,
@@ -363,10 +375,14 @@ fn reduce_model_file(model: &Path, quiet: bool, geometric: bool) -> Result<BodyF
             return Err(e.into());
         }
     };
-    let built =
-        flexmbs_reduce::body_file::body_file_of(spec, &prepared, body, geometric, &mut |s| {
-            p.stage(s)
-        });
+    let built = flexmbs_reduce::body_file::body_file_of(
+        spec,
+        &prepared,
+        full_mass.as_ref(),
+        body,
+        geometric,
+        &mut |s| p.stage(s),
+    );
     p.finish();
     let (file, no_stress) = built?;
     // a body whose elements cannot give stresses is still written, without them

@@ -13,6 +13,7 @@
 mod consistency;
 mod geometric;
 mod h5;
+mod inertia;
 mod rotary;
 mod stress;
 mod text_digest;
@@ -21,6 +22,7 @@ pub use consistency::{
     FREQUENCY_TOLERANCE, MATRIX_SYMMETRY_TOLERANCE, NODE_MASS_TOLERANCE, NULL_SPACE_TOLERANCE,
 };
 pub use geometric::{parse_pattern_name, pattern_name, SYMMETRY_TOLERANCE};
+pub use inertia::GRAM_TOLERANCE;
 pub use rotary::ROTARY_INERTIA_TOLERANCE;
 pub use text_digest::text_sha256;
 
@@ -163,6 +165,12 @@ pub struct BodyFile {
     /// `stress/node_kind`, `[N]`), written by `flexmbs reduce` from an FE model; `None` for
     /// seed folders and files written before the group existed.
     pub stress: Option<flexmbs_fe::stress::ModalStress>,
+    /// Consistent-mass Gram matrix of the node fields (optional dataset `inertia/gram`,
+    /// `(4 + 3 N_f)` square, units of `body`; `flexmbs_core::ffr::FfrInvariants::consistent_gram`):
+    /// the inertia shape integrals of a body reduced from a consistent mass matrix, written by
+    /// `flexmbs reduce` for solid meshes with consistent mass. `None` for other bodies and files
+    /// written before the dataset existed (their inertia comes from the node masses).
+    pub inertia_gram: Option<nalgebra::DMatrix<f64>>,
 }
 
 impl BodyFile {
@@ -173,6 +181,7 @@ impl BodyFile {
             geometric: None,
             rotary_inertia: None,
             stress: None,
+            inertia_gram: None,
         }
     }
 
@@ -181,14 +190,20 @@ impl BodyFile {
     /// and positive semi-definite (to [`ROTARY_INERTIA_TOLERANCE`] relative), else the result is
     /// a [`BodyFileError::Invalid`] naming `nodes/rotary_inertia` and nothing is written; the
     /// modal stress fields must be `6 N x N_f` and finite with one kind per node (else an
-    /// [`BodyFileError::Invalid`] naming `stress/modal` or `stress/node_kind`).
+    /// [`BodyFileError::Invalid`] naming `stress/modal` or `stress/node_kind`); the Gram matrix
+    /// must be `(4 + 3 N_f)` square, finite, symmetric, with a positive total mass and a modal
+    /// block equal to `M_red` (to [`GRAM_TOLERANCE`], else an [`BodyFileError::Invalid`] naming
+    /// `inertia/gram`).
     pub fn write(&self, path: &Path) -> Result<(), BodyFileError> {
         write_parts(
             path,
             &self.body,
             self.geometric.as_ref(),
             self.rotary_inertia.as_deref(),
-            self.stress.as_ref(),
+            Optional {
+                stress: self.stress.as_ref(),
+                inertia_gram: self.inertia_gram.as_ref(),
+            },
         )
     }
 }
@@ -216,7 +231,16 @@ pub fn write_body_file(
     body: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
 ) -> Result<(), BodyFileError> {
-    write_parts(path, body, geometric, None, None)
+    write_parts(path, body, geometric, None, Optional::default())
+}
+
+/// Further optional parts of a body file (beside the geometric stiffness and rotary inertias).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Optional<'a> {
+    /// Modal stress fields.
+    pub(crate) stress: Option<&'a flexmbs_fe::stress::ModalStress>,
+    /// Consistent-mass Gram matrix.
+    pub(crate) inertia_gram: Option<&'a nalgebra::DMatrix<f64>>,
 }
 
 /// Checks and writes a body with its optional parts (atomic replace of `path`).
@@ -225,11 +249,14 @@ fn write_parts(
     body: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
     rotary_inertia: Option<&[nalgebra::Matrix3<f64>]>,
-    stress: Option<&flexmbs_fe::stress::ModalStress>,
+    optional: Optional<'_>,
 ) -> Result<(), BodyFileError> {
     h5::check_body(path, body)?;
     consistency::check_physics(path, body)?;
-    if let Some(s) = stress {
+    if let Some(g) = optional.inertia_gram {
+        inertia::check(path, g, body)?;
+    }
+    if let Some(s) = optional.stress {
         stress::check(path, s, body.num_nodes(), body.num_modes())?;
     }
     if let Some(g) = geometric {
@@ -244,7 +271,7 @@ fn write_parts(
             kind,
         });
     }
-    let bytes = h5::encode_body(path, body, geometric, rotary_inertia, stress)?;
+    let bytes = h5::encode_body(path, body, geometric, rotary_inertia, optional)?;
     let tmp = temporary_sibling(path);
     std::fs::write(&tmp, &bytes).map_err(|source| BodyFileError::Io {
         path: tmp.clone(),

@@ -35,6 +35,7 @@ fn written_rot(tag: &str) -> (PathBuf, PathBuf) {
         geometric: Some(sample_geometric(3, 4)),
         rotary_inertia: Some(sample_rotary(20, 5)),
         stress: None,
+        inertia_gram: None,
     }
     .write(&path)
     .unwrap();

@@ -302,6 +302,7 @@ fn rotary_inertia_interoperates_with_h5py() {
         geometric: None,
         rotary_inertia: Some(r.clone()),
         stress: None,
+        inertia_gram: None,
     }
     .write(&path)
     .unwrap();

@@ -309,6 +309,7 @@ fn rotary_inertia_round_trip_is_bit_identical() {
             geometric,
             rotary_inertia: Some(r.clone()),
             stress: None,
+            inertia_gram: None,
         };
         f.write(&path).unwrap();
         let back = read_body_file(&path).unwrap();
@@ -343,6 +344,7 @@ fn inconsistent_rotary_inertia_is_rejected_before_writing() {
             geometric: None,
             rotary_inertia: Some(r),
             stress: None,
+            inertia_gram: None,
         };
         match f.write(&path) {
             Err(BodyFileError::Invalid {

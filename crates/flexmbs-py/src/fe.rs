@@ -143,12 +143,17 @@ fn reduce_body(
             .map_err(|e| io(e.to_string()))?;
         return Ok(BodyFile::plain(body));
     }
-    let prepared = prepared(py, src, origin)?;
+    let (prepared, full_mass) = py
+        .detach(|| {
+            flexmbs_reduce::body_file::prepare_for_body_file(spec, &base, &mut |_: Stage| {})
+        })
+        .map_err(|e| located(py, src, e, origin))?;
     let body = py
         .detach(|| run_reduction(spec, &prepared, &mut |_: Stage| {}))
         .map_err(|e| located(py, src, e, origin))?;
     let built = py.detach(|| {
-        flexmbs_reduce::body_file::body_file_of(spec, &prepared, body, geometric, &mut |_| {})
+        let m = full_mass.as_ref();
+        flexmbs_reduce::body_file::body_file_of(spec, &prepared, m, body, geometric, &mut |_| {})
     });
     // a body whose elements cannot give stresses is written without them, as by `flexmbs reduce`
     let (file, _no_stress) = built.map_err(|e| raise(py, "Error", e.to_string(), &[]))?;

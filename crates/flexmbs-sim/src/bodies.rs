@@ -5,7 +5,8 @@ use crate::compile::Ctx;
 use crate::error::SimError;
 use crate::fe_frames::{rotating_nodes, translation_only_nodes, FeInterface};
 use crate::mass_model::{
-    beam_rotary_inertias, check_consistent_source, full_mass_to_si, CONSISTENT_NEEDS_FE_MODEL,
+    beam_rotary_inertias, check_consistent_source, full_mass_to_si, stored_consistent_inertia,
+    CONSISTENT_NEEDS_FE_MODEL, NO_STORED_CONSISTENT_INERTIA, USE_STORED_CONSISTENT_INERTIA,
 };
 use crate::schema::{
     BodySpec, BodyType, DampingSpec, InertiaSpec, MassModel, ModeSelection, RotationName,
@@ -353,6 +354,11 @@ impl BodySource {
     pub fn can_store_rotary_inertia(self) -> bool {
         self == BodySource::BodyFile
     }
+
+    /// Can store the consistent inertia (dataset `inertia/gram` of a reduced-body file).
+    pub fn can_store_consistent_inertia(self) -> bool {
+        self == BodySource::BodyFile
+    }
 }
 
 /// Reads the mass model of an ffr body (`inertia = "lumped" | "consistent"`, default lumped)
@@ -380,7 +386,7 @@ fn check_source_options(
             ))
         }
     };
-    if mass_model == MassModel::Consistent && !fe {
+    if mass_model == MassModel::Consistent && !fe && !kind.can_store_consistent_inertia() {
         return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL));
     }
     if b.rotary_inertia == Some(true) && !fe && !kind.can_store_rotary_inertia() {
@@ -411,8 +417,12 @@ fn ffr_body(
         load_body_source(kind, &path, &b.name, units, consistent).map_err(|m| ctx.err(&key, m))?;
     let ikey = format!("{p}.inertia");
     if consistent {
-        match (&loaded.fe, &loaded.full_mass) {
-            (Some(fe), Some(_)) => check_consistent_source(fe).map_err(|m| ctx.err(&ikey, m))?,
+        match (&loaded.fe, &loaded.full_mass, &loaded.inertia_gram) {
+            (Some(fe), Some(_), _) => check_consistent_source(fe).map_err(|m| ctx.err(&ikey, m))?,
+            (None, None, Some(_)) => {}
+            _ if kind.can_store_consistent_inertia() => {
+                return Err(ctx.err(&ikey, NO_STORED_CONSISTENT_INERTIA))
+            }
             _ => return Err(ctx.err(&ikey, CONSISTENT_NEEDS_FE_MODEL)),
         }
     }
@@ -430,8 +440,23 @@ fn ffr_body(
         reduced,
         fe,
         full_mass,
+        inertia_gram,
         ..
     } = loaded;
+    // a stored consistent inertia, restricted to the selected modes (SI)
+    let gram = match (&inertia_gram, consistent) {
+        (Some(g), true) => {
+            let cols = b
+                .modes
+                .as_ref()
+                .map(|sel| mode_columns(ctx, p, reduced.num_modes(), sel))
+                .transpose()?;
+            let g =
+                stored_consistent_inertia(g, reduced.num_modes(), cols.as_deref(), reduced.units);
+            Some(g.map_err(|m| ctx.err(&ikey, m))?)
+        }
+        _ => None,
+    };
     let (reduced, geometric) = select_modes(ctx, p, b, reduced, geometric)?;
     let geometric = geometric.map(|g| geometric_to_si(&g, reduced.units));
     let si = reduced_body_to_si(&reduced);
@@ -440,17 +465,22 @@ fn ffr_body(
         RotationName::Quaternion => ffr::RotationParam::Quaternion,
     };
     // `full_mass` is loaded only for the consistent mass model
-    let mut body = match full_mass {
-        None => FfrBody::from_reduced(&si, rotation).map_err(|e| {
+    let mut body = match (full_mass, gram) {
+        (None, None) => FfrBody::from_reduced(&si, rotation).map_err(|e| {
             let hint = match &fe {
                 Some(fe) if fe.mass == MassKind::Consistent => {
                     " (the FE model's mass is consistent: set `inertia = \"consistent\"`)"
                 }
+                _ if inertia_gram.is_some() => USE_STORED_CONSISTENT_INERTIA,
                 _ => "",
             };
             ctx.err(&key, format!("{e}{hint}"))
         })?,
-        Some(m) => FfrBody::from_reduced_consistent(&si, &full_mass_to_si(&m, &reduced), rotation)
+        (Some(m), _) => {
+            FfrBody::from_reduced_consistent(&si, &full_mass_to_si(&m, &reduced), rotation)
+                .map_err(|e| ctx.err(&ikey, e.to_string()))?
+        }
+        (None, Some(g)) => FfrBody::from_reduced_gram(&si, &g, rotation)
             .map_err(|e| ctx.err(&ikey, e.to_string()))?,
     };
     if let Some(r) = &rotary {
@@ -659,6 +689,10 @@ pub struct LoadedBody {
     /// stored in a reduced-body file (group `stress`); `Err` with the reason and the fix when
     /// the source has none ([`crate::stress`]).
     pub stress: Result<flexmbs_fe::stress::ModalStress, String>,
+    /// Consistent inertia stored in a reduced-body file (dataset `inertia/gram`: Gram matrix
+    /// over all modes, body units; [`crate::mass_model::stored_consistent_inertia`]); `None`
+    /// for other sources and files without it.
+    pub inertia_gram: Option<nalgebra::DMatrix<f64>>,
 }
 
 /// [`load_reduced_with_fe`], with the full translational mass matrix of an FE model when
@@ -684,6 +718,7 @@ impl LoadedBody {
             geometric: None,
             rotary_inertia: None,
             stress: Err(crate::stress::NO_FE_MESH.into()),
+            inertia_gram: None,
         }
     }
 }
@@ -711,6 +746,7 @@ fn load_body_source(
                 stress: f
                     .stress
                     .ok_or_else(|| crate::stress::NO_STORED_STRESS.into()),
+                inertia_gram: f.inertia_gram,
             })
             .map_err(|e| e.to_string()),
     }
@@ -747,6 +783,7 @@ fn load_fe_model_file(path: &Path, full_mass: bool) -> Result<LoadedBody, String
         full_mass: m_full,
         geometric: None,
         rotary_inertia: None,
+        inertia_gram: None,
     })
 }
 
@@ -837,10 +874,11 @@ mod tests {
                 k.can_have_fe_model(),
                 k.can_store_geometric_stiffness(),
                 k.can_store_rotary_inertia(),
+                k.can_store_consistent_inertia(),
             )
         };
-        assert_eq!(caps(BodySource::SeedFolder), (false, false, false));
-        assert_eq!(caps(BodySource::FeModel), (true, false, false));
-        assert_eq!(caps(BodySource::BodyFile), (false, true, true));
+        assert_eq!(caps(BodySource::SeedFolder), (false, false, false, false));
+        assert_eq!(caps(BodySource::FeModel), (true, false, false, false));
+        assert_eq!(caps(BodySource::BodyFile), (false, true, true, true));
     }
 }

@@ -18,6 +18,7 @@ mod guides;
 pub mod initial;
 pub mod locate;
 pub mod mass_model;
+pub mod motion_signals;
 pub mod plausibility;
 mod point_mass_body;
 pub mod provenance;

@@ -5,7 +5,10 @@
 //! - `"consistent"`: the invariants are projections of the full translational FE mass matrix
 //!   ([`flexmbs_core::ffr::FfrBody::from_reduced_consistent`], seed 000 §6.2 outlook), read from
 //!   the same FE system the modes were computed with (built-in `mass = "consistent"` or a
-//!   CalculiX export, `matrices = "ccx"`), so that `m_ff = Phi^T M Phi` holds.
+//!   CalculiX export, `matrices = "ccx"`), so that `m_ff = Phi^T M Phi` holds; or, for a
+//!   reduced-body file, from the Gram matrix of that projection the file stores (dataset
+//!   `inertia/gram`, written by `flexmbs reduce` for consistent-mass solid meshes;
+//!   [`stored_consistent_inertia`]), restricted to the selected modes.
 //! - Beam meshes (6 DOFs per node) get lumped node rotary inertias in either case: the 3 x 3
 //!   rotational diagonal blocks of the lumped beam mass matrix (torsion `rho I_p L/2`, bending
 //!   `rho A L^3/78 + rho I L/2` per element end, `flexmbs_fe::element::beam`), added through
@@ -21,8 +24,20 @@ use nalgebra::Matrix3;
 
 /// Message of `inertia = "consistent"` on a source without an FE model.
 pub const CONSISTENT_NEEDS_FE_MODEL: &str = "inertia = \"consistent\" needs an FE model file \
-     (.toml with a built-in mesh or a CalculiX deck) as `source`; a reduced-body file (.h5) or \
-     seed folder has no FE mass matrix";
+     (.toml with a built-in mesh or a CalculiX deck) or a reduced-body file (.h5) that stores \
+     the consistent inertia as `source`; a seed folder has no FE mass matrix";
+
+/// Message of `inertia = "consistent"` on a reduced-body file without a stored consistent
+/// inertia.
+pub const NO_STORED_CONSISTENT_INERTIA: &str = "the reduced-body file stores no consistent \
+     inertia (dataset `inertia/gram`): re-export it with `flexmbs reduce` from an FE model with \
+     consistent mass (`mass = \"consistent\"` or a CalculiX deck, solid mesh), or use the FE \
+     model file (.toml) as `source`";
+
+/// Hint added to a missing-node-mass error of a reduced-body file that stores the consistent
+/// inertia.
+pub const USE_STORED_CONSISTENT_INERTIA: &str =
+    " (the file stores the consistent inertia: set `inertia = \"consistent\"`)";
 
 /// Message of `inertia = "consistent"` on a beam mesh.
 pub const CONSISTENT_NOT_FOR_BEAMS: &str = "inertia = \"consistent\" needs a solid mesh: the \
@@ -61,6 +76,29 @@ pub fn beam_rotary_inertias(
 ) -> Result<Option<Vec<Matrix3<f64>>>, String> {
     let inertias = beam_node_rotary_inertias(&fe.prepared.mesh, body.nodes.len())?;
     Ok(inertias.map(|i| rotary_inertias_to_si(&i, body.units)))
+}
+
+/// The consistent inertia stored in a reduced-body file for the selected modes, in SI: the Gram
+/// matrix `gram` (body units, over all `nf` modes of the file) restricted to the 0-based mode
+/// columns `cols` ([`flexmbs_core::ffr::restrict_gram`], all modes if `None`) and converted with
+/// [`flexmbs_core::ffr::gram_to_si`], to go with `reduced_body_to_si` of the restricted body.
+/// Errors as text (a column out of range).
+pub fn stored_consistent_inertia(
+    gram: &nalgebra::DMatrix<f64>,
+    nf: usize,
+    cols: Option<&[usize]>,
+    units: flexmbs_fe::UnitSystem,
+) -> Result<nalgebra::DMatrix<f64>, String> {
+    let (g, n) = match cols {
+        None => (gram.clone(), nf),
+        Some(c) => (
+            flexmbs_core::ffr::restrict_gram(gram, nf, c).ok_or_else(|| {
+                format!("consistent inertia of {nf} modes cannot take the modes {c:?}")
+            })?,
+            c.len(),
+        ),
+    };
+    Ok(flexmbs_core::ffr::gram_to_si(&g, n, units))
 }
 
 /// The full translational mass matrix of a body in SI (see

@@ -236,6 +236,11 @@ struct Recorder<'a> {
     statics: bool,
     /// Plausibility warnings (large deformation, constraint drift).
     plausibility: crate::plausibility::Plausibility,
+    /// Continuous angles of the revolute joints with a `coordinates` signal.
+    angles: crate::motion_signals::JointAngleTracker,
+    /// Whether the state's `u_dot` are accelerations of the state (false for the first row of
+    /// the moreau solver, which computes them per step).
+    accelerations_known: bool,
 }
 
 impl<'a> Recorder<'a> {
@@ -257,6 +262,15 @@ impl<'a> Recorder<'a> {
             &mut self.signals,
         );
         crate::stress::fill_stress_signals(&self.cm.signals, m, &s.q, &mut self.signals);
+        self.angles.observe(m, t, &self.frames);
+        crate::motion_signals::fill_motion_signals(
+            &self.cm.signals,
+            m,
+            self.accelerations_known.then_some(s.u_dot.as_slice()),
+            &self.frames,
+            &self.angles,
+            &mut self.signals,
+        );
         crate::superelement_output::fill_superelement_signals(
             &self.cm.signals,
             &self.eval,
@@ -360,6 +374,21 @@ impl<'a> Recorder<'a> {
         meter.advance(s.t, power);
     }
 
+    /// Observes the tracked joint angles at the accepted state `s` (row time `t`), through the
+    /// kinematics-only evaluation of their frames; nothing without tracked angles.
+    fn observe_angles(&mut self, s: &State, t: f64) {
+        if self.angles.is_empty() {
+            return;
+        }
+        let m = &self.cm.model;
+        if system::evaluate_kinematics(m, &s.q, &s.u, &mut self.eval).is_err() {
+            return;
+        }
+        let (ids, eval) = (self.angles.frames(), &mut self.eval);
+        system::update_selected_frames(m, &s.q, &s.u, eval, ids, &mut self.frames);
+        self.angles.observe(m, t, &self.frames);
+    }
+
     /// Called after every accepted step: statistics, output selection, stop flag.
     fn on_step(
         &mut self,
@@ -369,6 +398,8 @@ impl<'a> Recorder<'a> {
         progress: &mut dyn FnMut(&Progress),
     ) -> ControlFlow<()> {
         self.meter_work(s);
+        self.observe_angles(s, st.t);
+        self.accelerations_known = true;
         self.steps += 1;
         self.newton += st.iterations;
         self.last_h = st.h;
@@ -539,6 +570,8 @@ pub fn run_model(
         error: None,
         statics: matches!(cm.solver, SolverConfig::Statics { .. }),
         plausibility: crate::plausibility::Plausibility::new(cm),
+        angles: crate::motion_signals::JointAngleTracker::new(m, &cm.signals),
+        accelerations_known: !matches!(cm.solver, SolverConfig::Moreau { .. }),
     };
     let mut s = cm.initial.clone();
     let mut ws = Workspace::with_linear_solver(m, cm.linear_solver);

@@ -174,7 +174,7 @@ pub enum BodyType {
     /// A particle: mass only, three translations.
     #[serde(rename = "point_mass")]
     PointMass,
-    /// A straight beam split into a chain of superelements ([`crate::superelements`]).
+    /// A straight beam split into a chain of superelements.
     #[serde(rename = "superelement_beam")]
     SuperelementBeam,
 }
@@ -290,7 +290,7 @@ pub enum MassModel {
     #[default]
     Lumped,
     /// The full consistent FE mass matrix projected on the rigid fields and modes
-    /// (seed 000 §6.2 outlook; [`flexmbs_core::ffr::FfrInvariants::from_consistent`]).
+    /// (seed 000 §6.2 outlook), from the FE model file or as stored in a reduced-body file.
     Consistent,
 }
 

@@ -20,6 +20,17 @@ pub enum SignalKind {
     AngularVelocity(FrameId),
     /// Cardan angles x-y-z of a frame's global orientation (rad).
     Orientation(FrameId),
+    /// Global acceleration of a frame origin (m/s^2; written by
+    /// [`crate::motion_signals::fill_motion_signals`], left NaN by [`evaluate_signals`]).
+    Acceleration(FrameId),
+    /// Global angular acceleration of a frame (rad/s^2; written like
+    /// [`SignalKind::Acceleration`]).
+    AngularAcceleration(FrameId),
+    /// Relative coordinates of a joint (this joint index), [`crate::motion_signals`] (written
+    /// like [`SignalKind::Acceleration`]).
+    JointCoordinates(usize),
+    /// Rates of the relative coordinates of a joint (written like [`SignalKind::Acceleration`]).
+    JointRates(usize),
     /// Elastic displacement of a node frame in the axes of its body's reference frame:
     /// `A^T (r_node - R) - u0` (m).
     Deformation {
@@ -88,7 +99,8 @@ pub struct Signal {
 const XYZ: [&str; 3] = ["x", "y", "z"];
 
 /// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation|stress`
-/// (every body has a frame named like the body), `<joint>.force|torque|reaction`,
+/// and `acceleration|angular_acceleration` (every body has a frame named like the body),
+/// `<joint>.force|torque|reaction|coordinates|rates`,
 /// `<contact>.gap|impulse` and `<force>.output`.
 pub fn parse_signals(
     ctx: &Ctx,
@@ -162,6 +174,10 @@ pub fn parse_signals(
                     )))
                 }
             }
+        } else if what == "coordinates" || what == "rates" {
+            let j = joint_index(item)?;
+            crate::motion_signals::joint_signal(model, j, what)
+                .ok_or_else(|| err(format!("unknown quantity `{what}` of joint `{item}`")))?
         } else if what == "force" || what == "torque" {
             let j = joint_index(item)?;
             if what == "force" {
@@ -220,6 +236,8 @@ pub fn parse_signals(
             };
             if let Some(sig) = crate::superelement_output::segment_signal(model, bodies, f, what) {
                 sig
+            } else if let Some(sig) = crate::motion_signals::frame_signal(what, f) {
+                sig
             } else {
                 match what {
                 "position" => ("m".into(), xyz(), SignalKind::Position(f)),
@@ -235,7 +253,7 @@ pub fn parse_signals(
                     let body_frame = bodies.iter().find(|x| x.id == b).map(|x| x.frame).ok_or_else(|| err("internal: body without frame".into()))?;
                     ("m".into(), xyz(), SignalKind::Deformation { frame: f, body_frame, reference: fr.local.position })
                 }
-                _ => return Err(err(format!("unknown quantity `{what}` (frames: position, velocity, angular_velocity, orientation, deformation, stress; superelement frames: deformation, frame_iterations; joints: force, torque, reaction)"))),
+                _ => return Err(err(format!("unknown quantity `{what}` (frames: position, velocity, angular_velocity, orientation, acceleration, angular_acceleration, deformation, stress; superelement frames: deformation, frame_iterations; joints: force, torque, reaction, coordinates, rates)"))),
             }
             }
         };
@@ -307,6 +325,12 @@ pub fn evaluate_signals(
                 out.extend(contacts.get(*c).map_or([f64::NAN; 3], |c| c.impulse))
             }
             SignalKind::Stress { .. } => out.extend([f64::NAN; 7]),
+            SignalKind::Acceleration(_)
+            | SignalKind::AngularAcceleration(_)
+            | SignalKind::JointCoordinates(_)
+            | SignalKind::JointRates(_) => {
+                out.extend(std::iter::repeat_n(f64::NAN, s.components.len()))
+            }
             SignalKind::SuperelementDeformation(_) | SignalKind::FrameIterations(_) => {
                 out.extend(std::iter::repeat_n(f64::NAN, s.components.len()))
             }

@@ -154,13 +154,6 @@ const CASES: &[(&str, &str, &str, &str, &str)] = &[
     ),
     (
         "source = \"parts/rod.toml\"",
-        "source = \"parts/rod.fmb.h5\"\ninertia = \"consistent\"",
-        "body[1].inertia",
-        "inertia = \"consistent\"",
-        "needs an FE model file",
-    ),
-    (
-        "source = \"parts/rod.toml\"",
         "source = \"parts\"\ninertia = \"consistent\"",
         "body[1].inertia",
         "inertia = \"consistent\"",

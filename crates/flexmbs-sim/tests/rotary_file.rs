@@ -41,6 +41,7 @@ fn reduce_to_file(part: &Path, out: &Path) -> BodyFile {
         geometric: None,
         rotary_inertia,
         stress: None,
+        inertia_gram: None,
     };
     f.write(out).unwrap();
     f

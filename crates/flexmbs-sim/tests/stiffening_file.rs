@@ -43,6 +43,7 @@ fn reduce_to_file(model: &Path, out: &Path) -> BodyFile {
         geometric,
         rotary_inertia,
         stress: None,
+        inertia_gram: None,
     };
     f.write(out).unwrap();
     f

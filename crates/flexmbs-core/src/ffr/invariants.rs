@@ -25,7 +25,7 @@
 use super::FfrError;
 use flexmbs_fe::SparseMatrix;
 use nalgebra::{DMatrix, Matrix3, Vector3};
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 /// Relative tolerance of the isotropy check of a consistent mass matrix.
 pub const ISOTROPY_TOLERANCE: f64 = 1e-9;
@@ -115,13 +115,32 @@ impl FfrInvariants {
 
     /// Invariants of a body with a consistent mass matrix `m_full` (3N x 3N over the three
     /// translational DOFs of every node, node order; seed 000 §6.2): every invariant is the
-    /// projection `1/3 sum_d L_d(x)^T M L_d(y)` described in the module documentation. Errors if
-    /// `M` is not block-isotropic (`M_ij = m_ij I_3`) to [`ISOTROPY_TOLERANCE`].
+    /// projection `1/3 sum_d L_d(x)^T M L_d(y)` described in the module documentation
+    /// ([`Self::consistent_gram`], then [`Self::from_gram`]). Errors if `M` is not
+    /// block-isotropic (`M_ij = m_ij I_3`) to [`ISOTROPY_TOLERANCE`].
     pub fn from_consistent(
         u0: &[[f64; 3]],
         m_full: &SparseMatrix,
         modes_t: faer::MatRef<'_, f64>,
     ) -> Result<Self, FfrError> {
+        Self::from_gram(
+            &Self::consistent_gram(u0, m_full, modes_t)?,
+            modes_t.ncols(),
+        )
+    }
+
+    /// The Gram matrix `G = f^T m f` of the scalar node fields `f = [1, x_1, x_2, x_3, Phi_1,
+    /// Phi_2, Phi_3]` (module documentation) under the scalar node mass operator `m` of a
+    /// consistent mass matrix `m_full` (3N x 3N over the three translational DOFs of every node,
+    /// node order, `M_ij = m_ij I_3`): a `(4 + 3 n_f)` square matrix, in the units of its inputs.
+    /// It holds every inertia shape integral ([`Self::from_gram`]), so a reduced-body file can
+    /// store it instead of the FE mass matrix. Errors if `M` has the wrong size, a non-finite
+    /// entry or is not block-isotropic to [`ISOTROPY_TOLERANCE`].
+    pub fn consistent_gram(
+        u0: &[[f64; 3]],
+        m_full: &SparseMatrix,
+        modes_t: faer::MatRef<'_, f64>,
+    ) -> Result<DMatrix<f64>, FfrError> {
         let n = u0.len();
         if m_full.nrows() != 3 * n || m_full.ncols() != 3 * n {
             return Err(FfrError::DimensionMismatch {
@@ -131,8 +150,9 @@ impl FfrInvariants {
             });
         }
         let f = node_fields(u0, modes_t)?;
-        // scalar node blocks: diagonal entries per direction, off-diagonal direction coupling
-        let mut blocks: HashMap<(usize, usize), [f64; 3]> = HashMap::new();
+        // scalar node blocks: diagonal entries per direction, off-diagonal direction coupling;
+        // ordered, so that `G` is the same bitwise in every run
+        let mut blocks: BTreeMap<(usize, usize), [f64; 3]> = BTreeMap::new();
         let mut max_abs = 0.0f64;
         let mut max_cross = (0.0f64, 0usize, 0usize);
         let sym = m_full.symbolic();
@@ -178,11 +198,34 @@ impl FfrInvariants {
                 mf[(i, col)] += mean * f[(j, col)];
             }
         }
-        Self::from_gram(&(f.transpose() * mf), modes_t.ncols())
+        Ok(f.transpose() * mf)
     }
 
-    /// Splits the Gram matrix `G = f^T m f` into the named invariants.
-    fn from_gram(g: &DMatrix<f64>, nf: usize) -> Result<Self, FfrError> {
+    /// The invariants of a body with `nf` modes from its Gram matrix `G = f^T m f`
+    /// (`(4 + 3 nf)` square; rows and columns in the order `1, x_1, x_2, x_3`, then the `nf`
+    /// modes of `Phi_1`, of `Phi_2` and of `Phi_3`, see the module documentation): `G` is
+    /// symmetrized, then split into the named invariants (seed 000 (2.47), (2.53), (2.54), (2.65),
+    /// (2.69)). [`Self::from_lumped`] and [`Self::from_consistent`] build `G` from node masses or
+    /// a consistent mass matrix; a reduced-body file stores the consistent one. Errors if `G` has
+    /// the wrong size, a non-finite entry or a total mass `G[0, 0]` that is not positive.
+    pub fn from_gram(g: &DMatrix<f64>, nf: usize) -> Result<Self, FfrError> {
+        let size = 4 + 3 * nf;
+        if g.nrows() != size || g.ncols() != size {
+            return Err(FfrError::DimensionMismatch {
+                what: "Gram matrix size (4 + 3 x modes)",
+                expected: size,
+                found: if g.nrows() != size {
+                    g.nrows()
+                } else {
+                    g.ncols()
+                },
+            });
+        }
+        if g.iter().any(|v| !v.is_finite()) {
+            return Err(FfrError::NonFinite {
+                what: "Gram matrix",
+            });
+        }
         let g = 0.5 * (g + g.transpose());
         let i1 = g[(0, 0)];
         if i1.is_nan() || i1 <= 0.0 {

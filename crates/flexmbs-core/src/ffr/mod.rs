@@ -39,7 +39,7 @@ mod tests_stiffening;
 mod tests_tangent;
 
 pub use body::{FfrBody, FfrScratch, RigidProperties, RotationParam};
-pub use consistent::consistent_mass_to_si;
+pub use consistent::{consistent_mass_to_si, gram_to_si, restrict_gram};
 pub use element::{FfrElement, FfrEval};
 pub use invariants::{FfrInvariants, ISOTROPY_TOLERANCE};
 pub use kinematics::NodeKinematics;
@@ -75,7 +75,10 @@ pub enum FfrError {
         mass: f64,
     },
     /// The reduced body carries no lumped node masses.
-    #[error("reduced body '{name}' has no lumped node masses; use FfrInvariants::from_consistent")]
+    #[error(
+        "reduced body '{name}' has no lumped node masses (its FE mass is consistent): its \
+         inertia must come from the consistent mass"
+    )]
     MissingNodeMasses {
         /// Body name.
         name: String,

@@ -209,7 +209,7 @@ pub(crate) fn encode_body(
     b: &ReducedBody,
     geometric: Option<&GeometricStiffness>,
     rotary_inertia: Option<&[nalgebra::Matrix3<f64>]>,
-    stress: Option<&flexmbs_fe::stress::ModalStress>,
+    optional: super::Optional<'_>,
 ) -> Result<Vec<u8>, BodyFileError> {
     let n = b.num_nodes() as u64;
     let nf = b.num_modes() as u64;
@@ -330,8 +330,11 @@ pub(crate) fn encode_body(
     if let Some(g) = geometric {
         super::geometric::encode(&mut fb, g);
     }
-    if let Some(s) = stress {
+    if let Some(s) = optional.stress {
         super::stress::encode(&mut fb, s);
+    }
+    if let Some(g) = optional.inertia_gram {
+        super::inertia::encode(&mut fb, g);
     }
 
     fb.finish().map_err(|e| hdf5_error(path, "/", e))
@@ -664,11 +667,13 @@ pub(crate) fn decode_body(path: &Path, bytes: Vec<u8>) -> Result<BodyFile, BodyF
     }
     let rotary_inertia = super::rotary::decode(&r, n)?;
     let stress = super::stress::decode(&r, n, nf)?;
+    let inertia_gram = super::inertia::decode(&r, &body)?;
     Ok(BodyFile {
         body,
         geometric,
         rotary_inertia,
         stress,
+        inertia_gram,
     })
 }
 
