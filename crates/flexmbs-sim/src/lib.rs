@@ -27,6 +27,8 @@ pub mod schema;
 pub mod signals;
 pub mod stiffening;
 pub mod stress;
+pub mod superelement_fe;
+mod superelement_fe_body;
 mod superelement_output;
 pub mod superelements;
 pub use flexmbs_io::units;
