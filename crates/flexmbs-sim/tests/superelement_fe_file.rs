@@ -258,3 +258,92 @@ fn solid_superelement_vibrates_like_ffr_body() {
     assert!(((period_se - period_ffr) / period_ffr).abs() < 1e-3);
     assert!(history < 1e-3, "{history:e}");
 }
+
+/// The error of compiling a superelement made from `bar_free.toml` with `from` replaced by `to`
+/// (written to a work folder).
+fn fe_error(tag: &str, from: &str, to: &str) -> String {
+    let fe = std::fs::read_to_string(data_dir().join("bar_free.toml")).unwrap();
+    assert!(fe.contains(from), "{from}");
+    let dir = common::work_dir("sefe_err", tag);
+    std::fs::write(dir.join("bar.toml"), fe.replace(from, to)).unwrap();
+    let model = "[model]\nname = \"m\"\n[solver]\ntype = \"statics\"\n[[body]]\nname = \"bar\"\n\
+                 type = \"superelement\"\nsource = \"bar.toml\"\n";
+    let e = compile_model(model, &dir.join("model.toml"))
+        .err()
+        .unwrap_or_else(|| panic!("{tag}: accepted"))
+        .to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    eprintln!("{tag}: {e}");
+    e
+}
+
+/// Bad input is refused at check time with the model file's key and the FE file's line and key:
+/// an interface node set not in the mesh, an empty selection, no interface, a selection of
+/// several nodes or of a node without rotations, a modal reduction.
+#[test]
+fn bad_fe_superelements_are_refused_at_keys() {
+    let iface = "interface = [\"root\", \"tip\"]";
+    let e = fe_error("unknown", iface, "interface = [\"root\", \"nope\"]");
+    assert!(e.contains("body[0].source") && e.contains("body.reduction.interface[1]"));
+    assert!(e.contains("no node set 'nope'"), "{e}");
+    let empty =
+        "interface = [\"root\", { within = { min = [5.0, 5.0, 5.0], max = [6.0, 6.0, 6.0] } }]";
+    let e = fe_error("empty", iface, empty);
+    assert!(e.contains("body.reduction.interface[1]") && e.contains("matches no node"));
+    let e = fe_error("none", iface, "interface = []");
+    assert!(e.contains("body.reduction.interface") && e.contains("at least one interface"));
+    let e = fe_error("several", iface, "interface = [\"root\", \"xmax\"]");
+    assert!(
+        e.contains("body.reduction.interface[1]") && e.contains("selects 8 nodes"),
+        "{e}"
+    );
+    let e = fe_error(
+        "solid_node",
+        iface,
+        "interface = [\"root\", { nearest = [0.5, 0.0, 0.0] }]",
+    );
+    assert!(
+        e.contains("interface 1 (`i1`") && e.contains("3 independent DOFs"),
+        "{e}"
+    );
+    let e = fe_error("modal", "method = \"craig-bampton\"", "method = \"modal\"");
+    assert!(
+        e.contains("body.reduction.method") && e.contains("craig-bampton"),
+        "{e}"
+    );
+}
+
+/// The solid bar has no node at its centre of mass: the frame condition is the mass-weighted
+/// rigid motion, at the centroid (0.5, 0.01, 0.01) m, with `[Φ_CB][Φ_rig,0] = 1` to round-off;
+/// a `[Φ_CB]` that does not describe a rigid motion is refused by the superelement.
+#[test]
+fn mean_axes_frame_condition_of_a_solid() {
+    use flexmbs_core::superelement::{Superelement, SuperelementError};
+    let path = data_dir().join("bar_free.toml");
+    let spec = flexmbs_io::model_check::FeModelSource::read(&path)
+        .unwrap()
+        .model
+        .body;
+    let prepared = flexmbs_reduce::pipeline::prepare(&spec, &data_dir(), &mut |_| {}).unwrap();
+    let reduced = flexmbs_reduce::pipeline::run_reduction(&spec, &prepared, &mut |_| {}).unwrap();
+    let names = ["root".to_string(), "tip".to_string()];
+    let fe = superelement_from_reduced(&prepared.system, &reduced, &names, FeFrame::CentreOfMass)
+        .unwrap();
+    assert_eq!(fe.condition, FrameCondition::MeanAxes);
+    assert!((fe.origin - nalgebra::Vector3::new(0.5, 0.01, 0.01)).norm() < 1e-9);
+    let b = &fe.data.phi_cb * fe.data.rigid_modes();
+    let dev = (b - nalgebra::DMatrix::<f64>::identity(6, 6)).amax();
+    assert!(dev < 1e-8, "{dev:e}");
+    // the internal modes move no rigid motion of the frame in the mass-weighted sense
+    let mut bad = fe.data.clone();
+    bad.phi_cb.column_mut(1).scale_mut(0.5);
+    let e = Superelement::new(bad).err().unwrap();
+    assert!(
+        matches!(e, SuperelementError::SingularFrameCondition { .. }),
+        "{e}"
+    );
+    let interface =
+        superelement_from_reduced(&prepared.system, &reduced, &names, FeFrame::FirstInterface)
+            .unwrap();
+    assert!(interface.origin.norm() < 0.02 && interface.data.interfaces[0].position.norm() == 0.0);
+}
