@@ -27,7 +27,7 @@ pub mod schema;
 pub mod signals;
 pub mod stiffening;
 pub mod stress;
-pub mod superelement_fe;
+pub use flexmbs_reduce::superelement as superelement_fe;
 mod superelement_fe_body;
 mod superelement_output;
 pub mod superelements;

@@ -1,4 +1,4 @@
-//! Craig-Bampton data of a superelement from an FE body file (`[[body]] type = "superelement"`,
+//! Craig-Bampton data of a superelement from an FE body file (a multibody `type = "superelement"`,
 //! seed 001 ch. 3-4 and §8.4): the FE model's Craig-Bampton reduction to its named interfaces
 //! (each a mesh node with rotations, or a node set tied rigidly to a 6-DOF interface node), the
 //! floating-frame condition `[Φ_CB]` (3.7) at the undeformed centre of mass or at the first
