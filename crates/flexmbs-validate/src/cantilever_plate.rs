@@ -20,6 +20,8 @@ use std::path::{Path, PathBuf};
 const L: f64 = 10.0;
 /// Total load of the two forces (N): `P L² / EI = 10` with `EI = E b t³ / 12 = 1e6 N m²`.
 const P_MAX: f64 = 1e5;
+/// Bending stiffness of the plate as a beam, `E b t³ / 12` (N m²).
+const EI: f64 = 12e9 * 1.0 * 1e-3 / 12.0;
 /// Load increments of the statics (the reference prints every 5 %).
 const STEPS: usize = 40;
 /// Superelements along the plate.
@@ -193,6 +195,10 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         } else {
             res.record(&key("minus_u_over_L"), u);
         }
+        // context: the inextensible elastica of a beam with EI = E b t³ / 12 (no plate effect)
+        let (ue, ve) = crate::elastica::elastica_elliptic(p, L, EI);
+        res.record(&key("elastica_w_over_L"), ve / L);
+        res.record(&key("elastica_minus_u_over_L"), ue / L);
         res.record(&key("coarse_reference_w_over_L"), w_c);
         res.record(&key("coarse_reference_minus_u_over_L"), u_c);
         if !quiet {
@@ -232,6 +238,14 @@ fn plot(
     add("CalculiX C3D20R 80x8x2", fine, Style::Line);
     add("CalculiX C3D20R 40x4x2", coarse, Style::Line);
     add("10 superelements", path, Style::Points);
+    let elastica: Vec<(f64, f64, f64)> = fine
+        .iter()
+        .map(|&(p, _, _)| {
+            let (u, v) = crate::elastica::elastica_elliptic(p, L, EI);
+            (p, v / L, u / L)
+        })
+        .collect();
+    add("elastica (beam, E b t^3/12)", &elastica, Style::Line);
     let plot = LinePlot {
         title: "Cantilever plate, two vertical tip forces: tip displacements".into(),
         x_label: "P (sum of both forces) [N]".into(),
