@@ -313,15 +313,16 @@ fn to_si(mut s: FeSuperelementData, units: flexmbs_fe::UnitSystem) -> FeSuperele
         }
     };
     let scale: Vec<f64> = (0..n).map(dcol).collect();
-    for i in 0..n {
-        for j in 0..n {
-            d.m_cb[(i, j)] *= e * scale[i] * scale[j];
-            d.k_cb[(i, j)] *= e * scale[i] * scale[j];
+    for (i, si) in scale.iter().enumerate() {
+        for (j, sj) in scale.iter().enumerate() {
+            d.m_cb[(i, j)] *= e * si * sj;
+            d.k_cb[(i, j)] *= e * si * sj;
         }
     }
     for i in 0..6 {
-        for j in 0..n {
-            d.phi_cb[(i, j)] *= if i < 3 { l } else { 1.0 } * scale[j];
+        let row = if i < 3 { l } else { 1.0 };
+        for (j, sj) in scale.iter().enumerate() {
+            d.phi_cb[(i, j)] *= row * sj;
         }
     }
     for itf in &mut d.interfaces {

@@ -37,6 +37,9 @@ pub fn case_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation/cantilever_plate")
 }
 
+/// One point of a load-displacement path: `(P, w/L, −u/L)`.
+pub type PathPoint = (f64, f64, f64);
+
 /// Reference rows `(P, w/L, −u/L)` of a stored CalculiX table.
 pub fn read_reference(path: &Path) -> Result<Vec<(f64, f64, f64)>> {
     let text = std::fs::read_to_string(path).with_context(|| path.display().to_string())?;
@@ -88,7 +91,7 @@ pub fn reference_from_dat(text: &str) -> Result<Vec<(f64, f64, f64)>> {
 
 /// The equilibrium path of the superelement plate: `(P, w/L, −u/L)` of the mean of the two tip
 /// interface points at every load increment, and the Newton iterations.
-pub fn superelement_path() -> Result<(Vec<(f64, f64, f64)>, usize)> {
+pub fn superelement_path() -> Result<(Vec<PathPoint>, usize)> {
     let file = case_dir().join("plate_segment.toml");
     let src = flexmbs_io::model_check::FeModelSource::read(&file)?;
     let spec = src.model.body.clone();
