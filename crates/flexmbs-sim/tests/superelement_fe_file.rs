@@ -306,7 +306,8 @@ fn fe_error(tag: &str, from: &str, to: &str) -> String {
 
 /// Bad input is refused at check time with the model file's key and the FE file's line and key:
 /// an interface node set not in the mesh, an empty selection, no interface, a selection of
-/// several nodes or of a node without rotations, a modal reduction.
+/// several nodes or of a node without rotations, a modal reduction, two bodies sharing an
+/// interface that is not at the same place.
 #[test]
 fn bad_fe_superelements_are_refused_at_keys() {
     let iface = "interface = [\"root\", \"tip\"]";
@@ -336,6 +337,15 @@ fn bad_fe_superelements_are_refused_at_keys() {
     let e = fe_error("modal", "method = \"craig-bampton\"", "method = \"modal\"");
     assert!(
         e.contains("body.reduction.method") && e.contains("craig-bampton"),
+        "{e}"
+    );
+    // two bodies naming the same interface at different places
+    let text = fe_chain().replace("position = [0.1, 0, 0]", "position = [0.15, 0, 0]");
+    let e = compiled(&text)
+        .err()
+        .expect("incompatible shared interface accepted");
+    assert!(
+        e.contains("body[1].interfaces[0]") && e.contains("must coincide"),
         "{e}"
     );
 }
