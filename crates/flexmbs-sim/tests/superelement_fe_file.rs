@@ -341,9 +341,7 @@ fn bad_fe_superelements_are_refused_at_keys() {
     );
     // two bodies naming the same interface at different places
     let text = fe_chain().replace("position = [0.1, 0, 0]", "position = [0.15, 0, 0]");
-    let e = compiled(&text)
-        .err()
-        .expect("incompatible shared interface accepted");
+    let e = compiled(&text).expect_err("incompatible shared interface accepted");
     assert!(
         e.contains("body[1].interfaces[0]") && e.contains("must coincide"),
         "{e}"
