@@ -3,7 +3,8 @@
 //! generators, CalculiX deck, seed folder), applies its supports, assembles or imports K and M and
 //! runs the modal analysis or the reduction ([`pipeline`]); the full mass matrix for the
 //! consistent mass model and node rotary inertias ([`full_mass`]); the centrifugal geometric
-//! stiffness ([`geometric`]); frequency tables of modal analyses ([`report`]); modal stress fields ([`stress`]).
+//! stiffness ([`geometric`]); frequency tables of modal analyses ([`report`]); modal stress fields ([`stress`]); superelement data of a Craig-Bampton
+//! reduction ([`superelement`]).
 #![warn(missing_docs)]
 
 pub mod body_file;
@@ -12,3 +13,4 @@ pub mod geometric;
 pub mod pipeline;
 pub mod report;
 pub mod stress;
+pub mod superelement;

@@ -149,8 +149,8 @@ pub fn build_body(
             crate::point_mass_body::point_mass_body(ctx, &p, b)
         }
         // compiled by `crate::superelements::add_superelement_beams`
-        BodyType::SuperelementBeam => {
-            Err(ctx.err(&p, "internal: superelement_beam bodies are not built here"))
+        BodyType::SuperelementBeam | BodyType::Superelement => {
+            Err(ctx.err(&p, "internal: superelement bodies are not built here"))
         }
     }
 }

@@ -9,7 +9,7 @@ use crate::error::SimError;
 use crate::fe_frames::{check_rotation_lock_at_node, RotationUse};
 use crate::locate::{line_of, line_of_path};
 use crate::point_mass_body::{refuse_rotation_on_point_mass, RotationalUse};
-use crate::schema::{BodyType, CoordinatesName, JointType, LoadType, ModelFile};
+use crate::schema::{CoordinatesName, JointType, LoadType, ModelFile};
 use crate::signals::{parse_signals, Signal};
 use crate::units::{Dimension, Quantity};
 use flexmbs_core::ffr::FfrBody;
@@ -187,7 +187,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     // the ffr bodies flexible contours are built from (only when the model has contacts)
     let mut contour_bodies: HashMap<String, flexmbs_core::ffr::FfrBody> = HashMap::new();
     for (i, b) in mf.body.iter().enumerate() {
-        if b.kind == BodyType::SuperelementBeam {
+        if b.is_superelement() {
             continue;
         }
         let (element, geometry) = build_body(&ctx, i, b, base, &mf.frame)?;
@@ -602,7 +602,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         .body
         .iter()
         .enumerate()
-        .filter(|(_, b)| b.kind != BodyType::SuperelementBeam);
+        .filter(|(_, b)| !b.is_superelement());
     for ((i, b), info) in regular.zip(&bodies[..regular_bodies]) {
         let p = format!("body[{i}]");
         let pos = opt_vec(

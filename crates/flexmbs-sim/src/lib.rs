@@ -28,6 +28,8 @@ pub mod schema;
 pub mod signals;
 pub mod stiffening;
 pub mod stress;
+pub use flexmbs_reduce::superelement as superelement_fe;
+mod superelement_fe_body;
 mod superelement_output;
 pub mod superelements;
 pub use flexmbs_io::units;

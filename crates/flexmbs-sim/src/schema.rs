@@ -177,6 +177,9 @@ pub enum BodyType {
     /// A straight beam split into a chain of superelements.
     #[serde(rename = "superelement_beam")]
     SuperelementBeam,
+    /// One superelement from an FE body file ([`crate::superelement_fe_body`]).
+    #[serde(rename = "superelement")]
+    Superelement,
 }
 
 /// Rotation parametrizations.
@@ -272,6 +275,16 @@ pub struct BodySpec {
     pub interfaces: Option<Vec<String>>,
     /// Interface points clamped to ground (superelement_beam).
     pub fixed: Option<Vec<String>>,
+}
+
+impl BodySpec {
+    /// A `superelement_beam` or `superelement` body (compiled by [`crate::superelements`]).
+    pub fn is_superelement(&self) -> bool {
+        matches!(
+            self.kind,
+            BodyType::SuperelementBeam | BodyType::Superelement
+        )
+    }
 }
 
 /// The `inertia` key: three principal moments (rigid body) or a mass model name (ffr body).

@@ -77,13 +77,13 @@ pub fn superelement_keys_present(b: &BodySpec) -> [(&'static str, bool); 14] {
 
 /// An interface point of the model: its node, frame and initial pose.
 #[derive(Debug, Clone)]
-struct InterfacePoint {
-    node: NodeId,
-    frame: FrameId,
-    position: Vector3<f64>,
-    rotation: Matrix3<f64>,
+pub(crate) struct InterfacePoint {
+    pub(crate) node: NodeId,
+    pub(crate) frame: FrameId,
+    pub(crate) position: Vector3<f64>,
+    pub(crate) rotation: Matrix3<f64>,
     /// Key path of the component entry that created it.
-    owner: String,
+    pub(crate) owner: String,
 }
 
 /// A compiled superelement beam component.
@@ -115,7 +115,7 @@ pub struct SuperelementBuild {
     /// Fixed joints to add after the file's joints.
     pub fixed: Vec<PendingJoint>,
     /// Interface frames by name.
-    interfaces: HashMap<String, InterfacePoint>,
+    pub(crate) interfaces: HashMap<String, InterfacePoint>,
 }
 
 impl SuperelementBuild {
@@ -137,9 +137,12 @@ impl SuperelementBuild {
     /// Why a `[[frame]]` with `node`, `nearest` or `interface` may not sit on body `body`, if it
     /// is a superelement.
     pub fn segment_node_frame_message(&self, body: &str) -> Option<String> {
+        // a `superelement_beam` body's superelements `<name>.s<k>`, or a `superelement` body
         let c = self.components.iter().find(|c| {
-            body.strip_prefix(c.name.as_str())
-                .is_some_and(|s| s.starts_with(".s"))
+            body == c.name
+                || body
+                    .strip_prefix(c.name.as_str())
+                    .is_some_and(|s| s.starts_with(".s"))
         })?;
         Some(format!(
             "`{body}` is a superelement of `{}`: frames on its points use `body = \"{}\"` with \
@@ -153,9 +156,12 @@ impl SuperelementBuild {
     /// Why a joint may not use a frame fixed in the floating frame of superelement `body`, if
     /// `body` is one.
     pub fn floating_frame_joint_message(&self, frame: &str, body: &str) -> Option<String> {
+        // a `superelement_beam` body's superelements `<name>.s<k>`, or a `superelement` body
         let c = self.components.iter().find(|c| {
-            body.strip_prefix(c.name.as_str())
-                .is_some_and(|s| s.starts_with(".s"))
+            body == c.name
+                || body
+                    .strip_prefix(c.name.as_str())
+                    .is_some_and(|s| s.starts_with(".s"))
         })?;
         Some(format!(
             "frame `{frame}` is fixed in the floating frame of superelement `{body}`, which is \
@@ -193,10 +199,23 @@ pub fn add_superelement_beams(
     let mut build = SuperelementBuild::default();
     let mut last_node: Option<NodeId> = None;
     for (i, b) in mf.body.iter().enumerate() {
+        let p = format!("body[{i}]");
+        if b.kind == BodyType::Superelement {
+            crate::superelement_fe_body::add_fe_superelement(
+                ctx,
+                mf,
+                &p,
+                b,
+                spec,
+                frames,
+                &mut build,
+                &mut last_node,
+            )?;
+            continue;
+        }
         if b.kind != BodyType::SuperelementBeam {
             continue;
         }
-        let p = format!("body[{i}]");
         let input = component_input(ctx, mf, &p, b)?;
         add_component(ctx, &p, b, &input, spec, frames, &mut build, &mut last_node)?;
     }
@@ -719,7 +738,7 @@ fn initial_velocity(
 
 /// A fixed joint between a ground frame at the initial pose of interface `f` (one of `names`, or
 /// `i<k>`) and the interface frame.
-fn fixed_joint(
+pub(crate) fn fixed_joint(
     ctx: &Ctx,
     path: &str,
     f: &str,

@@ -4,6 +4,7 @@
 //! `../shared/reference/benchmarks.md`).
 #![warn(missing_docs)]
 
+pub mod cantilever_plate;
 pub mod cantilever_static;
 pub mod cantilever_transient;
 pub mod complex_beam_ccx;
@@ -74,6 +75,11 @@ pub fn cases() -> Vec<Case> {
             name: "cantilever_static",
             description: "seed 001 §5.1/5.3: cantilever tube under a vertical tip force, chains of superelements vs the elastica",
             run: cantilever_static::run,
+        },
+        Case {
+            name: "cantilever_plate",
+            description: "seed 001 §8.4: plate 10 x 1 x 0.1 m under two vertical tip forces, 10 superelements with 4 interface points from an FE body file vs geometrically nonlinear CalculiX (C3D20R)",
+            run: cantilever_plate::run,
         },
         Case {
             name: "cantilever_transient",
