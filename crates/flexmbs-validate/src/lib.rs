@@ -19,6 +19,7 @@ pub mod slider_crank_2d;
 pub mod slider_crank_reference;
 pub mod slider_crank_superelement;
 pub mod sliding_balls;
+pub mod sliding_balls_reference;
 
 pub use result::ValidationResult;
 use std::path::Path;

@@ -111,6 +111,8 @@ pub struct Run {
     pub sweeps: usize,
     /// Wall time of the integration (s).
     pub cpu: f64,
+    /// Largest out-of-plane displacement of the ball, |z - 25 mm| (m): the motion is planar.
+    pub z_dev: f64,
 }
 
 fn nearest_node(nodes: &[[f64; 3]], p: [f64; 3]) -> usize {
@@ -205,6 +207,7 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
             run.energy_deviation = run.energy_deviation.max(de.abs());
             run.drift = run.drift.max(stats.g_max);
             run.beyond_end |= ws_out.sys.guides[0].beyond_end;
+            run.z_dev = run.z_dev.max((model.body_q(m, &s.q)[2] - 0.025).abs());
             if s.t >= next_out {
                 let q = model.body_q(m, &s.q);
                 run.ball.push((s.t, q[0], q[1]));
@@ -219,6 +222,16 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
     run.acc_rms = (acc_sq / n_acc.max(1) as f64).sqrt();
     run.x_end = model.body_q(m, &s.q)[0];
     Ok(run)
+}
+
+/// Writes the sampled series of a run as CSV: t, ball x, ball y, tip y (m), (E - E_1) / E_1.
+pub fn write_series(path: &Path, r: &Run) -> Result<()> {
+    let mut text = String::from("t,x,y,tip_y,energy_dev\n");
+    for ((b, tip), e) in r.ball.iter().zip(&r.tip).zip(&r.energy) {
+        text += &format!("{},{},{},{},{}\n", b.0, b.1, b.2, tip.1, e.1);
+    }
+    std::fs::write(path, text)?;
+    Ok(())
 }
 
 /// Root-mean-square difference of two equally sampled series (the shorter length).
@@ -246,6 +259,7 @@ fn record_run(res: &mut ValidationResult, key: &str, r: &Run) -> bool {
     res.record(&format!("x_end_{key}"), r.x_end);
     res.record(&format!("steps_{key}"), r.steps as f64);
     res.record(&format!("cpu_s_{key}"), r.cpu);
+    res.record(&format!("z_dev_{key}"), r.z_dev);
     r.energy_deviation < 5e-3
         && r.drift < 1e-9
         && r.acc_max < 20.0 * r.acc_rms
@@ -290,18 +304,24 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     let counts: Vec<usize> = std::env::var("SLIDING_BALLS_MODES")
         .ok()
         .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
-        .unwrap_or_else(|| vec![10, 20, 50, 100]);
+        .unwrap_or_else(|| vec![10, 20, 40, 100]);
+    std::fs::create_dir_all(out)?;
+    let write_csv = std::env::var_os("SLIDING_BALLS_SERIES").is_some();
     for n in counts {
         let r = simulate(&beam, &Config { modes: n, ..base })?;
+        if write_csv {
+            write_series(&out.join(format!("series_modes{n}.csv")), &r)?;
+        }
         log(&format!(
             "{n} modes: x_end {:.5} m, tip y min {:.4e} m, energy dev {:.2e}, drift {:.1e}, \
-             acc max/rms {:.2e}/{:.2e}, {} steps, {} sweeps, {:.2} s",
+             acc max/rms {:.2e}/{:.2e}, z dev {:.1e}, {} steps, {} sweeps, {:.2} s",
             r.x_end,
             r.tip.iter().map(|p| p.1).fold(f64::INFINITY, f64::min),
             r.energy_deviation,
             r.drift,
             r.acc_max,
             r.acc_rms,
+            r.z_dev,
             r.steps,
             r.sweeps,
             r.cpu
@@ -315,7 +335,9 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         runs.push((n, r));
     }
     // mode convergence: ball y and tip y vs 100 modes (RMS difference over the run)
-    let reference = &runs[runs.len() - 1].1;
+    let Some((_, reference)) = runs.last() else {
+        anyhow::bail!("SLIDING_BALLS_MODES selects no mode count");
+    };
     let ball_y = |r: &Run| r.ball.iter().map(|p| (p.0, p.2)).collect::<Vec<_>>();
     let y_ref = ball_y(reference);
     let y_ref0: Vec<(f64, f64)> = y_ref.iter().map(|p| (p.0, p.1 - 0.025)).collect();
@@ -330,6 +352,11 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         res.record(&format!("tip_y_rms_diff_modes{n}_vs_100"), dtip);
         ok &= dy <= previous * 1.05;
         previous = dy;
+    }
+    let reference = compare_with_reference(&mut res, &runs, &base, &log)?;
+    ok &= reference.0;
+    if write_csv {
+        write_reference_series(&out.join("series_reference.csv"), &reference.1)?;
     }
     // the traverse: along the whole beam, over every knot span of the axis curve
     let traverse = Config {
@@ -346,11 +373,137 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     ok &= record_run(&mut res, "traverse", &r);
     res.pass = res.pass && ok;
     std::fs::create_dir_all(out)?;
-    plots(out, &runs, &r)?;
+    plots(out, &runs, &reference.1, &r)?;
     Ok(res)
 }
 
-fn plots(out: &Path, runs: &[(usize, Run)], traverse: &Run) -> Result<()> {
+/// The reference runs (elements, step): the finest is the comparison reference, the others
+/// show its convergence in elements and step.
+const REFERENCE_RUNS: [(usize, f64); 3] = [(20, 5e-4), (40, 5e-4), (40, 2.5e-4)];
+
+/// Relative tolerance of the 100-mode run against the nonlinear reference: RMS differences of
+/// the ball's height and the tip deflection over 0.5 s, relative to the reference's RMS. The
+/// physics allows no closer agreement than the two beam models' stiffness difference: the FE
+/// solid's first clamped frequency is 0.24 % above Euler-Bernoulli (3D clamp and hex20
+/// discretization), a phase drift of 2 pi f1 0.0024 t = 0.6 % at 0.5 s, and the modal
+/// truncation of the impact (a 100-mode body resolves the ball's contact point less finely
+/// than 40 Hermite elements).
+const REFERENCE_TOLERANCE: f64 = 0.03;
+
+/// Runs the nonlinear reference ([`crate::sliding_balls_reference`]) and compares the FFR runs
+/// with it: ball x, ball height, tip deflection; returns whether setup B is within
+/// [`REFERENCE_TOLERANCE`], and the finest reference run.
+fn compare_with_reference(
+    res: &mut ValidationResult,
+    runs: &[(usize, Run)],
+    base: &Config,
+    log: &dyn Fn(&str),
+) -> Result<(bool, crate::sliding_balls_reference::ReferenceRun)> {
+    use crate::sliding_balls_reference as reference;
+    let mut refs = Vec::new();
+    for (n, h) in REFERENCE_RUNS {
+        let start = Instant::now();
+        let r = reference::simulate(n, 1.0, h, base.t_end, h, base.x0, base.vx0, -0.002)
+            .map_err(|e| anyhow::anyhow!("reference ({n} elements, h = {h}): {e}"))?;
+        let cpu = start.elapsed().as_secs_f64();
+        let key = format!("ref_n{n}_h{:.0}us", h * 1e6);
+        let tip_min = r.samples.iter().map(|s| s[3]).fold(f64::INFINITY, f64::min);
+        log(&format!(
+            "reference {n} elements, h = {h}: x_end {:.6} m, tip y min {tip_min:.4e} m, largest \
+             rotation {:.2e} rad, energy dev {:.2e}, {:.1} Newton iterations per step, {cpu:.1} s",
+            r.samples.last().map_or(f64::NAN, |s| s[1]),
+            r.rotation_max,
+            r.energy_deviation,
+            r.iterations as f64 / r.steps.max(1) as f64
+        ));
+        res.record(&format!("energy_deviation_{key}"), r.energy_deviation);
+        res.record(&format!("tip_y_min_{key}"), tip_min);
+        res.record(&format!("rotation_max_{key}"), r.rotation_max);
+        res.record(&format!("cpu_s_{key}"), cpu);
+        refs.push((key, r));
+    }
+    let Some((_, best)) = refs.last() else {
+        anyhow::bail!("no reference run");
+    };
+    let series = |r: &reference::ReferenceRun, col: usize| -> Vec<(f64, f64)> {
+        r.samples.iter().map(|s| (s[0], s[col])).collect()
+    };
+    let (ref_y, ref_tip) = (series(best, 2), series(best, 3));
+    let (rms_y, rms_tip) = (rms(&ref_y), rms(&ref_tip));
+    // convergence of the reference: coarser runs vs the finest
+    for (key, r) in &refs[..refs.len() - 1] {
+        let at = |col: usize| -> Vec<(f64, f64)> {
+            r.samples
+                .iter()
+                .map(|s| (s[0], reference::interpolate(&best.samples, col, s[0])))
+                .collect()
+        };
+        let dy = rms_difference(&series(r, 2), &at(2)) / rms_y;
+        let dtip = rms_difference(&series(r, 3), &at(3)) / rms_tip;
+        log(&format!(
+            "{key} vs finest: ball y RMS difference {dy:.2e}, tip y {dtip:.2e} (relative)"
+        ));
+        res.record(&format!("ball_y_rms_diff_{key}_vs_finest"), dy);
+        res.record(&format!("tip_y_rms_diff_{key}_vs_finest"), dtip);
+    }
+    let mut ok = true;
+    for (n, r) in runs {
+        let at = |col: usize, t: f64| reference::interpolate(&best.samples, col, t);
+        let y: Vec<(f64, f64)> = r.ball.iter().map(|p| (p.0, p.2 - 0.025)).collect();
+        let y_ref: Vec<(f64, f64)> = r.ball.iter().map(|p| (p.0, at(2, p.0))).collect();
+        let tip_ref: Vec<(f64, f64)> = r.tip.iter().map(|p| (p.0, at(3, p.0))).collect();
+        let dy = rms_difference(&y, &y_ref) / rms_y;
+        let dtip = rms_difference(&r.tip, &tip_ref) / rms_tip;
+        let dx = r
+            .ball
+            .iter()
+            .map(|p| (p.1 - at(1, p.0)).abs())
+            .fold(0.0, f64::max);
+        log(&format!(
+            "{n} modes vs reference: ball y RMS difference {dy:.2e}, tip y {dtip:.2e} \
+             (relative), ball x largest difference {dx:.2e} m"
+        ));
+        res.record(&format!("ball_y_rms_diff_modes{n}_vs_ref"), dy);
+        res.record(&format!("tip_y_rms_diff_modes{n}_vs_ref"), dtip);
+        res.record(&format!("ball_x_diff_modes{n}_vs_ref"), dx);
+        if *n == 100 {
+            res.tolerance.insert(
+                "ball_y_rms_diff_modes100_vs_ref".into(),
+                REFERENCE_TOLERANCE,
+            );
+            res.tolerance
+                .insert("tip_y_rms_diff_modes100_vs_ref".into(), REFERENCE_TOLERANCE);
+            ok &= dy < REFERENCE_TOLERANCE && dtip < REFERENCE_TOLERANCE;
+        }
+    }
+    res.record("ref_energy_after_impact", best.e0);
+    res.record("ref_tip_y_max_abs", best.tip_max);
+    Ok((ok, best.clone()))
+}
+
+/// Writes the reference's samples (every 1 ms) as CSV: t, ball x, ball y, tip y (m), energy (J).
+fn write_reference_series(
+    path: &Path,
+    r: &crate::sliding_balls_reference::ReferenceRun,
+) -> Result<()> {
+    let mut text = String::from("t,x,y,tip_y,energy\n");
+    let mut next = 0.0;
+    for s in &r.samples {
+        if s[0] >= next - 1e-9 {
+            text += &format!("{},{},{},{},{}\n", s[0], s[1], s[2], s[3], s[4]);
+            next += 1e-3;
+        }
+    }
+    std::fs::write(path, text)?;
+    Ok(())
+}
+
+fn plots(
+    out: &Path,
+    runs: &[(usize, Run)],
+    reference: &crate::sliding_balls_reference::ReferenceRun,
+    traverse: &Run,
+) -> Result<()> {
     let line = |name: String, points: Vec<(f64, f64)>| Series {
         name,
         points,
@@ -374,17 +527,36 @@ fn plots(out: &Path, runs: &[(usize, Run)], traverse: &Run) -> Result<()> {
             .map(|(n, r)| line(format!("{n} modes"), f(r)))
             .collect::<Vec<_>>()
     };
+    let with_reference = |mut series: Vec<Series>, col: usize| {
+        let step = (reference.samples.len() / 2000).max(1);
+        series.push(line(
+            "nonlinear reference (40 el.)".into(),
+            reference
+                .samples
+                .iter()
+                .step_by(step)
+                .map(|s| (s[0], 1e3 * s[col]))
+                .collect(),
+        ));
+        series
+    };
     write(
         "ball_y",
         "Sliding ball from x = 0.75 m: height of the ball's centre",
         "y - 25 mm [mm]",
-        per_mode(&|r| r.ball.iter().map(|p| (p.0, 1e3 * (p.2 - 0.025))).collect()),
+        with_reference(
+            per_mode(&|r| r.ball.iter().map(|p| (p.0, 1e3 * (p.2 - 0.025))).collect()),
+            2,
+        ),
     )?;
     write(
         "tip_y",
         "Sliding ball from x = 0.75 m: tip deflection of the beam's axis",
         "u_y(tip) [mm]",
-        per_mode(&|r| r.tip.iter().map(|p| (p.0, 1e3 * p.1)).collect()),
+        with_reference(
+            per_mode(&|r| r.tip.iter().map(|p| (p.0, 1e3 * p.1)).collect()),
+            3,
+        ),
     )?;
     write(
         "energy",
