@@ -382,12 +382,10 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
 const REFERENCE_RUNS: [(usize, f64); 4] = [(10, 2.5e-4), (20, 2.5e-4), (40, 2.5e-4), (40, 1.25e-4)];
 
 /// Relative tolerance of the 100-mode run against the nonlinear reference: RMS differences of
-/// the ball's height and the tip deflection over 0.5 s, relative to the reference's RMS. The
-/// physics allows no closer agreement than the two beam models' stiffness difference: the FE
-/// solid's first clamped frequency is 0.24 % above Euler-Bernoulli (3D clamp and hex20
-/// discretization), a phase drift of 2 pi f1 0.0024 t = 0.6 % at 0.5 s, and the modal
-/// truncation of the impact (a 100-mode body resolves the ball's contact point less finely
-/// than 40 Hermite elements).
+/// the ball's height and the tip deflection over 0.5 s, relative to the reference's RMS. It bounds
+/// the difference of the two beam models (hex20 solid, loaded at an interior axis node, vs an
+/// Euler-Bernoulli line), not nonlinearity (rotations stay below 3.2e-4 rad, nonlinear terms
+/// O(1e-7)); chosen before the 100-mode comparison was run (measured 2.85e-2 / 2.78e-2, README).
 const REFERENCE_TOLERANCE: f64 = 0.03;
 
 /// Runs the nonlinear reference ([`crate::sliding_balls_reference`]) and compares the FFR runs
@@ -457,18 +455,14 @@ fn compare_with_reference(
         res.record(&format!("tip_y_rms_diff_modes{n}_vs_ref"), dtip);
         res.record(&format!("ball_x_diff_modes{n}_vs_ref"), dx);
         if *n == 100 {
-            res.tolerance.insert(
-                "ball_y_rms_diff_modes100_vs_ref".into(),
-                REFERENCE_TOLERANCE,
-            );
-            res.tolerance
-                .insert("tip_y_rms_diff_modes100_vs_ref".into(), REFERENCE_TOLERANCE);
+            // a bound on a relative difference (no reference value): a quantity, not `check`
+            res.record("rms_diff_vs_ref_bound_B", REFERENCE_TOLERANCE);
             ok &= dy < REFERENCE_TOLERANCE && dtip < REFERENCE_TOLERANCE;
         }
     }
     // diagnostic, not the reference: the same reference with E scaled so that its first clamped
-    // frequency equals the FE solid's; what remains of the difference is not the beam models'
-    // stiffness difference
+    // frequency equals the FE solid's (it shows whether the first frequency's difference explains
+    // the deviation; measured: it does not)
     let f_fe = res.quantities.get("f1_hz").copied().unwrap_or(f64::NAN);
     let f_eb = reference::clamped_frequencies(&reference::BallOnBeam::sliding_balls(40, 1.0), 1);
     let factor = (f_fe / f_eb.first().copied().unwrap_or(f64::NAN)).powi(2);
