@@ -14,7 +14,9 @@
 //! takes up the ball's transverse velocity, an impact) no work is done, so the total energy of
 //! beam and ball stays constant up to the stepper's error; the ball's velocity has no jumps
 //! (its discrete acceleration has no spikes: the C^2 requirement of sliding contact); the
-//! constraint holds; the response converges with the number of modes (10/20/50/100).
+//! constraint holds; the response converges with the number of modes (10/20/40/100). The
+//! geometrically nonlinear reference ([`crate::sliding_balls_reference`], a corotational beam)
+//! gives the comparison: ball x, ball height, tip deflection.
 
 use crate::ValidationResult;
 use anyhow::{Context, Result};
