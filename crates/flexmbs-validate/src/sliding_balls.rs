@@ -14,7 +14,9 @@
 //! takes up the ball's transverse velocity, an impact) no work is done, so the total energy of
 //! beam and ball stays constant up to the stepper's error; the ball's velocity has no jumps
 //! (its discrete acceleration has no spikes: the C^2 requirement of sliding contact); the
-//! constraint holds; the response converges with the number of modes (10/20/50/100).
+//! constraint holds; the response converges with the number of modes (10/20/40/100). The
+//! geometrically nonlinear reference ([`crate::sliding_balls_reference`], a corotational beam)
+//! gives the comparison: ball x, ball height, tip deflection.
 
 use crate::ValidationResult;
 use anyhow::{Context, Result};
@@ -111,6 +113,8 @@ pub struct Run {
     pub sweeps: usize,
     /// Wall time of the integration (s).
     pub cpu: f64,
+    /// Largest out-of-plane displacement of the ball, |z - 25 mm| (m): the motion is planar.
+    pub z_dev: f64,
 }
 
 fn nearest_node(nodes: &[[f64; 3]], p: [f64; 3]) -> usize {
@@ -205,6 +209,7 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
             run.energy_deviation = run.energy_deviation.max(de.abs());
             run.drift = run.drift.max(stats.g_max);
             run.beyond_end |= ws_out.sys.guides[0].beyond_end;
+            run.z_dev = run.z_dev.max((model.body_q(m, &s.q)[2] - 0.025).abs());
             if s.t >= next_out {
                 let q = model.body_q(m, &s.q);
                 run.ball.push((s.t, q[0], q[1]));
@@ -219,6 +224,16 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
     run.acc_rms = (acc_sq / n_acc.max(1) as f64).sqrt();
     run.x_end = model.body_q(m, &s.q)[0];
     Ok(run)
+}
+
+/// Writes the sampled series of a run as CSV: t, ball x, ball y, tip y (m), (E - E_1) / E_1.
+pub fn write_series(path: &Path, r: &Run) -> Result<()> {
+    let mut text = String::from("t,x,y,tip_y,energy_dev\n");
+    for ((b, tip), e) in r.ball.iter().zip(&r.tip).zip(&r.energy) {
+        text += &format!("{},{},{},{},{}\n", b.0, b.1, b.2, tip.1, e.1);
+    }
+    std::fs::write(path, text)?;
+    Ok(())
 }
 
 /// Root-mean-square difference of two equally sampled series (the shorter length).
@@ -246,6 +261,7 @@ fn record_run(res: &mut ValidationResult, key: &str, r: &Run) -> bool {
     res.record(&format!("x_end_{key}"), r.x_end);
     res.record(&format!("steps_{key}"), r.steps as f64);
     res.record(&format!("cpu_s_{key}"), r.cpu);
+    res.record(&format!("z_dev_{key}"), r.z_dev);
     r.energy_deviation < 5e-3
         && r.drift < 1e-9
         && r.acc_max < 20.0 * r.acc_rms
@@ -290,18 +306,24 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     let counts: Vec<usize> = std::env::var("SLIDING_BALLS_MODES")
         .ok()
         .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
-        .unwrap_or_else(|| vec![10, 20, 50, 100]);
+        .unwrap_or_else(|| vec![10, 20, 40, 100]);
+    std::fs::create_dir_all(out)?;
+    let write_csv = std::env::var_os("SLIDING_BALLS_SERIES").is_some();
     for n in counts {
         let r = simulate(&beam, &Config { modes: n, ..base })?;
+        if write_csv {
+            write_series(&out.join(format!("series_modes{n}.csv")), &r)?;
+        }
         log(&format!(
             "{n} modes: x_end {:.5} m, tip y min {:.4e} m, energy dev {:.2e}, drift {:.1e}, \
-             acc max/rms {:.2e}/{:.2e}, {} steps, {} sweeps, {:.2} s",
+             acc max/rms {:.2e}/{:.2e}, z dev {:.1e}, {} steps, {} sweeps, {:.2} s",
             r.x_end,
             r.tip.iter().map(|p| p.1).fold(f64::INFINITY, f64::min),
             r.energy_deviation,
             r.drift,
             r.acc_max,
             r.acc_rms,
+            r.z_dev,
             r.steps,
             r.sweeps,
             r.cpu
@@ -315,7 +337,9 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         runs.push((n, r));
     }
     // mode convergence: ball y and tip y vs 100 modes (RMS difference over the run)
-    let reference = &runs[runs.len() - 1].1;
+    let Some((_, reference)) = runs.last() else {
+        anyhow::bail!("SLIDING_BALLS_MODES selects no mode count");
+    };
     let ball_y = |r: &Run| r.ball.iter().map(|p| (p.0, p.2)).collect::<Vec<_>>();
     let y_ref = ball_y(reference);
     let y_ref0: Vec<(f64, f64)> = y_ref.iter().map(|p| (p.0, p.1 - 0.025)).collect();
@@ -330,6 +354,11 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         res.record(&format!("tip_y_rms_diff_modes{n}_vs_100"), dtip);
         ok &= dy <= previous * 1.05;
         previous = dy;
+    }
+    let reference = compare_with_reference(&mut res, &runs, &base, &log)?;
+    ok &= reference.0;
+    if write_csv {
+        write_reference_series(&out.join("series_reference.csv"), &reference.1)?;
     }
     // the traverse: along the whole beam, over every knot span of the axis curve
     let traverse = Config {
@@ -346,11 +375,169 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     ok &= record_run(&mut res, "traverse", &r);
     res.pass = res.pass && ok;
     std::fs::create_dir_all(out)?;
-    plots(out, &runs, &r)?;
+    plots(out, &runs, &reference.1, &r)?;
     Ok(res)
 }
 
-fn plots(out: &Path, runs: &[(usize, Run)], traverse: &Run) -> Result<()> {
+/// The reference runs (elements, step): the finest is the comparison reference, the others
+/// show its convergence in elements and step.
+const REFERENCE_RUNS: [(usize, f64); 4] = [(10, 2.5e-4), (20, 2.5e-4), (40, 2.5e-4), (40, 1.25e-4)];
+
+/// Relative tolerance of the 100-mode run against the nonlinear reference: RMS differences of
+/// the ball's height and the tip deflection over 0.5 s, relative to the reference's RMS. It bounds
+/// the difference of the two beam models (hex20 solid, loaded at an interior axis node, vs an
+/// Euler-Bernoulli line), not nonlinearity (rotations stay below 3.2e-4 rad, nonlinear terms
+/// O(1e-7)); chosen before the 100-mode comparison was run (measured 2.85e-2 / 2.78e-2, README).
+const REFERENCE_TOLERANCE: f64 = 0.03;
+
+/// Runs the nonlinear reference ([`crate::sliding_balls_reference`]) and compares the FFR runs
+/// with it: ball x, ball height, tip deflection; returns whether setup B is within
+/// [`REFERENCE_TOLERANCE`], and the finest reference run.
+fn compare_with_reference(
+    res: &mut ValidationResult,
+    runs: &[(usize, Run)],
+    base: &Config,
+    log: &dyn Fn(&str),
+) -> Result<(bool, crate::sliding_balls_reference::ReferenceRun)> {
+    use crate::sliding_balls_reference as reference;
+    let mut refs = Vec::new();
+    for (n, h) in REFERENCE_RUNS {
+        let start = Instant::now();
+        let r = reference::simulate(n, 1.0, h, base.t_end, h, base.x0, base.vx0, -0.002)
+            .map_err(|e| anyhow::anyhow!("reference ({n} elements, h = {h}): {e}"))?;
+        let cpu = start.elapsed().as_secs_f64();
+        let key = format!("ref_n{n}_h{:.0}us", h * 1e6);
+        let tip_min = r.samples.iter().map(|s| s[3]).fold(f64::INFINITY, f64::min);
+        log(&format!(
+            "reference {n} elements, h = {h}: x_end {:.6} m, tip y min {tip_min:.4e} m, largest \
+             rotation {:.2e} rad, energy dev {:.2e}, {:.1} Newton iterations per step, {cpu:.1} s",
+            r.samples.last().map_or(f64::NAN, |s| s[1]),
+            r.rotation_max,
+            r.energy_deviation,
+            r.iterations as f64 / r.steps.max(1) as f64
+        ));
+        res.record(&format!("energy_deviation_{key}"), r.energy_deviation);
+        res.record(&format!("tip_y_min_{key}"), tip_min);
+        res.record(&format!("rotation_max_{key}"), r.rotation_max);
+        res.record(&format!("cpu_s_{key}"), cpu);
+        refs.push((key, r));
+    }
+    let Some((_, best)) = refs.last() else {
+        anyhow::bail!("no reference run");
+    };
+    let series = |r: &reference::ReferenceRun, col: usize| -> Vec<(f64, f64)> {
+        r.samples.iter().map(|s| (s[0], s[col])).collect()
+    };
+    let (ref_y, ref_tip) = (series(best, 2), series(best, 3));
+    let (rms_y, rms_tip) = (rms(&ref_y), rms(&ref_tip));
+    // convergence of the reference: coarser runs vs the finest
+    for (key, r) in &refs[..refs.len() - 1] {
+        let at = |col: usize| -> Vec<(f64, f64)> {
+            r.samples
+                .iter()
+                .map(|s| (s[0], reference::interpolate(&best.samples, col, s[0])))
+                .collect()
+        };
+        let dy = rms_difference(&series(r, 2), &at(2)) / rms_y;
+        let dtip = rms_difference(&series(r, 3), &at(3)) / rms_tip;
+        log(&format!(
+            "{key} vs finest: ball y RMS difference {dy:.2e}, tip y {dtip:.2e} (relative)"
+        ));
+        res.record(&format!("ball_y_rms_diff_{key}_vs_finest"), dy);
+        res.record(&format!("tip_y_rms_diff_{key}_vs_finest"), dtip);
+    }
+    let mut ok = true;
+    for (n, r) in runs {
+        let [dy, dtip, dx] = differences_to_reference(r, best);
+        log(&format!(
+            "{n} modes vs reference: ball y RMS difference {dy:.2e}, tip y {dtip:.2e} \
+             (relative), ball x largest difference {dx:.2e} m"
+        ));
+        res.record(&format!("ball_y_rms_diff_modes{n}_vs_ref"), dy);
+        res.record(&format!("tip_y_rms_diff_modes{n}_vs_ref"), dtip);
+        res.record(&format!("ball_x_diff_modes{n}_vs_ref"), dx);
+        if *n == 100 {
+            // a bound on a relative difference (no reference value): a quantity, not `check`
+            res.record("rms_diff_vs_ref_bound_B", REFERENCE_TOLERANCE);
+            ok &= dy < REFERENCE_TOLERANCE && dtip < REFERENCE_TOLERANCE;
+        }
+    }
+    // diagnostic, not the reference: the same reference with E scaled so that its first clamped
+    // frequency equals the FE solid's (it shows whether the first frequency's difference explains
+    // the deviation; measured: it does not)
+    let f_fe = res.quantities.get("f1_hz").copied().unwrap_or(f64::NAN);
+    let f_eb = reference::clamped_frequencies(&reference::BallOnBeam::sliding_balls(40, 1.0), 1);
+    let factor = (f_fe / f_eb.first().copied().unwrap_or(f64::NAN)).powi(2);
+    res.record(
+        "f1_hz_reference_40",
+        f_eb.first().copied().unwrap_or(f64::NAN),
+    );
+    res.record("stiffness_factor_f1_matched", factor);
+    let (nm, hm) = REFERENCE_RUNS[REFERENCE_RUNS.len() - 2];
+    let matched = reference::simulate(nm, factor, hm, base.t_end, hm, base.x0, base.vx0, -0.002)
+        .map_err(|e| anyhow::anyhow!("f1-matched reference: {e}"))?;
+    for (n, r) in runs {
+        let [dy, dtip, _] = differences_to_reference(r, &matched);
+        log(&format!(
+            "{n} modes vs f1-matched reference (E x {factor:.5}): ball y RMS difference \
+             {dy:.2e}, tip y {dtip:.2e} (relative)"
+        ));
+        res.record(&format!("ball_y_rms_diff_modes{n}_vs_ref_f1matched"), dy);
+        res.record(&format!("tip_y_rms_diff_modes{n}_vs_ref_f1matched"), dtip);
+    }
+    res.record("ref_energy_after_impact", best.e0);
+    res.record("ref_tip_y_max_abs", best.tip_max);
+    Ok((ok, best.clone()))
+}
+
+/// Differences of an FFR run to a reference run: `[RMS difference of the ball's height, RMS
+/// difference of the tip deflection]`, each relative to the reference's RMS (the reference
+/// interpolated linearly at the FFR sample times), and the largest difference of the ball's x (m).
+pub fn differences_to_reference(
+    r: &Run,
+    reference: &crate::sliding_balls_reference::ReferenceRun,
+) -> [f64; 3] {
+    use crate::sliding_balls_reference::interpolate;
+    let at = |col: usize, t: f64| interpolate(&reference.samples, col, t);
+    let series = |col: usize| -> Vec<(f64, f64)> {
+        reference.samples.iter().map(|s| (s[0], s[col])).collect()
+    };
+    let y: Vec<(f64, f64)> = r.ball.iter().map(|p| (p.0, p.2 - 0.025)).collect();
+    let y_ref: Vec<(f64, f64)> = r.ball.iter().map(|p| (p.0, at(2, p.0))).collect();
+    let tip_ref: Vec<(f64, f64)> = r.tip.iter().map(|p| (p.0, at(3, p.0))).collect();
+    let dy = rms_difference(&y, &y_ref) / rms(&series(2));
+    let dtip = rms_difference(&r.tip, &tip_ref) / rms(&series(3));
+    let dx = r
+        .ball
+        .iter()
+        .map(|p| (p.1 - at(1, p.0)).abs())
+        .fold(0.0, f64::max);
+    [dy, dtip, dx]
+}
+
+/// Writes the reference's samples (every 1 ms) as CSV: t, ball x, ball y, tip y (m), energy (J).
+fn write_reference_series(
+    path: &Path,
+    r: &crate::sliding_balls_reference::ReferenceRun,
+) -> Result<()> {
+    let mut text = String::from("t,x,y,tip_y,energy\n");
+    let mut next = 0.0;
+    for s in &r.samples {
+        if s[0] >= next - 1e-9 {
+            text += &format!("{},{},{},{},{}\n", s[0], s[1], s[2], s[3], s[4]);
+            next += 1e-3;
+        }
+    }
+    std::fs::write(path, text)?;
+    Ok(())
+}
+
+fn plots(
+    out: &Path,
+    runs: &[(usize, Run)],
+    reference: &crate::sliding_balls_reference::ReferenceRun,
+    traverse: &Run,
+) -> Result<()> {
     let line = |name: String, points: Vec<(f64, f64)>| Series {
         name,
         points,
@@ -374,17 +561,36 @@ fn plots(out: &Path, runs: &[(usize, Run)], traverse: &Run) -> Result<()> {
             .map(|(n, r)| line(format!("{n} modes"), f(r)))
             .collect::<Vec<_>>()
     };
+    let with_reference = |mut series: Vec<Series>, col: usize| {
+        let step = (reference.samples.len() / 2000).max(1);
+        series.push(line(
+            "nonlinear reference (40 el.)".into(),
+            reference
+                .samples
+                .iter()
+                .step_by(step)
+                .map(|s| (s[0], 1e3 * s[col]))
+                .collect(),
+        ));
+        series
+    };
     write(
         "ball_y",
         "Sliding ball from x = 0.75 m: height of the ball's centre",
         "y - 25 mm [mm]",
-        per_mode(&|r| r.ball.iter().map(|p| (p.0, 1e3 * (p.2 - 0.025))).collect()),
+        with_reference(
+            per_mode(&|r| r.ball.iter().map(|p| (p.0, 1e3 * (p.2 - 0.025))).collect()),
+            2,
+        ),
     )?;
     write(
         "tip_y",
         "Sliding ball from x = 0.75 m: tip deflection of the beam's axis",
         "u_y(tip) [mm]",
-        per_mode(&|r| r.tip.iter().map(|p| (p.0, 1e3 * p.1)).collect()),
+        with_reference(
+            per_mode(&|r| r.tip.iter().map(|p| (p.0, 1e3 * p.1)).collect()),
+            3,
+        ),
     )?;
     write(
         "energy",
