@@ -93,7 +93,9 @@ fn gcd(a: usize, b: usize) -> usize {
 }
 
 fn main() {
-    let n: usize = env("SCATTER_BENCH_N").and_then(|v| v.parse().ok()).unwrap_or(20);
+    let n: usize = env("SCATTER_BENCH_N")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20);
     let steps: usize = env("SCATTER_BENCH_STEPS")
         .and_then(|v| v.parse().ok())
         .unwrap_or(200);
