@@ -70,13 +70,19 @@ pub enum ElementError {
 /// The evaluated state of one element and its work buffers: what [`Element::update`] writes and
 /// the queries read. Created once per element by [`Element::new_scratch`] (the
 /// [`crate::Workspace`] holds one per body, plus probes for perturbed evaluations); its content
-/// is private to the element type.
-pub struct ElementScratch(Box<dyn Any + Send + Sync>);
+/// is private to the element type. For a body whose coordinates are scattered in the global
+/// vectors it also holds the gathered element-local coordinates ([`crate::gather`]).
+pub struct ElementScratch(Box<dyn Any + Send + Sync>, crate::gather::LocalCoordinates);
 
 impl ElementScratch {
     /// Wraps an element's own state type.
     pub fn new<T: Any + Send + Sync>(state: T) -> Self {
-        Self(Box::new(state))
+        Self(Box::new(state), Default::default())
+    }
+
+    /// The gather buffers of a scattered body.
+    pub(crate) fn local_mut(&mut self) -> &mut crate::gather::LocalCoordinates {
+        &mut self.1
     }
 
     /// A scratch for an element that keeps no evaluated state.

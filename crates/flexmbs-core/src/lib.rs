@@ -57,6 +57,7 @@ pub mod element;
 pub mod error;
 pub mod ffr;
 pub mod force;
+mod gather;
 pub mod ids;
 pub mod integrator;
 pub mod joint;

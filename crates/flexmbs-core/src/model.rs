@@ -46,6 +46,21 @@ pub struct Body {
     pub(crate) u_offset: usize,
     /// Where its coordinates lie in the global vectors.
     dofs: BodyDofs,
+    /// Its nodes, in the element's order.
+    pub(crate) nodes: Vec<NodeId>,
+}
+
+impl Body {
+    /// Where its coordinates lie in the global `q` and `u` (as [`Model::body_dofs`]).
+    pub fn dofs(&self) -> &BodyDofs {
+        &self.dofs
+    }
+
+    /// Its coordinates are scattered in the global vectors (not one contiguous range): element
+    /// queries then run on gathered copies ([`crate::gather`]).
+    pub fn is_scattered(&self) -> bool {
+        self.dofs.u.as_range().is_none()
+    }
 }
 
 /// Global indices of a body's (element-local) coordinates: [`Model::body_dofs`].
@@ -274,6 +289,7 @@ impl ModelSpec {
         let (nodes, nq, nu) = layout_nodes(&self.nodes);
         let mut users = vec![0usize; nodes.len()];
         let mut bodies = Vec::with_capacity(self.bodies.len());
+        let mut scattered = false;
         for (name, element, body_nodes) in self.bodies {
             let invalid = |reason: String| ModelError::InvalidBody {
                 body: name.clone(),
@@ -284,19 +300,23 @@ impl ModelSpec {
             for n in &body_nodes {
                 users[n.0] += 1;
             }
-            let (Some(q), Some(u)) = (dofs.q.as_range(), dofs.u.as_range()) else {
-                return Err(invalid(
-                    "its nodes must be consecutive in the order they were added (scattered \
-                     coordinate maps are not supported yet)"
-                        .into(),
-                ));
+            // a scattered body has no offsets: every access goes through its maps (an access
+            // that forgot them fails loudly instead of reading another body's coordinates)
+            let (q_offset, u_offset) = match (dofs.q.as_range(), dofs.u.as_range()) {
+                (Some(q), Some(u)) => (q.start, u.start),
+                _ => {
+                    crate::gather::check_scattered_element(element.as_ref()).map_err(invalid)?;
+                    scattered = true;
+                    (usize::MAX, usize::MAX)
+                }
             };
             bodies.push(Body {
                 name,
                 element,
-                q_offset: q.start,
-                u_offset: u.start,
+                q_offset,
+                u_offset,
                 dofs,
+                nodes: body_nodes,
             });
         }
         let shared_nodes = users.iter().any(|&c| c > 1);
@@ -453,6 +473,7 @@ impl ModelSpec {
             gravity: self.gravity,
             nodes,
             shared_nodes,
+            scattered,
             bodies,
             frame_cols,
             frames: self.frames,
@@ -530,7 +551,7 @@ fn body_dofs(
         ));
     }
     let map = |v: Vec<usize>| match (v.first(), v.last()) {
-        (Some(&a), Some(&b)) if b + 1 - a == v.len() && v.windows(2).all(|w| w[1] == w[0] + 1) => {
+        (Some(&a), Some(&b)) if v.windows(2).all(|w| w[1] == w[0] + 1) => {
             DofMap::Contiguous(a..b + 1)
         }
         (None, _) => DofMap::Contiguous(0..0),
@@ -551,6 +572,9 @@ pub struct Model {
     pub nodes: Vec<Node>,
     /// Some node is used by more than one body: element blocks overlap and are accumulated.
     pub(crate) shared_nodes: bool,
+    /// Some body's coordinates are scattered ([`Body::is_scattered`]): its element blocks are
+    /// gathered and scatter-added.
+    pub(crate) scattered: bool,
     /// Bodies (elements) with their coordinate maps.
     pub bodies: Vec<Body>,
     /// Frames.
@@ -593,6 +617,13 @@ impl Model {
         s.contacts = vec![ContactState::default(); self.contacts.len()];
         for b in &self.bodies {
             let (nq, nu) = (b.element.nq(), b.element.nu());
+            if b.is_scattered() {
+                let (mut q, mut u) = (vec![0.0; nq], vec![0.0; nu]);
+                b.element.reference_coordinates(&mut q, &mut u);
+                b.dofs.q.scatter_into(&q, &mut s.q);
+                b.dofs.u.scatter_into(&u, &mut s.u);
+                continue;
+            }
             b.element.reference_coordinates(
                 &mut s.q[b.q_offset..b.q_offset + nq],
                 &mut s.u[b.u_offset..b.u_offset + nu],
@@ -611,6 +642,13 @@ impl Model {
     ) {
         let b = &self.bodies[body.0];
         let nq = b.element.nq();
+        if b.is_scattered() {
+            let mut q = Vec::new();
+            b.dofs.q.gather_into(&state.q, &mut q);
+            b.element.set_pose(&mut q, &position, &rotation);
+            b.dofs.q.scatter_into(&q, &mut state.q);
+            return;
+        }
         b.element.set_pose(
             &mut state.q[b.q_offset..b.q_offset + nq],
             &position,
@@ -628,6 +666,14 @@ impl Model {
     ) {
         let b = &self.bodies[body.0];
         let (nq, nu) = (b.element.nq(), b.element.nu());
+        if b.is_scattered() {
+            let (mut q, mut u) = (Vec::new(), Vec::new());
+            b.dofs.q.gather_into(&state.q, &mut q);
+            b.dofs.u.gather_into(&state.u, &mut u);
+            b.element.set_velocity(&q, &mut u, &velocity, &omega);
+            b.dofs.u.scatter_into(&u, &mut state.u);
+            return;
+        }
         b.element.set_velocity(
             &state.q[b.q_offset..b.q_offset + nq],
             &mut state.u[b.u_offset..b.u_offset + nu],
@@ -658,10 +704,11 @@ impl Model {
     ///
     /// # Panics
     /// If `body` belongs to another model or `q` is shorter than this model's `nq` (as indexing a
-    /// slice out of bounds); [`Self::body_id`] gives ids by name.
+    /// slice out of bounds), or the body's coordinates are scattered ([`Body::is_scattered`]:
+    /// use [`Self::body_coordinates`]); [`Self::body_id`] gives ids by name.
     pub fn body_q<'a>(&self, body: BodyId, q: &'a [f64]) -> &'a [f64] {
-        let b = &self.bodies[body.0];
-        &q[b.q_offset..b.q_offset + b.element.nq()]
+        let (b, oq, _) = self.contiguous(body);
+        &q[oq..oq + b.element.nq()]
     }
 
     /// Velocity coordinates of one body in a global vector.
@@ -669,8 +716,8 @@ impl Model {
     /// # Panics
     /// As [`Self::body_q`], for `u` and `nu`.
     pub fn body_u<'a>(&self, body: BodyId, u: &'a [f64]) -> &'a [f64] {
-        let b = &self.bodies[body.0];
-        &u[b.u_offset..b.u_offset + b.element.nu()]
+        let (b, _, ou) = self.contiguous(body);
+        &u[ou..ou + b.element.nu()]
     }
 
     /// [`Self::body_q`], mutable (e.g. to set initial modal coordinates).
@@ -678,8 +725,8 @@ impl Model {
     /// # Panics
     /// As [`Self::body_q`].
     pub fn body_q_mut<'a>(&self, body: BodyId, q: &'a mut [f64]) -> &'a mut [f64] {
-        let b = &self.bodies[body.0];
-        &mut q[b.q_offset..b.q_offset + b.element.nq()]
+        let (b, oq, _) = self.contiguous(body);
+        &mut q[oq..oq + b.element.nq()]
     }
 
     /// [`Self::body_u`], mutable (e.g. to set initial modal velocities).
@@ -687,8 +734,8 @@ impl Model {
     /// # Panics
     /// As [`Self::body_q`], for `u` and `nu`.
     pub fn body_u_mut<'a>(&self, body: BodyId, u: &'a mut [f64]) -> &'a mut [f64] {
-        let b = &self.bodies[body.0];
-        &mut u[b.u_offset..b.u_offset + b.element.nu()]
+        let (b, _, ou) = self.contiguous(body);
+        &mut u[ou..ou + b.element.nu()]
     }
 
     /// One zeroed [`FrameKinematics`] per frame, sized for its owner (the buffers
@@ -726,12 +773,12 @@ impl Model {
                 Some(k)
             }
             FrameOwner::Body(b) => {
-                let b = self.bodies.get(b.0)?;
-                let q = &s.q[b.q_offset..b.q_offset + b.element.nq()];
-                let u = &s.u[b.u_offset..b.u_offset + b.element.nu()];
+                let body = self.bodies.get(b.0)?;
+                let (q, u) = self.body_coordinates(b, &s.q, &s.u);
+                let b = body;
                 let mut e = b.element.new_scratch();
-                b.element.update_kinematics(q, u, &mut e).ok()?;
-                b.element.frame_kinematics(q, u, &mut e, &f.local, &mut k);
+                b.element.update_kinematics(&q, &u, &mut e).ok()?;
+                b.element.frame_kinematics(&q, &u, &mut e, &f.local, &mut k);
                 Some(k)
             }
             FrameOwner::Node(n) => {

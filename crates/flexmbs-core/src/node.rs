@@ -162,7 +162,7 @@ impl NodeKind {
             }
             NodeKind::Pose => {
                 q[..3].copy_from_slice(position.as_slice());
-                let p = UnitQuaternion::from_matrix(rotation);
+                let p = quaternion_of(rotation);
                 q[3..7].copy_from_slice(&[p.w, p.i, p.j, p.k]);
             }
         }
@@ -199,6 +199,18 @@ impl NodeKind {
             }
         }
     }
+}
+
+/// The unit quaternion of a rotation matrix: nalgebra's iterative `from_matrix` (kept: the
+/// initial states of existing models stay bitwise the same), or, where that iteration stalls
+/// (rotations by about 180°, whose gradient vanishes at its identity start: a beam along -x),
+/// the closed form of `from_rotation_matrix`.
+pub(crate) fn quaternion_of(rotation: &Matrix3<f64>) -> UnitQuaternion<f64> {
+    let p = UnitQuaternion::from_matrix(rotation);
+    if (p.to_rotation_matrix().into_inner() - rotation).amax() <= 1e-12 {
+        return p;
+    }
+    UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(*rotation))
 }
 
 impl NodeKind {

@@ -42,7 +42,7 @@ impl State {
 }
 
 /// Element-local results of one body, accumulated into the global ones when bodies share nodes
-/// (their blocks overlap); empty otherwise.
+/// (their blocks overlap) or scatter-added when its coordinates are scattered; empty otherwise.
 #[derive(Debug)]
 pub struct ElementBuffers {
     /// Local forces / mass-vector product (nu of the element).
@@ -83,7 +83,8 @@ pub struct SystemBuffers {
     pub load_block: Mat<f64>,
     /// Tangent scratch per body.
     pub tangent_scratch: Vec<TangentScratch>,
-    /// Element-local results per body, only for models whose bodies share nodes.
+    /// Element-local results per body, only for models whose bodies share nodes or whose
+    /// coordinates are scattered.
     pub local: Vec<ElementBuffers>,
     /// Global mass matrix (nu x nu; 0 x 0 with the sparse backend, which keeps element blocks).
     pub mass: Mat<f64>,
@@ -188,7 +189,13 @@ impl Workspace {
             model
                 .bodies
                 .iter()
-                .map(|b| b.element.new_scratch())
+                .map(|b| {
+                    let mut e = b.element.new_scratch();
+                    if b.is_scattered() {
+                        e.reserve_local(b.element.nq(), b.element.nu());
+                    }
+                    e
+                })
                 .collect()
         };
         let v = |n| vec![0.0; n];
@@ -202,7 +209,7 @@ impl Workspace {
                 },
                 frames,
                 tangent_scratch,
-                local: if model.shared_nodes {
+                local: if model.general_layout() {
                     model
                         .bodies
                         .iter()

@@ -3,6 +3,7 @@
 
 use crate::element::{ElementScratch, FrameKinematics};
 use crate::error::{EvaluationError, SolverError};
+use crate::gather::{with_local, with_local_q};
 use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::{FrameWrench, Load};
@@ -62,13 +63,12 @@ pub fn evaluate_elements(
     eval: &mut [ElementScratch],
 ) -> Result<(), EvaluationError> {
     for (b, e) in model.bodies.iter().zip(eval.iter_mut()) {
-        let (qb, ub) = body_slices(b, q, u);
-        b.element
-            .update(qb, ub, e)
-            .map_err(|cause| EvaluationError {
+        with_local(b, q, u, e, |qb, ub, e| b.element.update(qb, ub, e)).map_err(|cause| {
+            EvaluationError {
                 body: b.name.clone(),
                 cause,
-            })?;
+            }
+        })?;
     }
     Ok(())
 }
@@ -82,35 +82,39 @@ pub fn evaluate_kinematics(
     eval: &mut [ElementScratch],
 ) -> Result<(), EvaluationError> {
     for (b, e) in model.bodies.iter().zip(eval.iter_mut()) {
-        let (qb, ub) = body_slices(b, q, u);
-        b.element
-            .update_kinematics(qb, ub, e)
-            .map_err(|cause| EvaluationError {
-                body: b.name.clone(),
-                cause,
-            })?;
+        with_local(b, q, u, e, |qb, ub, e| {
+            b.element.update_kinematics(qb, ub, e)
+        })
+        .map_err(|cause| EvaluationError {
+            body: b.name.clone(),
+            cause,
+        })?;
     }
     Ok(())
 }
 
 /// The largest [`crate::Element::force_scale`] of the bodies at `q` (0 if none has one).
+/// Allocates for a body with scattered coordinates; inside a step use [`force_scale_in`].
 pub fn force_scale(model: &Model, q: &[f64]) -> f64 {
+    let mut buf = Vec::new();
     model
         .bodies
         .iter()
         .map(|b| {
-            b.element
-                .force_scale(&q[b.q_offset..b.q_offset + b.element.nq()])
+            let qb = crate::gather::gathered(&b.dofs().q, q, &mut buf);
+            b.element.force_scale(qb)
         })
         .fold(0.0, f64::max)
 }
 
-/// The body's (contiguous) element-local `q` and `u`.
-fn body_slices<'a>(b: &crate::model::Body, q: &'a [f64], u: &'a [f64]) -> (&'a [f64], &'a [f64]) {
-    (
-        &q[b.q_offset..b.q_offset + b.element.nq()],
-        &u[b.u_offset..b.u_offset + b.element.nu()],
-    )
+/// [`force_scale`] with the gather buffers of the bodies' scratches `eval` (no allocation).
+pub fn force_scale_in(model: &Model, q: &[f64], eval: &mut [ElementScratch]) -> f64 {
+    model
+        .bodies
+        .iter()
+        .zip(eval.iter_mut())
+        .map(|(b, e)| with_local_q(b, q, e, |qb, _| b.element.force_scale(qb)))
+        .fold(0.0, f64::max)
 }
 
 /// Kinematics of every frame at `(q, u)`; `eval` must hold the elements evaluated there.
@@ -144,8 +148,9 @@ fn frame_kinematics_into(
         }
         FrameOwner::Body(b) => {
             let (body, e) = (&model.bodies[b.0], &mut eval[b.0]);
-            let (qb, ub) = body_slices(body, q, u);
-            body.element.frame_kinematics(qb, ub, e, &f.local, k);
+            with_local(body, q, u, e, |qb, ub, e| {
+                body.element.frame_kinematics(qb, ub, e, &f.local, k)
+            });
         }
         FrameOwner::Node(n) => {
             let n = &model.nodes[n.0];
@@ -181,7 +186,7 @@ pub fn assemble_mass(
     mut mass: MatMut<'_, f64>,
     local: &mut [ElementBuffers],
 ) {
-    if model.shared_nodes {
+    if model.general_layout() {
         mass.fill(0.0);
         for ((b, l), e) in model
             .bodies
@@ -189,10 +194,10 @@ pub fn assemble_mass(
             .zip(local.iter_mut())
             .zip(eval.iter_mut())
         {
-            let (nq, o) = (b.element.nq(), b.u_offset);
-            b.element
-                .mass_matrix(&q[b.q_offset..b.q_offset + nq], e, l.mass.as_mut());
-            add_block(mass.as_mut(), o, &l.mass);
+            with_local_q(b, q, e, |qb, e| {
+                b.element.mass_matrix(qb, e, l.mass.as_mut())
+            });
+            b.dofs().u.scatter_add_block(mass.as_mut(), &l.mass);
         }
         return;
     }
@@ -204,15 +209,6 @@ pub fn assemble_mass(
             e,
             mass.as_mut().submatrix_mut(b.u_offset, b.u_offset, nu, nu),
         );
-    }
-}
-
-/// `m[o.., o..] += block`.
-fn add_block(mut m: MatMut<'_, f64>, o: usize, block: &faer::Mat<f64>) {
-    for j in 0..block.ncols() {
-        for i in 0..block.nrows() {
-            m[(o + i, o + j)] += block[(i, j)];
-        }
     }
 }
 
@@ -244,7 +240,7 @@ pub fn mass_times_vector(
     out: &mut [f64],
     local: &mut [ElementBuffers],
 ) {
-    if model.shared_nodes {
+    if model.general_layout() {
         out.fill(0.0);
         for ((b, l), e) in model
             .bodies
@@ -252,17 +248,11 @@ pub fn mass_times_vector(
             .zip(local.iter_mut())
             .zip(eval.iter_mut())
         {
-            let (nq, nu, o) = (b.element.nq(), b.element.nu(), b.u_offset);
-            b.element.mass_times_vector(
-                &q[b.q_offset..b.q_offset + nq],
-                e,
-                &v[o..o + nu],
-                l.mass.as_mut(),
-                &mut l.h,
-            );
-            for (x, y) in out[o..o + nu].iter_mut().zip(&l.h) {
-                *x += y;
-            }
+            with_local(b, q, v, e, |qb, vb, e| {
+                b.element
+                    .mass_times_vector(qb, e, vb, l.mass.as_mut(), &mut l.h)
+            });
+            b.dofs().u.scatter_add(&l.h, out);
         }
         return;
     }
@@ -290,19 +280,20 @@ pub fn assemble_forces(
 ) {
     let g = model.gravity * load_factor;
     let h = &mut sys.h;
-    if model.shared_nodes {
+    let general = model.general_layout();
+    if general {
         h.fill(0.0);
     }
     for (i, (b, e)) in model.bodies.iter().zip(sys.eval.iter_mut()).enumerate() {
-        let (nu, o) = (b.element.nu(), b.u_offset);
-        let (qb, ub) = body_slices(b, q, u);
-        if model.shared_nodes {
+        if general {
             let l = &mut sys.local[i].h;
-            b.element.forces(t, qb, ub, &g, e, l);
-            for (x, y) in h[o..o + nu].iter_mut().zip(l.iter()) {
-                *x += y;
-            }
+            with_local(b, q, u, e, |qb, ub, e| {
+                b.element.forces(t, qb, ub, &g, e, l)
+            });
+            b.dofs().u.scatter_add(l, h);
         } else {
+            let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+            let (qb, ub) = (&q[oq..oq + nq], &u[o..o + nu]);
             b.element.forces(t, qb, ub, &g, e, &mut h[o..o + nu]);
         }
     }
@@ -350,17 +341,14 @@ pub(crate) fn add_frame_wrench(
     frames: &[FrameKinematics],
     h: &mut [f64],
 ) {
-    let Some(cols) = model.frame_cols(frame).as_range() else {
-        return;
-    };
-    let off = cols.start;
+    let cols = model.frame_cols(frame);
     let k = &frames[frame.0];
     for j in 0..k.jac_t.ncols() {
         let mut s = 0.0;
         for i in 0..3 {
             s += k.jac_t[(i, j)] * f[i] + k.jac_r[(i, j)] * m[i];
         }
-        h[off + j] += s;
+        h[global_col(cols, j)] += s;
     }
 }
 
@@ -380,15 +368,17 @@ pub fn assemble_tangents(
     let g = model.gravity * load_factor;
     let scratches = ws.tangent_scratch.iter_mut().zip(ws.eval.iter_mut());
     for (i, (b, (fd, e))) in model.bodies.iter().zip(scratches).enumerate() {
-        let (nu, o) = (b.element.nu(), b.u_offset);
-        let (qb, ub) = body_slices(b, q, u);
-        if model.shared_nodes {
+        if model.general_layout() {
             let l = &mut ws.local[i];
             let (dq, du) = (l.dh_dq.as_mut(), l.dh_du.as_mut());
-            b.element.force_tangents(t, qb, ub, &g, e, dq, du, fd);
-            add_block(ws.dh_dq.as_mut(), o, &l.dh_dq);
-            add_block(ws.dh_du.as_mut(), o, &l.dh_du);
+            with_local(b, q, u, e, |qb, ub, e| {
+                b.element.force_tangents(t, qb, ub, &g, e, dq, du, fd)
+            });
+            b.dofs().u.scatter_add_block(ws.dh_dq.as_mut(), &l.dh_dq);
+            b.dofs().u.scatter_add_block(ws.dh_du.as_mut(), &l.dh_du);
         } else {
+            let (nq, nu, oq, o) = (b.element.nq(), b.element.nu(), b.q_offset, b.u_offset);
+            let (qb, ub) = (&q[oq..oq + nq], &u[o..o + nu]);
             let dq = ws.dh_dq.as_mut().submatrix_mut(o, o, nu, nu);
             let du = ws.dh_du.as_mut().submatrix_mut(o, o, nu, nu);
             b.element.force_tangents(t, qb, ub, &g, e, dq, du, fd);
@@ -474,7 +464,7 @@ fn write_joint_jacobian(
         |frame: crate::FrameId| matches!(model.frames[frame.0].owner, FrameOwner::Node(_));
     // overlapping (shared nodes) or node-owned column blocks: zero the rows, then accumulate
     // both sides; otherwise zero the columns of the other bodies and overwrite
-    let general = model.shared_nodes || node_owned(joint.frame_a) || node_owned(joint.frame_b);
+    let general = model.general_layout() || node_owned(joint.frame_a) || node_owned(joint.frame_b);
     if general {
         for j in 0..g_jac.ncols() {
             col_slice_mut(g_jac.as_mut(), j)[r0..r0 + n].fill(0.0);
@@ -493,15 +483,14 @@ fn write_joint_jacobian(
         (joint.frame_b, body_a != body_b && !general),
     ];
     for (side, (frame, first)) in sides.into_iter().enumerate() {
-        let off = match model.frames[frame.0].owner {
-            FrameOwner::Body(b) => model.bodies[b.0].u_offset,
-            FrameOwner::Node(nd) => model.nodes[nd.0].u.start,
-            FrameOwner::Ground => continue,
-        };
+        if model.frames[frame.0].owner == FrameOwner::Ground {
+            continue;
+        }
+        let cols = model.frame_cols(frame);
         let k = &frames[frame.0];
         for j in 0..k.jac_t.ncols() {
             let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
-            let col = &mut col_slice_mut(g_jac.as_mut(), off + j)[r0..r0 + n];
+            let col = &mut col_slice_mut(g_jac.as_mut(), global_col(cols, j))[r0..r0 + n];
             if finite && jt.iter().chain(jr).all(|x| *x == 0.0) {
                 if first {
                     col.fill(0.0);
@@ -528,6 +517,14 @@ fn write_joint_jacobian(
     }
 }
 
+/// Global column of a frame's Jacobian column `j` (its owner's map).
+fn global_col(cols: &crate::DofMap, j: usize) -> usize {
+    match cols {
+        crate::DofMap::Contiguous(r) => r.start + j,
+        crate::DofMap::Scattered(v) => v[j],
+    }
+}
+
 /// Column `j` of a matrix view with contiguous columns (as all `Mat` views here) as a slice.
 fn col_slice_mut(m: MatMut<'_, f64>, j: usize) -> &mut [f64] {
     m.col_mut(j)
@@ -547,10 +544,11 @@ pub fn energy(
 ) -> Energy {
     let mut e = Energy::default();
     for (b, s) in model.bodies.iter().zip(eval.iter_mut()) {
-        let (qb, ub) = body_slices(b, q, u);
-        e.kinetic += b.element.kinetic_energy(qb, ub, s);
-        e.gravity += b.element.gravity_potential(qb, &model.gravity, s);
-        e.elastic += b.element.elastic_energy_evaluated(qb, s);
+        with_local(b, q, u, s, |qb, ub, s| {
+            e.kinetic += b.element.kinetic_energy(qb, ub, s);
+            e.gravity += b.element.gravity_potential(qb, &model.gravity, s);
+            e.elastic += b.element.elastic_energy_evaluated(qb, s);
+        });
     }
     e.springs = model.loads.iter().map(|l| l.potential_energy(frames)).sum();
     e
@@ -573,7 +571,7 @@ pub fn constraint_drift(ws: &SystemBuffers, u: &[f64]) -> (f64, f64) {
 
 /// Global `q ⊕ dv`, body by body (node by node when bodies share nodes).
 pub fn integrate_positions(model: &Model, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
-    if model.shared_nodes {
+    if model.general_layout() {
         for n in &model.nodes {
             let (rq, ru) = (n.q.clone(), n.u.clone());
             n.kind.integrate(&q[rq.clone()], &dv[ru], &mut q_new[rq]);
@@ -589,7 +587,7 @@ pub fn integrate_positions(model: &Model, q: &[f64], dv: &[f64], q_new: &mut [f6
 
 /// Global `q_dot = T(q) u`, body by body (node by node when bodies share nodes).
 pub fn q_dot(model: &Model, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
-    if model.shared_nodes {
+    if model.general_layout() {
         for n in &model.nodes {
             let (rq, ru) = (n.q.clone(), n.u.clone());
             n.kind.q_dot(&q[rq.clone()], &u[ru], &mut q_dot[rq]);
@@ -605,7 +603,7 @@ pub fn q_dot(model: &Model, q: &[f64], u: &[f64], q_dot: &mut [f64]) {
 
 /// Normalizes all element coordinates (unit quaternions).
 pub fn normalize(model: &Model, q: &mut [f64]) {
-    if model.shared_nodes {
+    if model.general_layout() {
         for n in &model.nodes {
             n.kind.normalize(&mut q[n.q.clone()]);
         }

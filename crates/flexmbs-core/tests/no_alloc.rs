@@ -3,6 +3,8 @@ mod chain;
 mod common;
 #[path = "support/counting_alloc.rs"]
 mod counting_alloc;
+#[path = "support/spring_element.rs"]
+mod spring_element;
 use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{Dopri5, GenAlpha, GenAlphaSettings};
 use flexmbs_core::*;
@@ -161,6 +163,81 @@ fn shared_node_steps_allocations(choice: LinearSolver) -> usize {
     })
 }
 
+/// A triangle of point masses and spring elements whose closing element (nodes 2, 0) is
+/// scattered, with a force and a damped spring to ground on a frame of that element and,
+/// with `joint`, a spherical joint on a mass: the model of [`scattered_steps_allocations`].
+fn scattered_ring(joint: bool) -> (Model, State) {
+    let mut spec = ModelSpec::new();
+    spec.set_gravity(Vector3::new(0.0, -9.81, 0.0));
+    let id = Matrix3::identity();
+    let nodes: Vec<_> = (0..3)
+        .map(|i| spec.add_node(&format!("n{i}"), NodeKind::Vector(3)))
+        .collect();
+    let m0 = spec.add_body_on("m0", point_mass::PointMass::new(1.0), &[nodes[0]]);
+    for (i, &node) in nodes.iter().enumerate().skip(1) {
+        spec.add_body_on(&format!("m{i}"), point_mass::PointMass::new(1.0), &[node]);
+    }
+    let mut closing = None;
+    for i in 0..3 {
+        let spring = spring_element::Spring {
+            stiffness: 200.0,
+            damping: 0.5,
+            free_length: 0.25,
+        };
+        closing = Some(spec.add_body_on(&format!("s{i}"), spring, &[nodes[i], nodes[(i + 1) % 3]]));
+    }
+    let f = spec.add_frame("f", closing.unwrap(), Vector3::new(0.4, 0.0, 0.0), id);
+    let g = spec.add_ground_frame("g", Vector3::new(0.0, 0.5, 0.0), id);
+    spec.add_load(Load::Force {
+        frame: f,
+        vector: Vector3::new(0.3, 0.0, 0.2),
+        time: TimeFunction::Constant(1.0),
+        coordinates: LoadCoordinates::Global,
+    });
+    spec.add_load(Load::SpringDamper {
+        frame_a: g,
+        frame_b: f,
+        stiffness: 50.0,
+        damping: 0.3,
+        free_length: 0.4,
+    });
+    if joint {
+        let f0 = spec.add_frame("f0", m0, Vector3::zeros(), id);
+        let g0 = spec.add_ground_frame("g0", Vector3::zeros(), id);
+        spec.add_joint(Joint::spherical("pin", g0, f0));
+    }
+    let model = spec.compile().unwrap();
+    let mut s = model.initial_state();
+    for (i, p) in [[0.0, 0.0, 0.0], [0.3, 0.05, 0.0], [0.1, -0.25, 0.05]]
+        .iter()
+        .enumerate()
+    {
+        s.q[3 * i..3 * i + 3].copy_from_slice(p);
+    }
+    (model, s)
+}
+
+/// Allocations of 20 generalized-alpha steps (dense and sparse, full and modified Newton) and a
+/// DOPRI5 run of models with a scattered body.
+fn scattered_steps_allocations() -> usize {
+    let (model, s) = scattered_ring(true);
+    let mut n = 0;
+    for choice in [LinearSolver::Dense, LinearSolver::Sparse] {
+        for modified in [false, true] {
+            n += steps_allocations(&model, &s, choice, modified);
+        }
+    }
+    let (model, mut s) = scattered_ring(false);
+    let mut ws = Workspace::new(&model);
+    let d = Dopri5::default();
+    d.integrate(&model, &mut s, &mut ws, 0.01, |_, _| {})
+        .unwrap();
+    n + counting_alloc::allocations_in(|| {
+        d.integrate(&model, &mut s, &mut ws, 0.2, |_, _| {})
+            .unwrap();
+    })
+}
+
 /// Generalized-alpha steps (joint, spring, follower force, finite-difference tangents), FFR
 /// body steps (analytic tangent, full and modified Newton) and a DOPRI5 run perform zero
 /// allocations after the workspace exists. One test function so that
@@ -224,13 +301,22 @@ fn steps_do_not_allocate() {
         + steps_allocations(&chain, &chain0, LinearSolver::Sparse, true);
     let n_shared = shared_node_steps_allocations(LinearSolver::Dense)
         + shared_node_steps_allocations(LinearSolver::Sparse);
+    let n_scattered = scattered_steps_allocations();
     assert_eq!(
-        (n_ga, n_dp, n_ffr_full, n_ffr_mod, n_sparse, n_shared),
-        (0, 0, 0, 0, 0, 0),
+        (
+            n_ga,
+            n_dp,
+            n_ffr_full,
+            n_ffr_mod,
+            n_sparse,
+            n_shared,
+            n_scattered
+        ),
+        (0, 0, 0, 0, 0, 0, 0),
         "allocations in 20 generalized-alpha steps (dense and sparse backend) / a DOPRI5 run / \
          20 FFR steps (full, modified Newton) / 20 steps of a flexible chain with loads (sparse \
          backend, full and modified Newton) / 20 steps of bodies sharing a node (dense and sparse \
-         backend)"
+         backend) / 20 steps (dense, sparse) and a DOPRI5 run with a scattered body"
     );
 }
 

@@ -23,7 +23,9 @@ pub(crate) fn body_points(
     let bodies = cm.bodies.iter().zip(fk.iter_mut());
     for ((info, kin), (pts, el)) in bodies.zip(out.iter_mut().zip(elastic.iter_mut())) {
         let b = &m.bodies[info.id.0];
-        let (q, u) = (m.body_q(info.id, &s.q), m.body_u(info.id, &s.u));
+        // gathered copies for a body whose coordinates are scattered (a superelement at a branch)
+        let (q, u) = m.body_coordinates(info.id, &s.q, &s.u);
+        let (q, u) = (&q[..], &u[..]);
         let e = &mut eval[info.id.0];
         pts.clear();
         el.clear();

@@ -687,11 +687,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         crate::restart::apply_restart(&ctx, r, base, &model, &bodies, t_end, &mut initial)?;
     }
     for (i, info) in bodies.iter().enumerate() {
-        let (q, u) = (
-            model.body_q(info.id, &initial.q),
-            model.body_u(info.id, &initial.u),
-        );
-        if q.iter().chain(u).any(|x| !x.is_finite()) {
+        let (q, u) = model.body_coordinates(info.id, &initial.q, &initial.u);
+        if q.iter().chain(u.iter()).any(|x| !x.is_finite()) {
             return Err(ctx.err(&format!("body[{i}].orientation"), "this orientation is singular for Cardan angles (beta = +-90 deg): use rotation = \"quaternion\""));
         }
     }

@@ -197,7 +197,6 @@ pub fn add_superelement_beams(
     frames: &mut HashMap<String, FrameId>,
 ) -> Result<SuperelementBuild, SimError> {
     let mut build = SuperelementBuild::default();
-    let mut last_node: Option<NodeId> = None;
     for (i, b) in mf.body.iter().enumerate() {
         let p = format!("body[{i}]");
         if b.kind == BodyType::Superelement {
@@ -217,7 +216,7 @@ pub fn add_superelement_beams(
             continue;
         }
         let input = component_input(ctx, mf, &p, b)?;
-        add_component(ctx, &p, b, &input, spec, frames, &mut build, &mut last_node)?;
+        add_component(ctx, &p, b, &input, spec, frames, &mut build)?;
     }
     Ok(build)
 }
@@ -480,10 +479,9 @@ fn interface_names(
     Ok(list.clone())
 }
 
-/// Adds one component: nodes (sharing its first interface with the component before it if it
-/// names that one's last interface), superelement bodies, interface and floating frames, the
-/// initial pose and velocity, and the fixed joints of `fixed`.
-#[allow(clippy::too_many_arguments)]
+/// Adds one component: nodes (sharing its first interface with an existing interface point if it
+/// names one, and its last interface likewise: a branch or a closed loop), superelement bodies,
+/// interface and floating frames, the initial pose and velocity, and the fixed joints of `fixed`.
 fn add_component(
     ctx: &Ctx,
     p: &str,
@@ -492,10 +490,21 @@ fn add_component(
     spec: &mut ModelSpec,
     frames: &mut HashMap<String, FrameId>,
     build: &mut SuperelementBuild,
-    last_node: &mut Option<NodeId>,
 ) -> Result<(), SimError> {
-    let shared = shared_start(ctx, p, b, input, build, *last_node)?;
+    let (shared, closing) = shared_points(ctx, p, input, build)?;
     let start = component_start(ctx, p, b, input, shared.as_ref())?;
+    let last = input.lengths.len() - 1;
+    if let Some(end) = &closing {
+        let x_end = start + input.rotation * Vector3::new(input.lengths.iter().sum(), 0.0, 0.0);
+        check_coincident(
+            ctx,
+            &format!("{p}.interfaces[{}]", last + 1),
+            input,
+            b,
+            end,
+            x_end,
+        )?;
+    }
     let r = input.rotation;
     let (v, w) = initial_velocity(ctx, p, b)?;
     let mut component = Component {
@@ -509,18 +518,24 @@ fn add_component(
     };
     let mut x = 0.0;
     for (k, &l) in input.lengths.iter().enumerate() {
-        // a shared start node keeps the axes of the body that created it
-        let se = match (k, &shared) {
-            (0, Some(s)) => segment(ctx, p, k, input, l, Some(r.transpose() * s.rotation))?,
-            _ => segment(ctx, p, k, input, l, None)?,
+        // a shared start or end node keeps the axes of the body that created it
+        let axes = |s: &Option<InterfacePoint>, at: bool| {
+            s.as_ref()
+                .filter(|_| at)
+                .map(|s| r.transpose() * s.rotation)
         };
+        let (r0, r1) = (axes(&shared, k == 0), axes(&closing, k == last));
+        let se = segment(ctx, p, k, input, l, r0, r1)?;
         let name = format!("{}.s{k}", b.name);
         let mut nodes = vec![a];
         if input.internal_modes > 0 {
             nodes.push(spec.add_node(&format!("{name}.eta"), NodeKind::Vector(se_modes(&se))));
         }
         let xb = start + r * Vector3::new(x + l, 0.0, 0.0);
-        let bnode = new_interface(ctx, p, k + 1, input, spec, frames, build, xb, r)?;
+        let bnode = match (&closing, k == last) {
+            (Some(end), true) => end.node,
+            _ => new_interface(ctx, p, k + 1, input, spec, frames, build, xb, r)?,
+        };
         nodes.push(bnode);
         let id = spec.add_body_on(&name, se, &nodes);
         let origin = match input.frame {
@@ -544,7 +559,6 @@ fn add_component(
         a = bnode;
         x += l;
     }
-    *last_node = Some(a);
     for (k, f) in b.fixed.iter().flatten().enumerate() {
         let joint = fixed_joint(
             ctx,
@@ -575,67 +589,81 @@ fn component_start(
         (None, None) => Vector3::zeros(),
     };
     if let Some(s) = shared {
-        let tol = 1e-9 * input.lengths.iter().sum::<f64>().max(1.0);
-        let gap = (s.position - start).norm();
-        if gap > tol {
-            return Err(ctx.err(
-                &format!("{p}.interfaces[0]"),
-                format!(
-                    "interface `{}` of `{}` (created at `{}`) is at {:?} m, but this body starts \
-                     at {:?} m ({gap:e} m apart): shared interfaces must coincide at t = 0",
-                    input.names[0],
-                    b.name,
-                    s.owner,
-                    s.position.as_slice(),
-                    start.as_slice()
-                ),
-            ));
-        }
+        check_coincident(ctx, &format!("{p}.interfaces[0]"), input, b, s, start)?;
     }
     Ok(start)
 }
 
-/// The existing interface point this component's first interface names, if any; refused when it
-/// is not the last interface point added (the engine needs each superelement's nodes consecutive)
-/// or when a later interface of the component names an existing one.
-fn shared_start(
+/// An existing interface point `s` that the component's point at `x` (its start or end) shares
+/// must be there to 1e-9 of the component's length.
+fn check_coincident(
+    ctx: &Ctx,
+    path: &str,
+    input: &ComponentInput,
+    b: &BodySpec,
+    s: &InterfacePoint,
+    x: Vector3<f64>,
+) -> Result<(), SimError> {
+    let tol = 1e-9 * input.lengths.iter().sum::<f64>().max(1.0);
+    let gap = (s.position - x).norm();
+    if gap > tol {
+        let (name, end) = match path.ends_with("[0]") {
+            true => (&input.names[0], "starts"),
+            false => (input.names.last().unwrap_or(&input.names[0]), "ends"),
+        };
+        return Err(ctx.err(
+            path,
+            format!(
+                "interface `{name}` of `{}` (created at `{}`) is at {:?} m, but this body {end} \
+                 at {:?} m ({gap:e} m apart): shared interfaces must coincide at t = 0",
+                b.name,
+                s.owner,
+                s.position.as_slice(),
+                x.as_slice()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The existing interface points this component's first and last interfaces name, if any (a
+/// branch from any point, a loop closed onto any point); an interior interface that names an
+/// existing point is refused (a superelement chain meets other points only at its ends), as is
+/// a component whose first and last interfaces are the same point.
+fn shared_points(
     ctx: &Ctx,
     p: &str,
-    b: &BodySpec,
     input: &ComponentInput,
     build: &SuperelementBuild,
-    last_node: Option<NodeId>,
-) -> Result<Option<InterfacePoint>, SimError> {
-    for (k, n) in input.names.iter().enumerate().skip(1) {
+) -> Result<(Option<InterfacePoint>, Option<InterfacePoint>), SimError> {
+    let last = input.names.len() - 1;
+    for (k, n) in input.names.iter().enumerate().take(last).skip(1) {
         if let Some(itf) = build.interfaces.get(n) {
             return Err(ctx.err(
                 &format!("{p}.interfaces[{k}]"),
                 format!(
-                    "interface `{n}` (created at `{}`) is not this body's first interface: a \
-                     superelement_beam body continues a chain only at its start (list the \
-                     bodies from root to tip, each starting at the end of the one before), other \
-                     connections take a `fixed` joint between interface frames",
+                    "interface `{n}` (created at `{}`) is an interior point of this body: a \
+                     superelement_beam body shares existing interface points only at its first \
+                     and last interface (split it there into two bodies, or connect the points \
+                     with a `fixed` joint between interface frames)",
                     itf.owner
                 ),
             ));
         }
     }
-    let Some(itf) = build.interfaces.get(&input.names[0]) else {
-        return Ok(None);
-    };
-    if Some(itf.node) != last_node {
+    let start = build.interfaces.get(&input.names[0]).cloned();
+    let end = build.interfaces.get(&input.names[last]).cloned();
+    if start.is_some() && input.names[0] == input.names[last] {
         return Err(ctx.err(
-            &format!("{p}.interfaces[0]"),
+            &format!("{p}.interfaces[{last}]"),
             format!(
-                "interface `{}` (created at `{}`) is not the end of the superelement_beam body \
-                 listed just before `{}`: a body continues a chain only at the last interface of \
-                 the previous superelement_beam body (list them from root to tip), other \
-                 connections take a `fixed` joint between interface frames",
-                input.names[0], itf.owner, b.name
+                "interface `{}` is both the first and the last of this body: a straight \
+                 superelement_beam cannot close onto itself (close a loop with several bodies)",
+                input.names[0]
             ),
         ));
     }
-    Ok(Some(itf.clone()))
+    Ok((start, end))
 }
 
 /// Adds interface point `k` of the component at `position` with axes `rotation`.
@@ -687,8 +715,9 @@ fn segment_spec(input: &ComponentInput, l: f64) -> BeamSegmentSpec {
     }
 }
 
-/// Superelement `k` of the component; `r0`: the undeformed axes of its first interface in its
-/// floating frame when it continues a chain at an angle (default: parallel).
+/// Superelement `k` of the component; `r0`, `r1`: the undeformed axes of its first and last
+/// interface in its floating frame when it meets an existing point at an angle (default:
+/// parallel).
 fn segment(
     ctx: &Ctx,
     p: &str,
@@ -696,11 +725,15 @@ fn segment(
     input: &ComponentInput,
     l: f64,
     r0: Option<Matrix3<f64>>,
+    r1: Option<Matrix3<f64>>,
 ) -> Result<Superelement, SimError> {
     let mut data = beam_segment(&segment_spec(input, l))
         .map_err(|e| ctx.err(p, format!("superelement {k}: reduction failed: {e}")))?;
     if let Some(r0) = r0 {
         data.interfaces[0].rotation = r0;
+    }
+    if let (Some(r1), Some(last)) = (r1, data.interfaces.last_mut()) {
+        last.rotation = r1;
     }
     Superelement::new(data)
         .map(|s| {

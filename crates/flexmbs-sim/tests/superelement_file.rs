@@ -512,9 +512,9 @@ INTERFACE
             "must coincide at t = 0",
         ),
         (
-            CANTILEVER.replace("[[load]]", &second.replace("INTERFACE", "length = 1.0\nsegments = 2\ninterfaces = [\"a\", \"b\", \"beam.i10\"]")),
-            "body[1].interfaces[2]",
-            "not this body's first interface",
+            CANTILEVER.replace("[[load]]", &second.replace("INTERFACE", "length = 1.0\nsegments = 2\ninterfaces = [\"a\", \"beam.i10\", \"b\"]")),
+            "body[1].interfaces[1]",
+            "interior point of this body",
         ),
         (
             CANTILEVER.replace("[[load]]", &second.replace("INTERFACE", "length = 1.0\nsegments = 2\ninterfaces = [\"a\", \"b\"]")),

@@ -5,6 +5,7 @@
 //! `crate::system::local_tangent`, the one finite-difference implementation).
 
 use crate::element::{ElementScratch, TangentScratch};
+use crate::gather::{with_local, with_local_q};
 use crate::model::Body;
 use crate::state::SystemBuffers;
 use crate::system::TangentSink;
@@ -13,7 +14,6 @@ use nalgebra::Vector3;
 
 /// An element's local `nu_e x nu_e` blocks and their slots (column-major).
 pub(super) struct ElementBlock {
-    offset: usize,
     slots: Vec<usize>,
     mass: Mat<f64>,
     dh_dq: Mat<f64>,
@@ -27,7 +27,6 @@ impl ElementBlock {
     pub(super) fn new(body: &Body, slots: Vec<usize>) -> Self {
         let n = body.element.nu();
         Self {
-            offset: body.u_offset,
             slots,
             mass: Mat::zeros(n, n),
             dh_dq: Mat::zeros(n, n),
@@ -38,9 +37,8 @@ impl ElementBlock {
 
     /// Element mass matrix at `q` (the element evaluated there in `eval`).
     pub(super) fn compute_mass(&mut self, body: &Body, q: &[f64], eval: &mut ElementScratch) {
-        let oq = body.q_offset;
-        body.element
-            .mass_matrix(&q[oq..oq + body.element.nq()], eval, self.mass.as_mut());
+        let m = self.mass.as_mut();
+        with_local_q(body, q, eval, |qb, e| body.element.mass_matrix(qb, e, m));
     }
 
     /// Element force tangents at `(t, q, u)` with gravity `g` (the element evaluated there in
@@ -56,19 +54,13 @@ impl ElementBlock {
         eval: &mut ElementScratch,
         scratch: &mut TangentScratch,
     ) {
-        let (oq, n) = (body.q_offset, body.element.nu());
         self.dh_dq.fill(0.0);
         self.dh_du.fill(0.0);
-        body.element.force_tangents(
-            t,
-            &q[oq..oq + body.element.nq()],
-            &u[self.offset..self.offset + n],
-            g,
-            eval,
-            self.dh_dq.as_mut(),
-            self.dh_du.as_mut(),
-            scratch,
-        );
+        let (dq, du) = (self.dh_dq.as_mut(), self.dh_du.as_mut());
+        with_local(body, q, u, eval, |qb, ub, e| {
+            body.element
+                .force_tangents(t, qb, ub, g, e, dq, du, scratch)
+        });
     }
 
     /// `values[slot(i, j)] += f(M_ij, dh/dq_ij, dh/du_ij)` over the block.
@@ -96,17 +88,11 @@ impl ElementBlock {
         v: &[f64],
         out: &mut [f64],
     ) {
-        let (oq, o, n) = (body.q_offset, self.offset, body.element.nu());
-        body.element.mass_times_vector(
-            &q[oq..oq + body.element.nq()],
-            eval,
-            &v[o..o + n],
-            self.mass.as_mut(),
-            &mut self.h,
-        );
-        for (x, y) in out[o..o + n].iter_mut().zip(&self.h) {
-            *x += y;
-        }
+        let (m, h) = (self.mass.as_mut(), &mut self.h);
+        with_local(body, q, v, eval, |qb, vb, e| {
+            body.element.mass_times_vector(qb, e, vb, m, h)
+        });
+        body.dofs().u.scatter_add(&self.h, out);
     }
 }
 

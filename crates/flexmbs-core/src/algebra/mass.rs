@@ -1,13 +1,16 @@
 //! The mass matrix alone, factored per diagonal block by Cholesky: `M` is block diagonal, one
 //! block per element, or, with shared nodes, per group of elements whose coordinates overlap (the
-//! union of their contiguous ranges, the elements' matrices added), so `M^-1 B` for `k`
+//! union of their columns, the elements' matrices added; a block's columns may be scattered in
+//! `u`: it is then solved through its column list), so `M^-1 B` for `k`
 //! right-hand sides costs one triangular pair per block and column. A block is refactored only
 //! when its mass changed (compared bitwise with the factored one: a rigid body in body-fixed
 //! velocities factors once).
 
 use crate::element::ElementScratch;
+use crate::gather::with_local_q;
 use crate::linsolve::{cholesky_in_place, cholesky_solve_in_place};
 use crate::model::Model;
+use crate::node::DofMap;
 use faer::Mat;
 
 /// Per-block Cholesky factors of the mass matrix (for explicit integration, consistent
@@ -20,10 +23,12 @@ pub struct BlockMass {
 
 #[derive(Debug)]
 struct MassBlock {
-    offset: usize,
+    /// Global columns of the block in block order (a single body's: its own map).
+    cols: DofMap,
     /// The bodies of the block (one unless they share nodes), with their element mass scratch
-    /// (empty for a single body: its mass is evaluated into `current` directly).
-    bodies: Vec<(usize, Mat<f64>)>,
+    /// (empty for a single body: its mass is evaluated into `current` directly) and the block
+    /// index of each of their local coordinates.
+    bodies: Vec<(usize, Mat<f64>, Vec<usize>)>,
     /// The mass matrix that `factor` belongs to (NaN: none yet).
     factored: Mat<f64>,
     /// Lower Cholesky factor.
@@ -32,25 +37,62 @@ struct MassBlock {
     current: Mat<f64>,
 }
 
-/// The bodies grouped by overlapping velocity ranges (each body's range is contiguous; sorted
-/// by start, a group is a run of ranges each overlapping the union of those before):
-/// `(first column, columns, bodies)` per group.
-fn overlapping_groups(model: &Model) -> Vec<(usize, usize, Vec<usize>)> {
-    let mut order: Vec<usize> = (0..model.bodies.len()).collect();
-    order.sort_by_key(|&i| model.bodies[i].u_offset);
-    let mut groups: Vec<(usize, usize, Vec<usize>)> = Vec::new();
-    for i in order {
-        let b = &model.bodies[i];
-        let (o, n) = (b.u_offset, b.element.nu());
-        match groups.last_mut() {
-            Some((start, len, members)) if o < *start + *len => {
-                *len = (*len).max(o + n - *start);
-                members.push(i);
+/// The bodies grouped by shared velocity columns (connected components: bodies that share a
+/// node, directly or through others), ordered by their first column, members by their first
+/// column: `(columns, bodies)` per group, the columns sorted, or a single body's own map.
+fn overlapping_groups(model: &Model) -> Vec<(DofMap, Vec<usize>)> {
+    let n_bodies = model.bodies.len();
+    let first = |i: usize| model.bodies[i].dofs().u.iter().min().unwrap_or(0);
+    let mut order: Vec<usize> = (0..n_bodies).collect();
+    order.sort_by_key(|&i| first(i));
+    // union-find over bodies through the first body seen at each column
+    let mut parent: Vec<usize> = (0..n_bodies).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut col_owner = vec![usize::MAX; model.nu];
+    for &i in &order {
+        for c in model.bodies[i].dofs().u.iter() {
+            if col_owner[c] == usize::MAX {
+                col_owner[c] = i;
+            } else {
+                let (a, b) = (root(&mut parent, i), root(&mut parent, col_owner[c]));
+                parent[a.max(b)] = a.min(b);
             }
-            _ => groups.push((o, n, vec![i])),
+        }
+    }
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+    for &i in &order {
+        let r = root(&mut parent, i);
+        match groups.iter_mut().find(|(g, _)| *g == r) {
+            Some((_, members)) => members.push(i),
+            None => groups.push((r, vec![i])),
         }
     }
     groups
+        .into_iter()
+        .map(|(_, members)| {
+            if let [b] = members[..] {
+                return (model.bodies[b].dofs().u.clone(), members);
+            }
+            let mut cols: Vec<usize> = members
+                .iter()
+                .flat_map(|&b| model.bodies[b].dofs().u.iter())
+                .collect();
+            cols.sort_unstable();
+            cols.dedup();
+            let contiguous = cols.windows(2).all(|w| w[1] == w[0] + 1);
+            let map = match (contiguous, cols.first()) {
+                (true, Some(&a)) => DofMap::Contiguous(a..a + cols.len()),
+                _ => DofMap::Scattered(cols),
+            };
+            (map, members)
+        })
+        .collect()
 }
 
 impl BlockMass {
@@ -58,18 +100,27 @@ impl BlockMass {
     pub fn new(model: &Model) -> Self {
         let blocks = overlapping_groups(model)
             .into_iter()
-            .map(|(offset, n, members)| {
+            .map(|(cols, members)| {
+                let n = cols.len();
                 let scratch = |b: usize| {
                     let m = model.bodies[b].element.nu();
                     Mat::zeros(m, m)
                 };
+                let block_index = |b: usize| {
+                    let block: Vec<usize> = cols.iter().collect();
+                    let local = model.bodies[b].dofs().u.iter();
+                    local
+                        .map(|g| block.binary_search(&g).expect("column in its block"))
+                        .collect()
+                };
                 let bodies = if members.len() == 1 {
-                    vec![(members[0], Mat::zeros(0, 0))]
+                    vec![(members[0], Mat::zeros(0, 0), Vec::new())]
                 } else {
-                    members.iter().map(|&b| (b, scratch(b))).collect()
+                    let member = |&b: &usize| (b, scratch(b), block_index(b));
+                    members.iter().map(member).collect()
                 };
                 MassBlock {
-                    offset,
+                    cols,
                     bodies,
                     factored: Mat::from_fn(n, n, |_, _| f64::NAN),
                     factor: Mat::zeros(n, n),
@@ -123,8 +174,12 @@ impl BlockMass {
         debug_assert_eq!(nu * k, b.len(), "right-hand sides nu x k");
         for col in b.chunks_exact_mut(nu.max(1)).take(k) {
             for blk in &self.blocks {
-                let n = blk.factor.nrows();
-                cholesky_solve_in_place(&blk.factor, &mut col[blk.offset..blk.offset + n]);
+                match &blk.cols {
+                    DofMap::Contiguous(r) => {
+                        cholesky_solve_in_place(&blk.factor, &mut col[r.clone()])
+                    }
+                    DofMap::Scattered(v) => cholesky_solve_indexed(&blk.factor, col, v),
+                }
             }
         }
     }
@@ -138,24 +193,51 @@ impl BlockMass {
 impl MassBlock {
     /// `current` = the block's mass at `q`: one element's matrix, or the sum of its elements'.
     fn evaluate(&mut self, model: &Model, q: &[f64], eval: &mut [ElementScratch]) {
-        if let [(i, _)] = self.bodies[..] {
+        if let [(i, _, _)] = self.bodies[..] {
             let b = &model.bodies[i];
-            let oq = b.q_offset;
-            let (qb, e) = (&q[oq..oq + b.element.nq()], &mut eval[i]);
-            b.element.mass_matrix(qb, e, self.current.as_mut());
+            let current = self.current.as_mut();
+            with_local_q(b, q, &mut eval[i], |qb, e| {
+                b.element.mass_matrix(qb, e, current)
+            });
             return;
         }
         self.current.fill(0.0);
-        for (i, m) in &mut self.bodies {
+        for (i, m, idx) in &mut self.bodies {
             let b = &model.bodies[*i];
-            let (oq, o) = (b.q_offset, b.u_offset - self.offset);
-            let (qb, e) = (&q[oq..oq + b.element.nq()], &mut eval[*i]);
-            b.element.mass_matrix(qb, e, m.as_mut());
+            let mv = m.as_mut();
+            with_local_q(b, q, &mut eval[*i], |qb, e| {
+                b.element.mass_matrix(qb, e, mv)
+            });
             for j in 0..m.ncols() {
                 for i in 0..m.nrows() {
-                    self.current[(o + i, o + j)] += m[(i, j)];
+                    self.current[(idx[i], idx[j])] += m[(i, j)];
                 }
             }
         }
+    }
+}
+
+/// Solves `L L^T x = b[cols]` in place with the Cholesky factor `l` of a block whose columns
+/// `cols` are scattered in `b` (the forward and back substitutions of
+/// [`crate::linsolve::cholesky_solve`], indexed).
+fn cholesky_solve_indexed(l: &Mat<f64>, b: &mut [f64], cols: &[usize]) {
+    let n = cols.len();
+    for j in 0..n {
+        let col = l.col_as_slice(j);
+        let xj = b[cols[j]] / col[j];
+        b[cols[j]] = xj;
+        if xj != 0.0 {
+            for (k, lij) in col.iter().enumerate().skip(j + 1) {
+                b[cols[k]] -= lij * xj;
+            }
+        }
+    }
+    for j in (0..n).rev() {
+        let col = l.col_as_slice(j);
+        let mut s = b[cols[j]];
+        for (k, lij) in col.iter().enumerate().skip(j + 1) {
+            s -= lij * b[cols[k]];
+        }
+        b[cols[j]] = s / col[j];
     }
 }

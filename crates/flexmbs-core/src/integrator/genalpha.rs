@@ -463,9 +463,21 @@ fn kinematic_update(model: &Model, p: &GenAlphaParams, h: f64, s: &State, b: &mu
 }
 
 /// [`crate::Element::velocity_scales`] of every body into `out` (nu).
-pub(super) fn fill_error_scales(model: &Model, out: &mut [f64]) {
-    for b in &model.bodies {
+/// A scattered body's scales go through its element buffer in `local` (sized whenever a model
+/// has scattered bodies), so this does not allocate.
+pub(super) fn fill_error_scales(
+    model: &Model,
+    out: &mut [f64],
+    local: &mut [crate::state::ElementBuffers],
+) {
+    for (i, b) in model.bodies.iter().enumerate() {
         let nu = b.element.nu();
+        if b.is_scattered() {
+            let l = &mut local[i].h;
+            b.element.velocity_scales(l);
+            b.dofs().u.scatter_into(l, out);
+            continue;
+        }
         b.element
             .velocity_scales(&mut out[b.u_offset..b.u_offset + nu]);
     }
@@ -538,7 +550,7 @@ fn newton_residual(
     // the terms r balances, and the gross terms whose differences the element forces are
     let f_scale = super::max_abs(r_acc)
         .max(super::max_abs(&sys.h))
-        .max(system::force_scale(model, &b.q_new))
+        .max(system::force_scale_in(model, &b.q_new, &mut sys.eval))
         .max(crate::force::force_element_scale(model, &sys.frames));
     // -h, then + G^T lambda (column by column of G, rows in order)
     for (r, h) in r_acc.iter_mut().zip(&sys.h) {

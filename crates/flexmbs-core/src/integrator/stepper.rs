@@ -241,7 +241,8 @@ impl Stepper for GenAlphaStepper {
         let a = match &self.adaptive {
             Some(ctl) => {
                 if !self.scales_filled {
-                    super::genalpha::fill_error_scales(model, &mut ws.error_scales);
+                    let (scales, local) = (&mut ws.error_scales, &mut ws.sys.local);
+                    super::genalpha::fill_error_scales(model, scales, local);
                     self.scales_filled = true;
                 }
                 self.integrator.attempt_adaptive(model, s, ws, ctl, h)?

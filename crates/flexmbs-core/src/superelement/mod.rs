@@ -256,7 +256,7 @@ impl Superelement {
         let r0_inv = data
             .interfaces
             .iter()
-            .map(|i| nalgebra::UnitQuaternion::from_matrix(&i.rotation).inverse())
+            .map(|i| crate::node::quaternion_of(&i.rotation).inverse())
             .collect();
         Ok(Self {
             r0_inv,

@@ -8,10 +8,12 @@
 
 use super::{add_frame_wrench, add_one_load_force};
 use crate::element::{ElementScratch, FrameKinematics};
+use crate::gather::with_local;
 use crate::ids::FrameId;
 use crate::joint::{joint_rows, ConstraintRow, MAX_JOINT_ROWS};
 use crate::load::{Load, MAX_LOAD_FRAMES};
 use crate::model::{FrameOwner, Model};
+use crate::node::DofMap;
 use crate::state::SystemBuffers;
 use nalgebra::Vector3;
 
@@ -38,30 +40,95 @@ fn frame_owners(model: &Model, frames: &[FrameId]) -> ([FrameOwner; MAX_LOAD_FRA
     (owners, n)
 }
 
-/// Global `q` and `u` ranges of a frame owner (empty for ground).
-fn owner_ranges(
-    model: &Model,
-    owner: FrameOwner,
-) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
-    match owner {
-        FrameOwner::Ground => (0..0, 0..0),
-        FrameOwner::Body(b) => {
-            let b = &model.bodies[b.0];
-            (
-                b.q_offset..b.q_offset + b.element.nq(),
-                b.u_offset..b.u_offset + b.element.nu(),
-            )
+/// Global indices of a frame owner's coordinates: a range (a node, a contiguous body) or a
+/// list (a scattered body).
+#[derive(Debug, Clone)]
+enum Cols<'a> {
+    Range(std::ops::Range<usize>),
+    List(&'a [usize]),
+}
+
+impl<'a> Cols<'a> {
+    fn of(map: &'a DofMap) -> Self {
+        match map {
+            DofMap::Contiguous(r) => Cols::Range(r.clone()),
+            DofMap::Scattered(v) => Cols::List(v),
         }
-        FrameOwner::Node(n) => (model.nodes[n.0].q.clone(), model.nodes[n.0].u.clone()),
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            Cols::Range(r) => r.len(),
+            Cols::List(v) => v.len(),
+        }
+    }
+
+    /// Global index of local coordinate `j`.
+    fn at(&self, j: usize) -> usize {
+        match self {
+            Cols::Range(r) => r.start + j,
+            Cols::List(v) => v[j],
+        }
+    }
+
+    fn contains(&self, i: usize) -> bool {
+        match self {
+            Cols::Range(r) => r.contains(&i),
+            Cols::List(v) => v.contains(&i),
+        }
+    }
+
+    fn overlaps(&self, other: &Cols) -> bool {
+        match (self, other) {
+            (Cols::Range(a), Cols::Range(b)) => a.start < b.end && b.start < a.end,
+            _ => (0..self.len()).any(|j| other.contains(self.at(j))),
+        }
+    }
+
+    fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.len()).map(|j| self.at(j))
     }
 }
 
-/// `q_new = q ⊕ dv` on the coordinates of `owner` (element-local `q`, `dv`, `q_new`).
+/// Global `q` and `u` indices of a frame owner (empty for ground).
+fn owner_ranges(model: &Model, owner: FrameOwner) -> (Cols<'_>, Cols<'_>) {
+    match owner {
+        FrameOwner::Ground => (Cols::Range(0..0), Cols::Range(0..0)),
+        FrameOwner::Body(b) => {
+            let d = model.bodies[b.0].dofs();
+            (Cols::of(&d.q), Cols::of(&d.u))
+        }
+        FrameOwner::Node(n) => (
+            Cols::Range(model.nodes[n.0].q.clone()),
+            Cols::Range(model.nodes[n.0].u.clone()),
+        ),
+    }
+}
+
+/// `q_new = q ⊕ dv` on the coordinates of `owner` (global vectors; a scattered body node by
+/// node).
 fn integrate_owner(model: &Model, owner: FrameOwner, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+    let node = |n: crate::NodeId, q_new: &mut [f64]| {
+        let n = &model.nodes[n.0];
+        let (rq, ru) = (n.q.clone(), n.u.clone());
+        n.kind.integrate(&q[rq.clone()], &dv[ru], &mut q_new[rq]);
+    };
     match owner {
         FrameOwner::Ground => {}
-        FrameOwner::Body(b) => model.bodies[b.0].element.integrate_position(q, dv, q_new),
-        FrameOwner::Node(n) => model.nodes[n.0].kind.integrate(q, dv, q_new),
+        FrameOwner::Body(b) => {
+            let b = &model.bodies[b.0];
+            if b.is_scattered() {
+                for n in &b.nodes {
+                    node(*n, q_new);
+                }
+                return;
+            }
+            let (oq, o, nq, nu) = (b.q_offset, b.u_offset, b.element.nq(), b.element.nu());
+            let (qo, dvo) = (&q[oq..oq + nq], &dv[o..o + nu]);
+            b.element
+                .integrate_position(qo, dvo, &mut q_new[oq..oq + nq]);
+        }
+        FrameOwner::Node(n) => node(n, q_new),
     }
 }
 
@@ -85,24 +152,27 @@ fn update_owned_frames(
         if !(all || frame.owner == owner) {
             continue;
         }
-        let (rq, ru) = owner_ranges(model, frame.owner);
-        let (qo, uo) = (&q[rq], &u[ru]);
         let k = &mut out[f.0];
         match frame.owner {
             FrameOwner::Ground => {}
             FrameOwner::Body(b) => {
-                let (element, p) = (&model.bodies[b.0].element, &mut probe[b.0]);
-                match element.update_kinematics(qo, uo, p) {
-                    Ok(()) => element.frame_kinematics(qo, uo, p, &frame.local, k),
-                    Err(_) => {
-                        k.position.fill(f64::NAN);
-                        k.velocity.fill(f64::NAN);
+                let (body, p) = (&model.bodies[b.0], &mut probe[b.0]);
+                let element = &body.element;
+                with_local(body, q, u, p, |qo, uo, p| {
+                    match element.update_kinematics(qo, uo, p) {
+                        Ok(()) => element.frame_kinematics(qo, uo, p, &frame.local, k),
+                        Err(_) => {
+                            k.position.fill(f64::NAN);
+                            k.velocity.fill(f64::NAN);
+                        }
                     }
-                }
+                });
             }
-            FrameOwner::Node(n) => model.nodes[n.0]
-                .kind
-                .frame_kinematics(qo, uo, &frame.local, k),
+            FrameOwner::Node(n) => {
+                let n = &model.nodes[n.0];
+                let (qo, uo) = (&q[n.q.clone()], &u[n.u.clone()]);
+                n.kind.frame_kinematics(qo, uo, &frame.local, k)
+            }
         }
     }
 }
@@ -147,7 +217,7 @@ struct LocalTangent<'a> {
     /// The distinct owners of `frames`.
     owners: &'a [FrameOwner],
     /// Their velocity coordinates (rows and columns).
-    rows: [std::ops::Range<usize>; MAX_LOAD_FRAMES],
+    rows: [Cols<'a>; MAX_LOAD_FRAMES],
     /// The owners share coordinates (bodies on a shared node, a node frame and a body on that
     /// node): each global column / row once, and a perturbation moves every frame.
     overlap: bool,
@@ -156,7 +226,7 @@ struct LocalTangent<'a> {
 impl LocalTangent<'_> {
     /// Global index `i` belongs to an owner before the `k`-th (already differentiated).
     fn covered(&self, k: usize, i: usize) -> bool {
-        self.overlap && self.rows[..k].iter().any(|r| r.contains(&i))
+        self.overlap && self.rows[..k].iter().any(|r| r.contains(i))
     }
 
     /// Adds `sign` times the central difference along coordinate `j` of `owner` (position along
@@ -170,24 +240,22 @@ impl LocalTangent<'_> {
         sink: &mut impl TangentSink,
     ) {
         let (model, q, u, frames) = (self.model, self.q, self.u, self.frames);
-        let (rq, ru) = owner_ranges(model, owner);
-        let (oq, o, nq, nu) = (rq.start, ru.start, rq.len(), ru.len());
+        let gj = owner_ranges(model, owner).1.at(j);
         let eps = if position {
             1e-6
         } else {
-            1e-6 * u[o + j].abs().max(1.0)
+            1e-6 * u[gj].abs().max(1.0)
         };
         for plus in [true, false] {
             let e = if plus { eps } else { -eps };
             if position {
-                ws.dv_pert[o + j] = e;
-                let (qo, dv) = (&q[oq..oq + nq], &ws.dv_pert[o..o + nu]);
-                integrate_owner(model, owner, qo, dv, &mut ws.q_pert[oq..oq + nq]);
+                ws.dv_pert[gj] = e;
+                integrate_owner(model, owner, q, &ws.dv_pert, &mut ws.q_pert);
                 let qp = &ws.q_pert;
                 let (pr, fr) = (&mut ws.probe, &mut ws.frames);
                 update_owned_frames(model, owner, self.overlap, frames, qp, u, pr, fr);
             } else {
-                ws.u_pert[o + j] = u[o + j] + e;
+                ws.u_pert[gj] = u[gj] + e;
                 let up = &ws.u_pert;
                 let (pr, fr) = (&mut ws.probe, &mut ws.frames);
                 update_owned_frames(model, owner, self.overlap, frames, q, up, pr, fr);
@@ -198,16 +266,19 @@ impl LocalTangent<'_> {
                 &mut ws.h_minus
             };
             for r in &self.rows[..self.owners.len()] {
-                hh[r.clone()].fill(0.0);
+                match r {
+                    Cols::Range(r) => hh[r.clone()].fill(0.0),
+                    Cols::List(v) => v.iter().for_each(|&i| hh[i] = 0.0),
+                }
             }
             self.force.add(&ws.frames, hh);
         }
-        ws.dv_pert[o + j] = 0.0;
-        ws.u_pert[o + j] = u[o + j];
+        ws.dv_pert[gj] = 0.0;
+        ws.u_pert[gj] = u[gj];
         for (kr, r) in self.rows[..self.owners.len()].iter().enumerate() {
-            for i in r.clone().filter(|&i| !self.covered(kr, i)) {
+            for i in r.iter().filter(|&i| !self.covered(kr, i)) {
                 let value = self.sign * (ws.h_plus[i] - ws.h_minus[i]) / (2.0 * eps);
-                sink.add(ws, i, o + j, !position, value);
+                sink.add(ws, i, gj, !position, value);
             }
         }
     }
@@ -232,11 +303,12 @@ fn add_local_force_tangent(
 ) {
     let (owners, n_owners) = frame_owners(model, frames);
     let owners = &owners[..n_owners];
-    let rows: [_; MAX_LOAD_FRAMES] =
-        std::array::from_fn(|k| owners.get(k).map_or(0..0, |&o| owner_ranges(model, o).1));
-    let overlap = (0..n_owners).any(|i| {
-        (i + 1..n_owners).any(|j| rows[i].start < rows[j].end && rows[j].start < rows[i].end)
+    let rows: [_; MAX_LOAD_FRAMES] = std::array::from_fn(|k| {
+        owners
+            .get(k)
+            .map_or(Cols::Range(0..0), |&o| owner_ranges(model, o).1)
     });
+    let overlap = (0..n_owners).any(|i| (i + 1..n_owners).any(|j| rows[i].overlaps(&rows[j])));
     let lt = LocalTangent {
         model,
         q,
@@ -250,11 +322,15 @@ fn add_local_force_tangent(
     };
     for (k, &ob) in owners.iter().enumerate() {
         let (rq, ru) = owner_ranges(model, ob);
-        ws.q_pert[rq.clone()].copy_from_slice(&q[rq]);
-        ws.u_pert[ru.clone()].copy_from_slice(&u[ru.clone()]);
-        ws.dv_pert[ru.clone()].fill(0.0);
+        for i in rq.iter() {
+            ws.q_pert[i] = q[i];
+        }
+        for i in ru.iter() {
+            ws.u_pert[i] = u[i];
+            ws.dv_pert[i] = 0.0;
+        }
         for j in 0..ru.len() {
-            if lt.covered(k, ru.start + j) {
+            if lt.covered(k, ru.at(j)) {
                 continue;
             }
             lt.add_column(ob, j, true, ws, sink);
@@ -362,23 +438,27 @@ fn add_analytic_force_tangent(
     let FrameOwner::Body(b) = f.owner else {
         return false;
     };
-    let (rq, ru) = owner_ranges(model, f.owner);
+    let ru = owner_ranges(model, f.owner).1;
     let n = ru.len();
     let force = vector * (time.value(t) * load_factor);
     let follower = *coordinates == crate::load::LoadCoordinates::Frame;
-    let element = &model.bodies[b.0].element;
+    let body = &model.bodies[b.0];
     let (e, block) = (
         &mut ws.eval[b.0],
         ws.load_block.as_mut().submatrix_mut(0, 0, n, n),
     );
-    if !element.force_load_tangent(&q[rq], &u[ru.clone()], e, &f.local, &force, follower, block) {
+    let provided = with_local(body, q, u, e, |qb, ub, e| {
+        let element = &body.element;
+        element.force_load_tangent(qb, ub, e, &f.local, &force, follower, block)
+    });
+    if !provided {
         return false;
     }
     for j in 0..n {
         for i in 0..n {
             let value = ws.load_block[(i, j)];
             if value != 0.0 {
-                sink.add(ws, ru.start + i, ru.start + j, false, value);
+                sink.add(ws, ru.at(i), ru.at(j), false, value);
             }
         }
     }
