@@ -46,7 +46,6 @@ pub(crate) fn add_fe_superelement(
     spec: &mut ModelSpec,
     frames: &mut HashMap<String, FrameId>,
     build: &mut SuperelementBuild,
-    last_node: &mut Option<NodeId>,
 ) -> Result<(), SimError> {
     check_keys(ctx, p, b)?;
     let fe = load_source(ctx, p, b)?;
@@ -138,7 +137,6 @@ pub(crate) fn add_fe_superelement(
         frame,
         geometry,
     });
-    *last_node = nodes.last().copied();
     for (k, f) in b.fixed.iter().flatten().enumerate() {
         let joint = fixed_joint(ctx, &format!("{p}.fixed[{k}]"), f, &names, spec, build)?;
         build.fixed.push(PendingJoint { joint });

@@ -201,14 +201,7 @@ pub fn add_superelement_beams(
         let p = format!("body[{i}]");
         if b.kind == BodyType::Superelement {
             crate::superelement_fe_body::add_fe_superelement(
-                ctx,
-                mf,
-                &p,
-                b,
-                spec,
-                frames,
-                &mut build,
-                &mut last_node,
+                ctx, mf, &p, b, spec, frames, &mut build,
             )?;
             continue;
         }

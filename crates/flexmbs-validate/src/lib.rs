@@ -23,8 +23,8 @@ pub mod slider_crank_3d_reference;
 pub mod slider_crank_reference;
 pub mod slider_crank_superelement;
 pub mod sliding_balls;
-pub mod spinning_beam;
 pub mod sliding_balls_reference;
+pub mod spinning_beam;
 
 pub use result::ValidationResult;
 use std::path::Path;
