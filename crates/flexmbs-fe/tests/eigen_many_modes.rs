@@ -83,7 +83,7 @@ fn tube() -> FeSystem {
 }
 
 #[test]
-#[ignore]
+#[ignore = "fails today: max residual 4.0e-8 > 1e-9 (open, issue 12 item 1)"]
 fn tube_100_modes_converge() {
     let sys = tube();
     assert!(sys.len() > 11_000);
@@ -91,13 +91,13 @@ fn tube_100_modes_converge() {
 }
 
 #[test]
-#[ignore]
+#[ignore = "fails today: EigenNotConverged (open, issue 12 item 1)"]
 fn tube_300_modes_converge() {
     solve(&tube(), 300, "tube");
 }
 
 #[test]
-#[ignore]
+#[ignore = "fails today: explicit residual 0.2 (automatic shift far below the spectrum; open, issue 12 item 1)"]
 fn beam_400_elements_100_modes_converge() {
     let (l, r_o, wall) = (1.0, 0.01, 0.001);
     let mesh = beam_line(

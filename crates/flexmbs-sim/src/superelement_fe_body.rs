@@ -12,12 +12,12 @@ use crate::error::SimError;
 use crate::schema::{BodySpec, ModelFile, RotationName};
 use crate::superelement_fe::{superelement_from_reduced, FeFrame};
 use crate::superelements::{
-    fixed_joint, superelement_keys_present, Component, FictitiousName, FrameName, InterfacePoint,
-    MatricesName, PendingJoint, SuperelementBuild, NO_STRESS,
+    fixed_joint, initial_velocity, new_interface, superelement_keys_present, Component,
+    FictitiousName, FrameName, MatricesName, PendingJoint, SuperelementBuild, NO_STRESS,
 };
 use crate::units::Dimension;
 use flexmbs_core::superelement::{FictitiousForces, Superelement, TransformMatrices};
-use flexmbs_core::{FrameId, ModelSpec, NodeId, NodeKind};
+use flexmbs_core::{FrameId, ModelSpec, NodeKind};
 use flexmbs_fe::reduction::Cell;
 use flexmbs_fe::ElementKind;
 use flexmbs_io::model::NodeSelector;
@@ -328,62 +328,6 @@ fn interface_names(
         }
     }
     Ok(list.clone())
-}
-
-/// Adds a new interface point `name` (interface `k` of entry `p`) at `position` with axes
-/// `rotation`: its `Pose` node and its frame.
-#[allow(clippy::too_many_arguments)]
-fn new_interface(
-    ctx: &Ctx,
-    p: &str,
-    k: usize,
-    name: &str,
-    spec: &mut ModelSpec,
-    frames: &mut HashMap<String, FrameId>,
-    build: &mut SuperelementBuild,
-    position: Vector3<f64>,
-    rotation: Matrix3<f64>,
-) -> Result<NodeId, SimError> {
-    if frames.contains_key(name) {
-        return Err(ctx.err(
-            &format!("{p}.interfaces[{k}]"),
-            format!("`{name}` is already the name of a frame"),
-        ));
-    }
-    let node = spec.add_node(name, NodeKind::Pose);
-    let frame = spec.add_node_owned_frame(name, node, Vector3::zeros(), Matrix3::identity());
-    frames.insert(name.to_string(), frame);
-    build.interfaces.insert(
-        name.to_string(),
-        InterfacePoint {
-            node,
-            frame,
-            position,
-            rotation,
-            owner: format!("{p}.interfaces[{k}]"),
-        },
-    );
-    Ok(node)
-}
-
-/// Initial velocity of the FE origin and angular velocity (global).
-fn initial_velocity(
-    ctx: &Ctx,
-    p: &str,
-    b: &BodySpec,
-) -> Result<(Vector3<f64>, Vector3<f64>), SimError> {
-    let get = |v: &Option<[crate::units::Quantity; 3]>, d, k: &str| match v {
-        Some(v) => ctx.vec3(v, d, &format!("{p}.{k}")),
-        None => Ok(Vector3::zeros()),
-    };
-    Ok((
-        get(&b.velocity, Dimension::Velocity, "velocity")?,
-        get(
-            &b.angular_velocity,
-            Dimension::AngularVelocity,
-            "angular_velocity",
-        )?,
-    ))
 }
 
 /// Animation geometry: the interface points and the floating-frame origin, joined by lines.

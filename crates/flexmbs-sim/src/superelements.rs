@@ -507,7 +507,7 @@ fn add_component(
     };
     let mut a = match &shared {
         Some(s) => s.node,
-        None => new_interface(ctx, p, 0, input, spec, frames, build, start, r)?,
+        None => new_interface(ctx, p, 0, &input.names[0], spec, frames, build, start, r)?,
     };
     let mut x = 0.0;
     for (k, &l) in input.lengths.iter().enumerate() {
@@ -527,7 +527,17 @@ fn add_component(
         let xb = start + r * Vector3::new(x + l, 0.0, 0.0);
         let bnode = match (&closing, k == last) {
             (Some(end), true) => end.node,
-            _ => new_interface(ctx, p, k + 1, input, spec, frames, build, xb, r)?,
+            _ => new_interface(
+                ctx,
+                p,
+                k + 1,
+                &input.names[k + 1],
+                spec,
+                frames,
+                build,
+                xb,
+                r,
+            )?,
         };
         nodes.push(bnode);
         let id = spec.add_body_on(&name, se, &nodes);
@@ -659,20 +669,20 @@ fn shared_points(
     Ok((start, end))
 }
 
-/// Adds interface point `k` of the component at `position` with axes `rotation`.
+/// Adds interface point `name` (`interfaces[k]` of the entry at `p`) at `position` with axes
+/// `rotation` (superelement beams and FE superelements).
 #[allow(clippy::too_many_arguments)]
-fn new_interface(
+pub(crate) fn new_interface(
     ctx: &Ctx,
     p: &str,
     k: usize,
-    input: &ComponentInput,
+    name: &str,
     spec: &mut ModelSpec,
     frames: &mut HashMap<String, FrameId>,
     build: &mut SuperelementBuild,
     position: Vector3<f64>,
     rotation: Matrix3<f64>,
 ) -> Result<NodeId, SimError> {
-    let name = &input.names[k];
     if frames.contains_key(name) {
         return Err(ctx.err(
             &format!("{p}.interfaces[{k}]"),
@@ -681,9 +691,9 @@ fn new_interface(
     }
     let node = spec.add_node(name, NodeKind::Pose);
     let frame = spec.add_node_owned_frame(name, node, Vector3::zeros(), Matrix3::identity());
-    frames.insert(name.clone(), frame);
+    frames.insert(name.to_string(), frame);
     build.interfaces.insert(
-        name.clone(),
+        name.to_string(),
         InterfacePoint {
             node,
             frame,
@@ -741,8 +751,9 @@ fn se_modes(se: &Superelement) -> usize {
     se.data().internal_modes
 }
 
-/// Initial velocity of the start point and angular velocity (global).
-fn initial_velocity(
+/// Initial velocity (of the start point, or of an FE superelement's FE origin) and angular
+/// velocity (global).
+pub(crate) fn initial_velocity(
     ctx: &Ctx,
     p: &str,
     b: &BodySpec,

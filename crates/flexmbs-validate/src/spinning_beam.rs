@@ -389,7 +389,7 @@ mod tests {
 
     /// Runs the case into a temporary folder, prints its summary and asserts that it passes.
     #[test]
-    #[ignore = "the whole case: run with --ignored"]
+    #[ignore = "the whole case, which `flexmbs validate --all` already runs in CI: run with --ignored"]
     fn whole_case() {
         let dir = std::env::temp_dir().join("spinning_beam_case");
         std::fs::create_dir_all(&dir).unwrap();

@@ -1,4 +1,4 @@
-//! A two-node spring-damper element for tests (a copy of the one in `shared_nodes.rs`).
+//! A two-node spring-damper element for tests (`shared_nodes.rs`, `scattered_nodes.rs`).
 
 use faer::MatMut;
 use flexmbs_core::{Element, ElementScratch, FrameKinematics, LocalFrame, NodeKind};
