@@ -122,6 +122,10 @@ pub struct CompiledModel {
     pub initial_static: bool,
     /// The text of the model file as compiled (stored in the results file).
     pub text: String,
+    /// `solver.restart`: the unwrapped angles `(joint index, rad)` of the revolute joints whose
+    /// `coordinates` signal the results file holds at the restart row, so the restarted run
+    /// continues them on the same branch (not back in (-pi, pi]).
+    pub restart_angles: Vec<(usize, f64)>,
 }
 
 /// Parses model-file text into the schema (errors with key path and line).
@@ -681,10 +685,12 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         }
     })?;
     let mut initial = model.initial_state();
+    let mut restart_angles = Vec::new();
     if let Some(r) = &mf.solver.restart {
         crate::initial::check_restart_allowed(&ctx, &mf, &solver)?;
         let t_end = solver.t_end();
-        crate::restart::apply_restart(&ctx, r, base, &model, &bodies, t_end, &mut initial)?;
+        restart_angles =
+            crate::restart::apply_restart(&ctx, r, base, &model, &bodies, t_end, &mut initial)?;
     }
     for (i, info) in bodies.iter().enumerate() {
         let (q, u) = model.body_coordinates(info.id, &initial.q, &initial.u);
@@ -740,6 +746,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         warnings,
         initial_static,
         text: text.to_string(),
+        restart_angles,
     })
 }
 

@@ -169,6 +169,19 @@ impl JointAngleTracker {
         t
     }
 
+    /// [`Self::new`], continuing the angles `(joint index, rad)` stored at the restart time `t0`
+    /// (a restart from a results file): the first observation is taken on the branch nearest to
+    /// the stored angle. Joints that are not tracked are ignored.
+    pub fn restarted(model: &Model, signals: &[Signal], t0: f64, angles: &[(usize, f64)]) -> Self {
+        let mut t = Self::new(model, signals);
+        for &(j, angle) in angles {
+            if let Some(a) = t.angles.iter_mut().find(|a| a.joint == j) {
+                a.last = Some((t0, angle, 0.0));
+            }
+        }
+        t
+    }
+
     /// True if no angle is tracked.
     pub fn is_empty(&self) -> bool {
         self.angles.is_empty()

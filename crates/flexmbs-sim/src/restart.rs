@@ -14,7 +14,8 @@ use std::path::Path;
 pub const RESTART_TIME_TOLERANCE: f64 = 1e-9;
 
 /// Replaces `initial` by the results row that `spec` names (time, q, u, lambda); the result file
-/// must hold this model's coordinates (same names, in the same order).
+/// must hold this model's coordinates (same names, in the same order). Returns the unwrapped
+/// revolute angles stored at that row ([`restart_angles`]).
 pub(crate) fn apply_restart(
     ctx: &Ctx,
     spec: &RestartSpec,
@@ -23,7 +24,7 @@ pub(crate) fn apply_restart(
     bodies: &[BodyInfo],
     t_end: f64,
     initial: &mut State,
-) -> Result<(), SimError> {
+) -> Result<Vec<(usize, f64)>, SimError> {
     let path = base.join(&spec.results);
     let results = flexmbs_io::results::read_results(&path)
         .map_err(|e| ctx.err("solver.restart.results", e.to_string()))?;
@@ -69,7 +70,31 @@ pub(crate) fn apply_restart(
     if row.lambda.len() == initial.lambda.len() {
         initial.lambda.copy_from_slice(row.lambda);
     }
-    Ok(())
+    Ok(restart_angles(model, &results, row_index))
+}
+
+/// The unwrapped angles `(joint index, rad)` of this model's revolute joints whose
+/// `<joint>.coordinates` signal `results` holds, at row `row`: a restarted run continues each
+/// angle on the branch it had (a crank after three turns restarts near 6 pi, not near 0).
+fn restart_angles(
+    model: &Model,
+    results: &flexmbs_io::results::Results,
+    row: usize,
+) -> Vec<(usize, f64)> {
+    use crate::motion_signals::JointCoordinates;
+    model
+        .joints
+        .iter()
+        .enumerate()
+        .filter(|(_, joint)| JointCoordinates::of(joint) == JointCoordinates::Angle)
+        .filter_map(|(j, joint)| {
+            let series = results
+                .series(&format!("{}.coordinates.rz", joint.name))
+                .ok()?;
+            let angle = *series.get(row)?;
+            angle.is_finite().then_some((j, angle))
+        })
+        .collect()
 }
 
 /// The row at `spec.time` (within [`RESTART_TIME_TOLERANCE`]), or the last row.

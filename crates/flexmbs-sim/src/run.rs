@@ -570,7 +570,12 @@ pub fn run_model(
         error: None,
         statics: matches!(cm.solver, SolverConfig::Statics { .. }),
         plausibility: crate::plausibility::Plausibility::new(cm),
-        angles: crate::motion_signals::JointAngleTracker::new(m, &cm.signals),
+        angles: crate::motion_signals::JointAngleTracker::restarted(
+            m,
+            &cm.signals,
+            cm.initial.t,
+            &cm.restart_angles,
+        ),
         accelerations_known: !matches!(cm.solver, SolverConfig::Moreau { .. }),
     };
     let mut s = cm.initial.clone();

@@ -284,3 +284,63 @@ animation = false
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The crank driven at 10 rad/s to 1 s (10 rad, more than one and a half turns), restarted from
+/// its last row to 1.5 s: the restarted run continues the unwrapped angle (`phi = 10 t` to
+/// 1e-9 rad, its first row equal to the stored 10 rad) instead of starting again in (-pi, pi].
+#[test]
+fn restart_continues_the_unwrapped_angle() {
+    let dir = common::work_dir("motion", "restart_angle");
+    // the restarted model takes the state from the results file: no initial velocities
+    let start = "angular_velocity = [0, 0, \"10 rad/s\"]\nvelocity = [0, 1.0, 0]";
+    let text = |t_end: &str, restart: &str, start: &str| {
+        format!(
+            r#"
+[model]
+name = "crank"
+[solver]
+type = "generalized-alpha"
+h = "1 ms"
+t_end = "{t_end}"
+{restart}
+[[body]]
+name = "crank"
+type = "rigid"
+mass = "1 kg"
+inertia = [0.001, 0.01, 0.01]
+position = [0.1, 0, 0]
+{start}
+[[frame]]
+name = "axis"
+body = "ground"
+[[frame]]
+name = "hub"
+body = "crank"
+position = [-0.1, 0, 0]
+[[joint]]
+name = "drive"
+type = "revolute"
+a = "axis"
+b = "hub"
+angular_velocity = "10 rad/s"
+[output]
+signals = ["drive.coordinates"]
+animation = false
+"#
+        )
+    };
+    let first = run(&dir, "first", &text("1 s", "", start));
+    let stored = *series(&first, "drive.coordinates.rz").last().unwrap();
+    assert!((stored - 10.0).abs() < 1e-9, "{stored}");
+    let key = format!("restart = {{ results = \"{}\" }}", first.path().display());
+    let second = run(&dir, "second", &text("1.5 s", &key, ""));
+    let phi = series(&second, "drive.coordinates.rz");
+    assert!((phi[0] - stored).abs() < 1e-12, "{} vs {stored}", phi[0]);
+    let worst = second
+        .time
+        .iter()
+        .zip(&phi)
+        .map(|(t, p)| (p - 10.0 * t).abs())
+        .fold(0.0f64, f64::max);
+    assert!(worst < 1e-9, "max |phi - 10 t| = {worst:e}");
+}
