@@ -6,6 +6,7 @@
 
 mod animation_points;
 pub mod bodies;
+mod body_loading;
 pub mod compile;
 pub mod config;
 pub mod contacts;
