@@ -24,10 +24,22 @@ use flexmbs_io::model::NodeSelector;
 use flexmbs_reduce::pipeline::{prepare, resolve, run_reduction, select_nodes};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+/// The FE body files read and reduced in one compilation, by resolved path: the superelements of
+/// one FE body file (a plate of ten equal pieces) share one reduction.
+#[derive(Default)]
+pub(crate) struct FeSourceCache(HashMap<PathBuf, Rc<FeSource>>);
+
+impl std::fmt::Debug for FeSourceCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "FeSourceCache({} FE body files)", self.0.len())
+    }
+}
 
 /// The FE model of a superelement body: its reduction and interface names (FE file order).
-struct FeSource {
+pub(crate) struct FeSource {
     prepared: flexmbs_reduce::pipeline::PreparedBody,
     reduced: flexmbs_fe::reduction::ReducedBody,
     /// Names of the FE file's interfaces: a rigid interface's or node set's name, else `i<k>`.
@@ -48,7 +60,7 @@ pub(crate) fn add_fe_superelement(
     build: &mut SuperelementBuild,
 ) -> Result<(), SimError> {
     check_keys(ctx, p, b)?;
-    let fe = load_source(ctx, p, b)?;
+    let fe = cached_source(ctx, p, b, &mut build.fe_sources)?;
     let names = interface_names(ctx, mf, p, b, &fe.fe_names)?;
     let frame = match b.frame.unwrap_or(FrameName::CentreOfMass) {
         FrameName::CentreOfMass => FeFrame::CentreOfMass,
@@ -184,6 +196,25 @@ fn check_keys(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(), SimError> {
         ));
     }
     Ok(())
+}
+
+/// The FE source of body `b` from `cache`, read and reduced by [`load_source`] on first use.
+fn cached_source(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    cache: &mut FeSourceCache,
+) -> Result<Rc<FeSource>, SimError> {
+    let base = ctx.file.parent().unwrap_or(Path::new("."));
+    let path = b.source.as_ref().map(|s| resolve(base, s));
+    if let Some(hit) = path.as_ref().and_then(|path| cache.0.get(path)) {
+        return Ok(Rc::clone(hit));
+    }
+    let fe = Rc::new(load_source(ctx, p, b)?);
+    if let Some(path) = path {
+        cache.0.insert(path, Rc::clone(&fe));
+    }
+    Ok(fe)
 }
 
 /// Reads and reduces the FE body file of `source`; errors of the FE file are located at its

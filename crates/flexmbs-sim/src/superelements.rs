@@ -116,6 +116,8 @@ pub struct SuperelementBuild {
     pub fixed: Vec<PendingJoint>,
     /// Interface frames by name.
     pub(crate) interfaces: HashMap<String, InterfacePoint>,
+    /// FE body files of `superelement` bodies, each read and reduced once.
+    pub(crate) fe_sources: crate::superelement_fe_body::FeSourceCache,
 }
 
 impl SuperelementBuild {
