@@ -18,6 +18,8 @@ pub struct DenseLu {
     stack: MemBuffer,
     /// Solution buffer of [`DenseLu::solve_in_place`].
     x: Vec<f64>,
+    /// Largest absolute entry of each column of the matrix before [`DenseLu::factor`].
+    column_max: Vec<f64>,
 }
 
 impl std::fmt::Debug for DenseLu {
@@ -36,6 +38,7 @@ impl DenseLu {
             perm_inv: vec![0; n],
             x: vec![0.0; n],
             stack: MemBuffer::new(req),
+            column_max: vec![0.0; n],
         }
     }
 
@@ -44,22 +47,30 @@ impl DenseLu {
         self.a.nrows()
     }
 
-    /// Factors `a` in place. Returns `false` if a pivot is zero, tiny relative to the largest
-    /// entry (`1e-14`), or non-finite (the matrix is then numerically singular).
+    /// Factors `a` in place. Returns `false` if an entry is not finite, or a pivot `u_jj` is not
+    /// above `1e-14` times the largest entry of column `j` of `A` (the matrix is then
+    /// numerically singular).
+    ///
+    /// The test is relative to each column (partial pivoting permutes rows only, so column `j`
+    /// of `U` comes from column `j` of `A`): it does not change when a column is scaled. A test
+    /// against the largest entry of the whole matrix would refuse regular saddle-point systems
+    /// of stiff structures, whose multiplier pivots are about `|G|^2 / k` (compliance) while the
+    /// largest entry is the stiffness `k` (a superelement frame clamped at two points: pivots
+    /// 1e-15 of the largest entry).
     pub fn factor(&mut self) -> bool {
         let n = self.dim();
         if n == 0 {
             return true;
         }
-        let mut amax = 0.0_f64;
         for j in 0..n {
-            for i in 0..n {
-                let v = self.a[(i, j)];
+            let mut cmax = 0.0_f64;
+            for &v in self.a.col_as_slice(j) {
                 if !v.is_finite() {
                     return false;
                 }
-                amax = amax.max(v.abs());
+                cmax = cmax.max(v.abs());
             }
+            self.column_max[j] = cmax;
         }
         factor::lu_in_place(
             self.a.as_mut(),
@@ -69,9 +80,9 @@ impl DenseLu {
             MemStack::new(&mut self.stack),
             Default::default(),
         );
-        (0..n).all(|i| {
-            let p = self.a[(i, i)];
-            p.is_finite() && p.abs() > 1e-14 * amax
+        (0..n).all(|j| {
+            let p = self.a[(j, j)];
+            p.is_finite() && p.abs() > 1e-14 * self.column_max[j]
         })
     }
 
@@ -247,6 +258,52 @@ mod tests {
         lu.a[(1, 0)] = 2.0;
         lu.a[(1, 1)] = 4.0;
         assert!(!lu.factor());
+    }
+
+    /// The saddle matrix `[[k K0, G^T], [G, 0]]` of a stiff structure (k = 1e9) held by two
+    /// independent constraints: its multiplier pivots are about `1/k`, 1e-18 of the largest entry,
+    /// yet the matrix is regular and the solution has a small residual. With a redundant
+    /// constraint (a repeated row of `G`) it is refused.
+    #[test]
+    fn stiff_saddle_matrix_is_regular_and_redundant_constraints_are_not() {
+        let k = 1e9;
+        let k0 = |i: usize, j: usize| match i.abs_diff(j) {
+            0 => 2.0,
+            1 => -1.0,
+            _ => 0.0,
+        };
+        let saddle = |g: [[f64; 4]; 2]| {
+            let mut lu = DenseLu::new(6);
+            for i in 0..4 {
+                for j in 0..4 {
+                    lu.a[(i, j)] = k * k0(i, j);
+                }
+            }
+            for (r, row) in g.iter().enumerate() {
+                for (j, &v) in row.iter().enumerate() {
+                    lu.a[(4 + r, j)] = v;
+                    lu.a[(j, 4 + r)] = v;
+                }
+            }
+            lu
+        };
+        let g = [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
+        let mut lu = saddle(g);
+        let a = lu.a.clone();
+        assert!(lu.factor(), "regular stiff saddle matrix refused");
+        let b = [1.0, -2.0, 3.0, 0.5, 1e-3, -2e-3];
+        let mut x = b;
+        lu.solve_in_place(&mut x);
+        for (i, bi) in b.iter().enumerate() {
+            let r: f64 = (0..6).map(|j| a[(i, j)] * x[j]).sum::<f64>() - bi;
+            let scale: f64 = (0..6).map(|j| (a[(i, j)] * x[j]).abs()).sum::<f64>();
+            assert!(
+                r.abs() <= 1e-12 * scale.max(bi.abs()),
+                "row {i}: residual {r:e}"
+            );
+        }
+        let mut redundant = saddle([g[0], g[0]]);
+        assert!(!redundant.factor(), "redundant constraints accepted");
     }
 
     /// SPD 7 x 7 system: Cholesky solution against the LU solution and the residual.
