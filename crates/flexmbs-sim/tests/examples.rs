@@ -35,7 +35,7 @@ fn all_examples_compile() {
             n += 1;
         }
     }
-    assert_eq!(n, 16, "expected 16 example models");
+    assert_eq!(n, 17, "expected 17 example models");
     // FE body files are not multibody models
     let fe = std::fs::read_to_string(dir.join("parts/rod.toml")).unwrap();
     assert!(!flexmbs_sim::is_multibody_model(&fe));
