@@ -119,12 +119,8 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
         }
         Err(e @ RunError::Solver { .. }) => {
             eprintln!("error: {e}");
-            if !statics {
-                eprintln!(
-                    "hint: a smaller step `h` in [solver], or step size control with `adaptive = {{}}` (generalized-alpha); check the model at the failure time in the results file"
-                );
-            } else {
-                eprintln!("hint: more `load_steps` in [solver]; check that every body is held (a free body has no static equilibrium)");
+            if let RunError::Solver { cause, .. } = &e {
+                eprintln!("hint: {}", cause.hint(&cm.solver));
             }
             Ok(1)
         }

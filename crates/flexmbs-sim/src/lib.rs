@@ -12,6 +12,7 @@ pub mod config;
 pub mod contacts;
 pub mod drives;
 pub mod error;
+pub mod failure_hint;
 pub mod fe_frames;
 mod flexible_contours;
 pub mod forces;

@@ -134,10 +134,13 @@ pub enum RunError {
         h: f64,
         /// Last residual (NaN if unknown).
         residual: f64,
-        /// The solver error.
-        source: SolverError,
+        /// The solver error (boxed: keeps the error small).
+        source: Box<SolverError>,
         /// The results file (status `failed`).
         results: PathBuf,
+        /// The cause of the failure as far as the run could tell; its
+        /// [`hint`](crate::failure_hint::FailureCause::hint) says what to try.
+        cause: crate::failure_hint::FailureCause,
     },
     /// A bug: the integration panicked. The results file holds the rows written before and has
     /// status `failed`.
@@ -241,6 +244,8 @@ struct Recorder<'a> {
     /// Whether the state's `u_dot` are accelerations of the state (false for the first row of
     /// the moreau solver, which computes them per step).
     accelerations_known: bool,
+    /// Step-frequency part of the multipliers, for the failure hint (`crate::failure_hint`).
+    oscillation: crate::failure_hint::StepOscillation,
 }
 
 impl<'a> Recorder<'a> {
@@ -408,6 +413,7 @@ impl<'a> Recorder<'a> {
         if !self.statics {
             self.plausibility
                 .observe_drift(st.t, st.g_max, st.g_dot_max, &s.u);
+            self.oscillation.observe(st.t, &s.lambda);
         }
         let due = match self.cm.output.every {
             _ if self.statics => true,
@@ -577,6 +583,7 @@ pub fn run_model(
             &cm.restart_angles,
         ),
         accelerations_known: !matches!(cm.solver, SolverConfig::Moreau { .. }),
+        oscillation: crate::failure_hint::StepOscillation::new(m.nc),
     };
     let mut s = cm.initial.clone();
     let mut ws = Workspace::with_linear_solver(m, cm.linear_solver);
@@ -633,8 +640,9 @@ pub fn run_model(
                 t,
                 h,
                 residual,
-                source,
+                source: Box::new(source),
                 results: results_path,
+                cause: rec.oscillation.cause(&cm.solver),
             });
         }
     };
