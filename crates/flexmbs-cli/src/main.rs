@@ -196,6 +196,7 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             no_geometric,
         } => {
             let f = reduce_model_file(&model, quiet, !no_geometric)?;
+            create_parent_folder(&output)?;
             f.write(&output)
                 .with_context(|| format!("writing {}", output.display()))?;
             let kg = match (&f.geometric, no_geometric) {
@@ -249,6 +250,13 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
             let mesh = flexmbs_reduce::pipeline::build_mesh(&src.model.body, base)
                 .map_err(|e| src.locate(e))?;
             let text = flexmbs_io::inp_writer::mesh_to_inp(&mesh).map_err(anyhow::Error::msg)?;
+            if let Some(kind) = flexmbs_io::output_safety::unsafe_target_kind(&output) {
+                bail!(
+                    "{} is {kind}, not a regular file: refusing to write the deck there",
+                    output.display()
+                );
+            }
+            create_parent_folder(&output)?;
             std::fs::write(&output, text)
                 .with_context(|| format!("writing {}", output.display()))?;
             println!(
@@ -332,6 +340,16 @@ fn load(model: &Path, quiet: bool) -> Result<(PreparedBody, FeModelSource)> {
     let body = prepare(&src.model.body, base, &mut |s| p.stage(s)).map_err(|e| src.locate(e));
     p.finish();
     Ok((body?, src))
+}
+
+/// Creates the folder of the output file `path` if it does not exist (`reduce -o out/arm.fmb.h5`
+/// into a new folder).
+fn create_parent_folder(path: &Path) -> Result<()> {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.exists() => std::fs::create_dir_all(dir)
+            .with_context(|| format!("creating the output folder {}", dir.display())),
+        _ => Ok(()),
+    }
 }
 
 fn reduce_model(model: &Path, quiet: bool) -> Result<ReducedBody> {
