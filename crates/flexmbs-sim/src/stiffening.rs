@@ -230,8 +230,8 @@ pub fn with_load_stiffening(
 
 /// Node-load stiffening acts in the generalized-alpha and statics solvers (its coefficients come
 /// from the joint reactions of the Newton iterates; the static start of `initial = "static"` is a
-/// statics solve, so it includes it): an error at `body[i].load_stiffening` with DOPRI5 and
-/// Moreau.
+/// statics solve, so it includes it) and in DOPRI5 (unconstrained: from the loads at each
+/// stage): an error at `body[i].load_stiffening` with Moreau.
 pub fn check_load_stiffening_solver(
     ctx: &Ctx,
     bodies: &[BodySpec],
@@ -242,14 +242,16 @@ pub fn check_load_stiffening_solver(
     };
     if matches!(
         solver,
-        crate::config::SolverConfig::GenAlpha { .. } | crate::config::SolverConfig::Statics { .. }
+        crate::config::SolverConfig::GenAlpha { .. }
+            | crate::config::SolverConfig::Statics { .. }
+            | crate::config::SolverConfig::Dopri5 { .. }
     ) {
         return Ok(());
     }
     Err(ctx.err(
         &format!("body[{i}].load_stiffening"),
-        "load stiffening acts in the generalized-alpha and statics solvers only (its coefficients \
-         come from the joint reactions of the Newton iterates): use `type = \"generalized-alpha\"` \
-         or `type = \"statics\"`",
+        "load stiffening acts in the generalized-alpha, statics and DOPRI5 solvers only (its \
+         coefficients come from the joint reactions and loads of each force evaluation): use \
+         `type = \"generalized-alpha\"`",
     ))
 }
