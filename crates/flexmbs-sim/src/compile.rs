@@ -665,8 +665,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             "the model has contacts: they are solved by `type = \"moreau\"` only",
         ));
     }
-    let static_start = mf.solver.initial == Some(crate::schema::InitialName::Static);
-    crate::stiffening::check_load_stiffening_solver(&ctx, &mf.body, &solver, static_start)?;
+    crate::stiffening::check_load_stiffening_solver(&ctx, &mf.body, &solver)?;
     let model = spec.compile().map_err(|source| {
         if let ModelError::InvalidContact { contact, reason } = &source {
             if let Some(i) = mf.contact.iter().position(|c| &c.name == contact) {

@@ -228,33 +228,30 @@ pub fn with_load_stiffening(
     Ok(body)
 }
 
-/// Node-load stiffening acts in the generalized-alpha solver only (its coefficients come from the
-/// joint reactions of the Newton iterates), and not in the static solve of `initial = "static"`
-/// (which would start the run from an equilibrium without it): an error at
-/// `body[i].load_stiffening` otherwise.
+/// Node-load stiffening acts in the generalized-alpha and statics solvers (its coefficients come
+/// from the joint reactions of the Newton iterates; the static start of `initial = "static"` is a
+/// statics solve, so it includes it) and in DOPRI5 (unconstrained: from the loads at each
+/// stage): an error at `body[i].load_stiffening` with Moreau.
 pub fn check_load_stiffening_solver(
     ctx: &Ctx,
     bodies: &[BodySpec],
     solver: &crate::config::SolverConfig,
-    initial_static: bool,
 ) -> Result<(), SimError> {
     let Some(i) = bodies.iter().position(|b| b.load_stiffening == Some(true)) else {
         return Ok(());
     };
-    if initial_static {
-        return Err(ctx.err(
-            &format!("body[{i}].load_stiffening"),
-            "load stiffening is not part of the static solve of `initial = \"static\"` (the run \
-             would start from an equilibrium computed without it): use `initial = \"given\"`, or \
-             remove `load_stiffening`",
-        ));
-    }
-    if matches!(solver, crate::config::SolverConfig::GenAlpha { .. }) {
+    if matches!(
+        solver,
+        crate::config::SolverConfig::GenAlpha { .. }
+            | crate::config::SolverConfig::Statics { .. }
+            | crate::config::SolverConfig::Dopri5 { .. }
+    ) {
         return Ok(());
     }
     Err(ctx.err(
         &format!("body[{i}].load_stiffening"),
-        "load stiffening acts in the generalized-alpha solver only (its coefficients come from \
-         the joint reactions of the Newton iterates): use `type = \"generalized-alpha\"`",
+        "load stiffening acts in the generalized-alpha, statics and DOPRI5 solvers only (its \
+         coefficients come from the joint reactions and loads of each force evaluation): use \
+         `type = \"generalized-alpha\"`",
     ))
 }

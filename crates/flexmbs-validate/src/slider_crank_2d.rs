@@ -4,8 +4,8 @@
 //! velocities at crank angle 0. Output: the rod midpoint deflection perpendicular to the
 //! pin-slider chord over 4 revolutions, sampled every 1e-5 s. Models: the rod as 10 and 2
 //! superelements ([`crate::slider_crank_superelement`]) and as ONE FFR body with free-free beam
-//! modes ([`simulate`], Lagrange-multiplier joints at its end-node frames; no geometric
-//! stiffening). Reference: a planar corotational beam of its own
+//! modes ([`simulate_rod`], Lagrange-multiplier joints at its end-node frames; without and with
+//! geometric stiffening under its end loads). Reference: a planar corotational beam of its own
 //! ([`crate::slider_crank_reference`]), converged in elements and step.
 
 use crate::slider_crank_reference::SliderCrank;
@@ -59,6 +59,17 @@ pub fn simulate_rod(
     h: f64,
     every: usize,
     stiffened: bool,
+) -> Result<(Vec<(f64, f64)>, f64)> {
+    simulate_rod_revolutions(modes, h, every, stiffened, 4.0)
+}
+
+/// [`simulate_rod`] over `revolutions` crank revolutions.
+pub fn simulate_rod_revolutions(
+    modes: usize,
+    h: f64,
+    every: usize,
+    stiffened: bool,
+    revolutions: f64,
 ) -> Result<(Vec<(f64, f64)>, f64)> {
     let material = Material {
         e: 200e9,
@@ -193,7 +204,7 @@ pub fn simulate_rod(
         &mut s,
         &mut ws,
         h,
-        4.0 * 2.0 * PI / OMEGA,
+        revolutions * 2.0 * PI / OMEGA,
         |st, stats| {
             k += 1;
             g_max = g_max.max(stats.g_max);
@@ -349,18 +360,27 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
             style: Style::Line,
         });
     }
-    for (modes, stiffened) in [(2usize, false), (4, false), (4, true)] {
-        let (w, g_max) = simulate_rod(modes, SAMPLE_DT, 1, stiffened)?;
+    // the FFR rod: without geometric stiffening (recorded: about 20 % too flexible); with it
+    // (item 6) on 8 free-free modes (4 in-plane, 2 of them symmetric), checked within 5 %; and on
+    // 4 modes (one symmetric in-plane mode: the Euler load 2.3 % high,
+    // `flexmbs-core/tests/ffr_load_stiffening.rs`), recorded over the first revolution (README)
+    for (modes, stiffened, revolutions, suffix, tol) in [
+        (4usize, false, 4.0, "_ffr", None),
+        (4, true, 1.0, "_ffr_stiffened_4modes", None),
+        (8, true, 4.0, "_ffr_stiffened", Some(0.05)),
+    ] {
+        let (w, g_max) = simulate_rod_revolutions(modes, SAMPLE_DT, 1, stiffened, revolutions)?;
         let w: Vec<f64> = w.iter().map(|p| p.1).collect();
-        let suffix = match (modes, stiffened) {
-            (4, false) => "_ffr".to_string(),
-            (4, true) => "_ffr_stiffened".to_string(),
-            _ => format!("_ffr_{modes}modes"),
-        };
-        // the linear FFR rod is compared, not checked: about 20 % too flexible without
-        // stiffening; with it within 2 % on the largest deflection but 7 % on the smallest
-        // (README), outside the 5 %
-        compare(&mut res, &suffix, &w, &w_ref, None);
+        if revolutions < 4.0 {
+            let (max, min, _) = extremes_and_rms(&w);
+            let (rmax, rmin, _) = extremes_and_rms(&w_ref);
+            for (name, v, r) in [("w_mid_max_rev1", max, rmax), ("w_mid_min_rev1", min, rmin)] {
+                res.record(&format!("{name}{suffix}"), v);
+                res.record(&format!("{name}{suffix}_deviation"), v / r - 1.0);
+            }
+        } else {
+            compare(&mut res, suffix, &w, &w_ref, tol);
+        }
         res.record(&format!("constraint_violation_max{suffix}"), g_max);
         if g_max.is_nan() || g_max > 1e-8 {
             res.pass = false;
@@ -369,18 +389,16 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
             let (max, min, _) = extremes_and_rms(&w);
             eprintln!("  FFR rod, {modes} modes (stiffened: {stiffened}): w_mid in revolution 1 in [{min:.5e}, {max:.5e}] m, max |g| {g_max:.2e}");
         }
-        if modes == 4 {
-            let what = if stiffened {
-                "with geometric stiffening under its end loads"
-            } else {
-                "no geometric stiffening"
-            };
-            series.push(Series {
-                name: format!("FFR rod, 4 free-free modes, {what}"),
-                points: plot_points(&w),
-                style: Style::Line,
-            });
-        }
+        let what = if stiffened {
+            "with geometric stiffening under its end loads"
+        } else {
+            "no geometric stiffening"
+        };
+        series.push(Series {
+            name: format!("FFR rod, {modes} free-free modes, {what}"),
+            points: plot_points(&w),
+            style: Style::Line,
+        });
     }
     // drawn last, on top: the 10-superelement curve lies under it
     series.push(Series {
@@ -399,4 +417,40 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     plot.write(&out.join("w_mid.png"))?;
     plot.write(&out.join("w_mid.svg"))?;
     Ok(res)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stiffened FFR rod converges in the mode count towards the corotational reference
+    /// (16 elements, within 0.3 % of the 32-element one, README): 4, 8 and 10 free-free modes
+    /// (1, 2 and 3 symmetric in-plane modes). Measured deviations of (max, min) in revolution 1:
+    /// 4 modes (-1.5 %, -6.9 %), 8 (-0.6 %, -0.5 %), 10 (+0.0 %, +0.8 %) against 16 elements.
+    /// Checked: 8 and 10 modes within 1.5 % on both extremes, 4 modes off by more than 5 % on the
+    /// minimum (one symmetric mode: its Euler load is 2.3 % high,
+    /// `flexmbs-core/tests/ffr_load_stiffening.rs`).
+    #[test]
+    #[ignore = "about 7 s (dev profile): run with --ignored"]
+    fn stiffened_ffr_rod_converges_in_modes() {
+        let reference = SliderCrank::seed(16);
+        let sub = (SAMPLE_DT / (0.5 * reference.critical_step())).ceil() as usize;
+        let run = reference.simulate(1.0, SAMPLE_DT, sub).unwrap();
+        let (rmax, rmin, _) = extremes_and_rms(&run.w);
+        for modes in [4, 8, 10] {
+            let (w, _) = simulate_rod_revolutions(modes, SAMPLE_DT, 1, true, 1.0).unwrap();
+            let w: Vec<f64> = w.iter().map(|p| p.1).collect();
+            let (max, min, _) = extremes_and_rms(&w);
+            let (dmax, dmin) = (max / rmax - 1.0, min / rmin - 1.0);
+            eprintln!("{modes} modes: max {max:.5e} ({dmax:+.2e}), min {min:.5e} ({dmin:+.2e})");
+            if modes == 4 {
+                assert!(dmin < -0.05, "{dmin:e}");
+            } else {
+                assert!(
+                    dmax.abs() < 0.015 && dmin.abs() < 0.015,
+                    "{dmax:e} {dmin:e}"
+                );
+            }
+        }
+    }
 }

@@ -6,6 +6,9 @@
 //! additively; after each accepted step the coordinates are normalized (unit quaternions).
 //! Error norm: RMS of `err_i / (atol + rtol max(|y_i|, |y_new_i|))`; step factor
 //! `clamp(0.9 err^(-1/5), 0.2, 5)` (Hairer, Nørsett & Wanner, Solving ODEs I, II.4).
+//! FFR bodies with node-load stiffening get `−K_load(c) q_f` with `c` from the loads at each
+//! stage ([`crate::system::add_load_stiffening_forces`]; a supported body's acceleration
+//! coefficients from the stage's accelerations without that force).
 
 use super::stepper::{drive, Dopri5Stepper, StepAttempt};
 use super::{monitor, ControlledRun, StepStats};
@@ -115,7 +118,23 @@ fn derivative(
     }
     du.copy_from_slice(&sys.h);
     mass.solve_in_place(du, 1);
+    if has_load_stiffening(model) {
+        // node-load stiffening: coefficients from the loads at this stage (no multipliers: no
+        // constraints) and, for a supported body, from the accelerations `du` without the
+        // stiffening force (one fixed-point pass); then `M^-1 (h - K_load(c) q_f)`
+        system::add_load_stiffening_forces(model, t, 1.0, du, &[], true, sys);
+        du.copy_from_slice(&sys.h);
+        mass.solve_in_place(du, 1);
+    }
     Ok(())
+}
+
+/// Whether a body of `model` carries node-load stiffening ([`crate::ffr::LoadStiffening`]).
+fn has_load_stiffening(model: &Model) -> bool {
+    model
+        .bodies
+        .iter()
+        .any(|b| b.element.load_stiffened_ffr().is_some())
 }
 
 impl Dopri5 {

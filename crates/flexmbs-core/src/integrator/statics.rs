@@ -6,6 +6,8 @@
 //! `[-dh/dq + d(G^T lambda)/dq  G^T; G  0] [dv; d lambda] = [h - G^T lambda; -g]`, `q <- q ⊕ dv`
 //! (the geometric stiffness of the constraint forces is what makes a loaded mechanism stiff;
 //! it is computed by finite differences, [`crate::system::subtract_constraint_force_tangent`]).
+//! FFR bodies with node-load stiffening get `−K_load(c) q_f` with `c` from the iterate's
+//! multipliers and loads ([`crate::system::add_load_stiffening_forces`], `u_dot = 0`).
 
 use super::stepper::{drive, StaticsStepper, StepAttempt, StepControl, Stepper};
 use super::{NewtonSettings, StepStats};
@@ -199,6 +201,7 @@ impl Statics {
         let (nu, t, sys) = (model.nu, s.t, &mut ws.sys);
         system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(mu, mu))?;
         system::assemble_forces(model, t, &s.q, &s.u, mu, sys);
+        system::add_load_stiffening_forces(model, t, mu, &s.u_dot, &s.lambda, true, sys);
         system::update_constraints(model, t, sys);
         let saddle = &mut ws.saddle;
         saddle.build(SaddleKind::LeastSquares, model, &s.q, &s.u, &s.lambda, sys);
@@ -236,6 +239,10 @@ impl Statics {
             let sys = &mut ws.sys;
             system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(mu, mu))?;
             system::assemble_forces(model, t, &s.q, &s.u, mu, sys);
+            // node-load stiffening (`ffr::LoadStiffening`): coefficients from this iterate's
+            // multipliers, loads at `mu` and `u_dot = 0`; their dependence on `lambda` is not in
+            // the tangent
+            system::add_load_stiffening_forces(model, t, mu, &s.u_dot, &s.lambda, true, sys);
             system::update_constraints(model, t, sys);
             let rhs = &mut ws.step.rhs;
             for (i, ri) in rhs[..nu].iter_mut().enumerate() {
