@@ -41,8 +41,8 @@ pub(super) fn lanczos_solution(
         nnz_l: chol.nnz_l(),
     });
     let b = opts.block_size.max(1);
-    let mut sigma = match opts.shift {
-        Some(s) => s,
+    let (mut sigma, probe) = match opts.shift {
+        Some(s) => (s, None),
         None => shift::spectrum_shift(k, m, &mut chol, sigma0, b)?,
     };
     let cap = if opts.max_basis > 0 {
@@ -52,7 +52,11 @@ pub(super) fn lanczos_solution(
     };
     let mut need = nm;
     let cap = cap.max(need + 3 * b);
-    let mut lz = BlockLanczos::new(m, b, cap, 0x5eed_1234)?;
+    let mut lz = match probe {
+        Some(lz) => lz,
+        None => BlockLanczos::new(m, b, cap, 0x5eed_1234)?,
+    };
+    lz.ensure_capacity(cap);
     let max_steps = 100 + 20 * cap / b;
     let gap_rel = (1e3 * opts.tol).max(1e-6);
     let mut sturm_failures = 0usize;

@@ -42,6 +42,9 @@ pub(crate) struct RitzPairs {
 /// Ritz values (descending), coefficient vectors `S` and residual estimates.
 type RitzDecomposition = (Vec<f64>, Mat<f64>, Vec<f64>);
 
+/// The active part of the basis holds at most this many blocks ([`BlockLanczos::window`]).
+const ACTIVE_WINDOW_BLOCKS: usize = 20;
+
 /// How [`BlockLanczos::run`] ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Outcome {
@@ -211,7 +214,8 @@ impl<'a> BlockLanczos<'a> {
                 return Ok((pairs, Outcome::Converged));
             }
             let pending = self.next.as_ref().map_or(0, |(q, _)| q.ncols());
-            let full = self.used + pending > self.cap;
+            let full =
+                self.used + pending > self.cap || self.used - self.locked + pending > self.window();
             let mut lock = Vec::new();
             let mut stalled = false;
             if lead >= want || full {
@@ -239,6 +243,41 @@ impl<'a> BlockLanczos<'a> {
             }
             self.advance(&theta, s.as_ref(), &lock, want, full)?;
         }
+    }
+
+    /// `steps` block expansions without restart or locking (at most until the basis is full);
+    /// returns the Ritz values `lambda` (ascending, `theta > 0` only). The last block's product is
+    /// pending, so [`Self::run`] at the same shift resumes from this Krylov space.
+    pub fn probe(
+        &mut self,
+        op: &SparseCholesky,
+        sigma: f64,
+        steps: usize,
+    ) -> Result<Vec<f64>, FeError> {
+        for step in 0..steps {
+            self.expand(op)?;
+            let pending = self.next.as_ref().map_or(0, |(q, _)| q.ncols());
+            if step + 1 == steps || self.used + pending > self.cap {
+                break;
+            }
+            let (theta, s, _) = self.rayleigh_ritz()?;
+            self.advance(&theta, s.as_ref(), &[], 0, false)?;
+        }
+        let (theta, _, _) = self.rayleigh_ritz()?;
+        let mut lam: Vec<f64> = theta
+            .iter()
+            .filter(|&&t| t > 0.0)
+            .map(|t| sigma + 1.0 / t)
+            .collect();
+        lam.sort_by(f64::total_cmp);
+        Ok(lam)
+    }
+
+    /// Largest active (not locked) part of the basis before a thick restart: the projected
+    /// eigenproblem of this size is solved at every step (cubic cost), so with hundreds of
+    /// locked pairs the active part stays small.
+    fn window(&self) -> usize {
+        (ACTIVE_WINDOW_BLOCKS * self.block).max(40)
     }
 
     /// Eigenvalues of the locked pairs.
@@ -698,6 +737,7 @@ impl<'a> BlockLanczos<'a> {
             let open = wanted.saturating_sub(locked_after);
             (open + self.block.max(open / 2))
                 .min(self.cap.saturating_sub(locked_after + 2 * bq))
+                .min(self.window().saturating_sub(2 * bq.max(self.block)))
                 .min(rest.len())
         } else {
             rest.len().min(self.cap.saturating_sub(locked_after + bq))

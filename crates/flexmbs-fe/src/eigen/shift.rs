@@ -18,7 +18,8 @@ const PROBE_STEPS: usize = 3;
 const MAX_MOVES: usize = 4;
 
 /// Moves the automatic shift `sigma0` (factored in `chol`) towards the spectrum and returns the
-/// shift `chol` factors on return.
+/// shift `chol` factors on return, with the last probe's Lanczos state if it ran at that shift
+/// (the main run continues its Krylov space: no probe work is lost when the shift stays).
 ///
 /// Each round runs a short block Lanczos at the current shift; its Ritz values are upper bounds
 /// of the eigenvalues (Cauchy interlacing: the `i`-th lowest Ritz value is at least the `i`-th
@@ -29,69 +30,42 @@ const MAX_MOVES: usize = 4;
 /// the refactorization proves it (a failing one restores the previous shift). Rounds stop when
 /// the shift no longer halves, after [`MAX_MOVES`] moves, or when a Ritz value lies below minus
 /// the zero level (`K` indefinite: the safe starting shift is kept).
-pub(super) fn spectrum_shift(
+pub(super) fn spectrum_shift<'a>(
     k: &SparseMatrix,
-    m: &SparseMatrix,
+    m: &'a SparseMatrix,
     chol: &mut SparseCholesky,
     sigma0: f64,
     block: usize,
-) -> Result<f64, FeError> {
+) -> Result<(f64, Option<BlockLanczos<'a>>), FeError> {
     let zero = ZERO_ENERGY_TOLERANCE * spectrum_scale(k, m);
     let mut sigma = sigma0;
     for round in 0..MAX_MOVES {
+        let mut lz = BlockLanczos::new(
+            m,
+            block,
+            (PROBE_STEPS + 1) * block,
+            0x5eed_1234 + round as u64,
+        )?;
         // a probe that fails (a tiny model exhausting its Krylov space) leaves the shift as is
-        let Ok(lam) = probe_ritz_values(m, chol, sigma, block, round as u64) else {
-            break;
+        let Ok(lam) = lz.probe(chol, sigma, PROBE_STEPS) else {
+            return Ok((sigma, None));
         };
-        if lam.first().is_none_or(|&l| l < -zero) {
-            break;
-        }
-        let Some(&lambda_e) = lam.iter().find(|&&l| l > zero) else {
-            break;
+        let lambda_e = lam.iter().copied().find(|&l| l > zero);
+        let target = lambda_e.map(|l| -(0.5 * l).max(0.1 * zero));
+        let Some(target) = target
+            .filter(|t| lam.first().is_some_and(|&l| l >= -zero) && t.abs() <= 0.5 * sigma.abs())
+        else {
+            // no move: the main run continues this probe's Krylov space
+            return Ok((sigma, Some(lz)));
         };
-        let target = -(0.5 * lambda_e).max(0.1 * zero);
-        if target.abs() > 0.5 * sigma.abs() {
-            break;
-        }
         match chol.refactor(&shifted_lower(k, m, target)?) {
             Ok(()) => sigma = target,
             Err(FeError::NotPositiveDefinite { .. }) => {
                 chol.refactor(&shifted_lower(k, m, sigma)?)?;
-                break;
+                return Ok((sigma, None));
             }
             Err(e) => return Err(e),
         }
     }
-    Ok(sigma)
-}
-
-/// Ritz values `lambda = sigma + 1 / theta` (ascending) of a short block Lanczos run.
-fn probe_ritz_values(
-    m: &SparseMatrix,
-    chol: &SparseCholesky,
-    sigma: f64,
-    block: usize,
-    seed: u64,
-) -> Result<Vec<f64>, FeError> {
-    let n = m.nrows();
-    let cap = (PROBE_STEPS + 1) * block;
-    let mut lz = BlockLanczos::new(m, block, cap, 0x5_4ee5_0000 + seed)?;
-    let report = (PROBE_STEPS * block).min(n);
-    let (pairs, _) = lz.run(
-        chol,
-        sigma,
-        report,
-        report,
-        1e-3,
-        PROBE_STEPS,
-        &mut |_, _| {},
-    )?;
-    let mut lam: Vec<f64> = pairs
-        .lambda
-        .iter()
-        .copied()
-        .filter(|l| l.is_finite())
-        .collect();
-    lam.sort_by(f64::total_cmp);
-    Ok(lam)
+    Ok((sigma, None))
 }
