@@ -128,8 +128,8 @@ pub(super) fn lanczos_solution(
                 continue;
             };
             let (lo, hi) = (lam_ritz[j - 1], lam_ritz[j]);
+            // the storage now holds the L D L^T of the cut: refactored at the loop start if needed
             let found = sturm_count(k, m, &mut chol, lo, hi)?;
-            factor_at(k, m, &mut chol, sigma, interior)?;
             progress(EigenEvent::SturmCheck { expected: j, found });
             if found != j {
                 sturm_failures += 1;
