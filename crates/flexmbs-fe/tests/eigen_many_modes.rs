@@ -17,7 +17,7 @@
 //! shift from the spectrum, the shift-inverted residual per pair, locking and spectrum slicing.
 
 use flexmbs_fe::constraint::BoundaryConditions;
-use flexmbs_fe::eigen::{lowest_modes, EigenOptions, EigenSolution};
+use flexmbs_fe::eigen::{lowest_modes, EigenEvent, EigenOptions, EigenSolution};
 use flexmbs_fe::element::MassKind;
 use flexmbs_fe::mesh::generate::beam_line;
 use flexmbs_fe::mesh::tube::tube_mesh;
@@ -48,13 +48,19 @@ fn solve(sys: &FeSystem, n_modes: usize, what: &str) -> EigenSolution {
         ..EigenOptions::default()
     };
     let start = Instant::now();
-    let sol = lowest_modes(&sys.k, &sys.m, &opts, &mut |_| {}).expect("eigen solution");
+    // every shift inside the spectrum (a slice) is proved by a Sturm count, as is the final cut
+    let mut sturm_counts = 0;
+    let sol = lowest_modes(&sys.k, &sys.m, &opts, &mut |e| {
+        sturm_counts += usize::from(matches!(e, EigenEvent::SturmCheck { .. }))
+    })
+    .expect("eigen solution");
     eprintln!(
-        "{what}: {n_modes} modes of {} DOFs in {:.2} s, max residual {:.2e}, Sturm {:?}",
+        "{what}: {n_modes} modes of {} DOFs in {:.2} s, max residual {:.2e}, Sturm {:?}, {} Sturm counts",
         sys.len(),
         start.elapsed().as_secs_f64(),
         sol.residuals.iter().fold(0.0f64, |a, &b| a.max(b)),
-        sol.sturm
+        sol.sturm,
+        sturm_counts
     );
     assert_eq!(sol.omega2.len(), n_modes);
     for (i, r) in sol.residuals.iter().enumerate() {
