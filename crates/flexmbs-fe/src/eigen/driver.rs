@@ -21,37 +21,15 @@ pub(super) fn lanczos_solution(
     let n = k.nrows();
     let nm = opts.n_modes;
     let sigma0 = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
-    progress(EigenEvent::Factorizing {
-        n,
-        nnz: k.compute_nnz(),
-    });
-    let mut chol = SparseCholesky::factor_shifted_observed(k, m, sigma0, &mut |nnz_l, bytes| {
-        progress(EigenEvent::FactorEstimate { nnz_l, bytes })
-    })
-    .map_err(|e| match e {
-        e @ FeError::MemoryRefused { .. } => e,
-        _ => FeError::NotPositiveDefinite {
-            what: format!("K - sigma M with sigma = {sigma0:e}"),
-            hint:
-                ": the shift must lie below the lowest eigenvalue and M must be positive definite"
-                    .into(),
-        },
-    })?;
-    progress(EigenEvent::Factorized {
-        nnz_l: chol.nnz_l(),
-    });
+    let mut chol = first_factor(k, m, sigma0, progress)?;
     let b = opts.block_size.max(1);
-    let (mut sigma, probe) = match opts.shift {
+    let (sigma, probe) = match opts.shift {
         Some(s) => (s, None),
         None => shift::spectrum_shift(k, m, &mut chol, sigma0, b)?,
     };
-    let cap = if opts.max_basis > 0 {
-        opts.max_basis
-    } else {
-        (4 * nm).max(2 * nm + 10 * b)
-    };
     let mut need = nm;
-    let cap = cap.max(need + 3 * b);
+    let cap = basis_cap(opts).max(need + 3 * b);
+    // the probe's Krylov space at the final shift is the start of the main run
     let mut lz = match probe {
         Some(lz) => lz,
         None => BlockLanczos::new(m, b, cap, 0x5eed_1234)?,
@@ -61,7 +39,8 @@ pub(super) fn lanczos_solution(
     let gap_rel = (1e3 * opts.tol).max(1e-6);
     let mut sturm_failures = 0usize;
     let mut slices = 0usize;
-    let mut interior = false;
+    // the current shift and whether it lies inside the spectrum (L D L^T)
+    let mut shift = (sigma, false);
     loop {
         let wanted = need.min(n);
         lz.ensure_capacity(cap.max(wanted + 3 * b));
@@ -72,8 +51,9 @@ pub(super) fn lanczos_solution(
                 wanted,
             })
         };
+        let sigma = shift.0;
         if chol.is_stale() {
-            factor_at(k, m, &mut chol, sigma, interior)?;
+            factor_at(k, m, &mut chol, sigma, shift.1)?;
         }
         let (pairs, outcome) = lz.run(
             &chol,
@@ -88,75 +68,193 @@ pub(super) fn lanczos_solution(
             // the round-off floor of this shift (or the budget) is reached: next slice
             slices += 1;
             let moved = slices <= MAX_SLICES
-                && next_slice(
-                    k,
-                    m,
-                    &mut chol,
-                    &lz,
-                    &pairs,
-                    (sigma, interior),
-                    gap_rel,
-                    progress,
-                )?
-                .map(|s| {
-                    // unlock the upper half between the old and the new shift
-                    lz.reshift(s - 0.5 * (s - sigma));
-                    sigma = s;
-                    interior = true;
-                })
-                .is_some();
+                && move_shift(
+                    k, m, &mut chol, &mut lz, &pairs, &mut shift, gap_rel, progress,
+                )?;
             if !moved && (outcome == Outcome::Budget || !lz.distrust_estimates()) {
-                return Err(not_converged(&pairs, wanted, max_steps, sigma, opts.tol));
+                return Err(not_converged(&pairs, wanted, max_steps, shift.0, opts.tol));
             }
             continue;
         }
-        let lam_ritz = &pairs.lambda;
-        let nconv = pairs.locked.iter().take_while(|&&l| l).count();
         let mut sturm = None;
         if opts.sturm_check && nm < n {
-            // cut at the first relative gap at or after the wanted count
-            let scale = |i: usize| {
-                lam_ritz[i]
-                    .abs()
-                    .max(lam_ritz[i - 1].abs())
-                    .max(sigma.abs())
-            };
-            let cut = (nm..lam_ritz.len().min(nconv + 1))
-                .find(|&j| lam_ritz[j] - lam_ritz[j - 1] > gap_rel * scale(j));
-            let Some(j) = cut else {
-                need = nconv.max(need) + b;
-                continue;
-            };
-            let (lo, hi) = (lam_ritz[j - 1], lam_ritz[j]);
-            // the storage now holds the L D L^T of the cut: refactored at the loop start if needed
-            let found = sturm_count(k, m, &mut chol, lo, hi)?;
-            progress(EigenEvent::SturmCheck { expected: j, found });
-            if found != j {
-                sturm_failures += 1;
-                if found < j || sturm_failures > 4 {
-                    return Err(FeError::EigenNotConverged(format!(
-                        "Sturm check: {j} eigenvalues found below {:e} but the inertia of K - b M gives {found}",
-                        lo + 0.5 * (hi - lo)
-                    )));
-                }
-                // missed copies of (repeated) eigenvalues: add fresh directions, ask for more
-                lz.inject_random((found - j).max(b));
-                need = need.max(found);
-                continue;
+            let counts = (&mut need, &mut sturm_failures);
+            match sturm_step(
+                k,
+                m,
+                &mut chol,
+                &mut lz,
+                &pairs,
+                (nm, b),
+                (sigma, gap_rel),
+                counts,
+                progress,
+            )? {
+                Some(s) => sturm = Some(s),
+                None => continue,
             }
-            sturm = Some((j, found));
         }
-        let mut x = pairs.vectors.subcols(0, nm).to_owned();
-        m_normalize(m, &mut x);
-        let (omega2, residuals, vectors) =
-            sort_pairs(lam_ritz[..nm].to_vec(), pairs.estimate[..nm].to_vec(), &x);
-        return Ok(EigenSolution {
-            omega2,
-            vectors,
-            residuals,
-            sturm,
-        });
+        return Ok(solution(m, &pairs, nm, sturm));
     }
+}
+
+/// The Sturm check of a converged run ([`sturm_at_gap`]): `Some((below, found))` if it passes;
+/// `None` if the run must go on (no gap yet: `need` grows by a block; missed copies of repeated
+/// eigenvalues: fresh random directions and `need` raised to the count); an error if the count
+/// is below the pairs found or keeps failing.
+#[allow(clippy::too_many_arguments)]
+fn sturm_step(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    chol: &mut SparseCholesky,
+    lz: &mut BlockLanczos<'_>,
+    pairs: &RitzPairs,
+    (nm, b): (usize, usize),
+    (sigma, gap_rel): (f64, f64),
+    (need, failures): (&mut usize, &mut usize),
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<Option<(usize, usize)>, FeError> {
+    let lam = &pairs.lambda;
+    let nconv = pairs.locked.iter().take_while(|&&l| l).count();
+    // the storage then holds the L D L^T of the cut: refactored before the next solve
+    let (below, found) = match sturm_at_gap(k, m, chol, lam, (nm, nconv), sigma, gap_rel)? {
+        Cut::NoGap => {
+            *need = nconv.max(*need) + b;
+            return Ok(None);
+        }
+        Cut::Counted { below, found } => (below, found),
+    };
+    progress(EigenEvent::SturmCheck {
+        expected: below,
+        found,
+    });
+    if found == below {
+        return Ok(Some((below, found)));
+    }
+    *failures += 1;
+    if found < below || *failures > 4 {
+        return Err(FeError::EigenNotConverged(format!(
+            "Sturm check: {below} eigenvalues found below the cut after {:e} but the inertia of \
+             K - b M gives {found}",
+            lam[below - 1]
+        )));
+    }
+    // missed copies of (repeated) eigenvalues: add fresh directions, ask for more
+    lz.inject_random((found - below).max(b));
+    *need = (*need).max(found);
+    Ok(None)
+}
+
+/// The basis cap: `max_basis`, or `max(4 n_modes, 2 n_modes + 10 block)` if 0.
+fn basis_cap(opts: &EigenOptions) -> usize {
+    if opts.max_basis > 0 {
+        opts.max_basis
+    } else {
+        (4 * opts.n_modes).max(2 * opts.n_modes + 10 * opts.block_size.max(1))
+    }
+}
+
+/// The leading `nm` pairs, M-normalised, as the solution.
+fn solution(
+    m: &SparseMatrix,
+    pairs: &RitzPairs,
+    nm: usize,
+    sturm: Option<(usize, usize)>,
+) -> EigenSolution {
+    let mut x = pairs.vectors.subcols(0, nm).to_owned();
+    m_normalize(m, &mut x);
+    let (omega2, residuals, vectors) = sort_pairs(
+        pairs.lambda[..nm].to_vec(),
+        pairs.estimate[..nm].to_vec(),
+        &x,
+    );
+    EigenSolution {
+        omega2,
+        vectors,
+        residuals,
+        sturm,
+    }
+}
+
+/// Factorization of `K - sigma0 M` with its progress events.
+fn first_factor(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    sigma0: f64,
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<SparseCholesky, FeError> {
+    progress(EigenEvent::Factorizing {
+        n: k.nrows(),
+        nnz: k.compute_nnz(),
+    });
+    let chol = SparseCholesky::factor_shifted_observed(k, m, sigma0, &mut |nnz_l, bytes| {
+        progress(EigenEvent::FactorEstimate { nnz_l, bytes })
+    })
+    .map_err(|e| match e {
+        e @ FeError::MemoryRefused { .. } => e,
+        _ => FeError::NotPositiveDefinite {
+            what: format!("K - sigma M with sigma = {sigma0:e}"),
+            hint:
+                ": the shift must lie below the lowest eigenvalue and M must be positive definite"
+                    .into(),
+        },
+    })?;
+    progress(EigenEvent::Factorized {
+        nnz_l: chol.nnz_l(),
+    });
+    Ok(chol)
+}
+
+/// Moves the shift into the spectrum ([`next_slice`]) and prepares the Lanczos state for it
+/// ([`BlockLanczos::reshift`]: the locked pairs in the upper half between the old and the new
+/// shift are unlocked); `false` if there is no new shift.
+#[allow(clippy::too_many_arguments)]
+fn move_shift(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    chol: &mut SparseCholesky,
+    lz: &mut BlockLanczos<'_>,
+    pairs: &RitzPairs,
+    shift: &mut (f64, bool),
+    gap_rel: f64,
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<bool, FeError> {
+    let Some(s) = next_slice(k, m, chol, lz, pairs, *shift, gap_rel, progress)? else {
+        return Ok(false);
+    };
+    lz.reshift(s - 0.5 * (s - shift.0));
+    *shift = (s, true);
+    Ok(true)
+}
+
+/// Result of [`sturm_at_gap`].
+enum Cut {
+    /// No relative gap among the converged pairs at or after the wanted count.
+    NoGap,
+    /// `below` pairs lie below the cut, the inertia of `K - b M` counts `found` eigenvalues.
+    Counted { below: usize, found: usize },
+}
+
+/// The Sturm check at the first relative gap (`> gap_rel` times the scale) at or after the
+/// `wanted` count among the `nconv` leading converged pairs of `lam` (the value after them is an
+/// upper bound of the next eigenvalue).
+fn sturm_at_gap(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    chol: &mut SparseCholesky,
+    lam: &[f64],
+    (wanted, nconv): (usize, usize),
+    sigma: f64,
+    gap_rel: f64,
+) -> Result<Cut, FeError> {
+    let scale = |i: usize| lam[i].abs().max(lam[i - 1].abs()).max(sigma.abs());
+    let cut =
+        (wanted..lam.len().min(nconv + 1)).find(|&j| lam[j] - lam[j - 1] > gap_rel * scale(j));
+    let Some(j) = cut else {
+        return Ok(Cut::NoGap);
+    };
+    let found = sturm_count(k, m, chol, lam[j - 1], lam[j])?;
+    Ok(Cut::Counted { below: j, found })
 }
 
 /// At most this many shift moves (slices) after the first shift.
