@@ -30,6 +30,8 @@ pub struct SparseCholesky {
     pattern_nnz: usize,
     /// `values` hold something else than the `L L^T` factor (an `L D L^T` of the Sturm check).
     stale: bool,
+    /// `values` hold an `L D L^T` factor for solves ([`Self::factor_ldlt_in_place`]).
+    ldlt: bool,
 }
 
 impl SparseCholesky {
@@ -116,6 +118,7 @@ impl SparseCholesky {
                 values,
                 pattern_nnz: a.compute_nnz(),
                 stale: false,
+                ldlt: false,
             }),
             Err(e) => Err(FeError::NotPositiveDefinite {
                 what: format!("sparse matrix of dimension {}", a.nrows()),
@@ -139,8 +142,13 @@ impl SparseCholesky {
             .symbolic
             .solve_in_place_scratch::<f64>(rhs.ncols(), par);
         let mut mem = MemBuffer::new(req);
-        let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.values);
-        llt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+        if self.ldlt {
+            let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(&self.symbolic, &self.values);
+            ldlt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+        } else {
+            let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.values);
+            llt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+        }
     }
 
     /// The storage holds the `L D L^T` of a Sturm check instead of this factor
@@ -337,6 +345,29 @@ impl SparseCholesky {
         inertia_with_symbolic(&self.symbolic, a, &mut self.values)
     }
 
+    /// `L D L^T` factorization (no pivoting) of the symmetric, possibly indefinite `a` (pattern
+    /// within the original one) into this factor's storage, for solves with a shift inside the
+    /// spectrum (spectrum slicing); returns its inertia (`None`: a zero pivot, the storage is then
+    /// stale). [`Self::refactor`] returns to `L L^T`.
+    pub(crate) fn factor_ldlt_in_place(
+        &mut self,
+        a: &SparseMatrix,
+    ) -> Result<Option<Inertia>, FeError> {
+        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz {
+            return Err(FeError::Invalid(
+                "L D L^T pattern outside the factored pattern".into(),
+            ));
+        }
+        self.stale = true;
+        self.ldlt = false;
+        let inertia = inertia_with_symbolic(&self.symbolic, a, &mut self.values)?;
+        if inertia.is_some() {
+            self.stale = false;
+            self.ldlt = true;
+        }
+        Ok(inertia)
+    }
+
     /// Numeric `L L^T` factorization of `a` (full storage or its lower triangle, pattern within
     /// the original one) into this factor's storage, reusing the symbolic analysis.
     pub(crate) fn refactor(&mut self, a: &SparseMatrix) -> Result<(), FeError> {
@@ -360,6 +391,7 @@ impl SparseCholesky {
                 hint: format!(" ({e:?})"),
             })?;
         self.stale = false;
+        self.ldlt = false;
         Ok(())
     }
 }

@@ -3,28 +3,33 @@
 //!
 //! * [`dense_generalized`]: all pairs by Cholesky reduction (small models).
 //! * [`lowest_modes`]: the lowest pairs of large sparse models by block shift-invert
-//!   Lanczos on a METIS-ordered sparse Cholesky of `K - sigma M`, followed by a
-//!   Sturm-sequence check (inertia of `K - b M` from `L D L^T`) so that missed copies
-//!   of repeated eigenvalues are detected instead of going unnoticed
-//!   (crate-stack.md §2.3, lesson 1).
+//!   Lanczos on a METIS-ordered sparse Cholesky of `K - sigma M`, with locking of converged
+//!   pairs and spectrum slicing (new shifts inside the spectrum, `L D L^T`, when a shift's
+//!   round-off floor is reached), followed by a Sturm-sequence check (inertia of `K - b M` from
+//!   `L D L^T`) so that missed copies of repeated eigenvalues are detected instead of going
+//!   unnoticed (crate-stack.md §2.3, lesson 1).
 //!
 //! `K` may be singular (free-free bodies: 6 rigid-body modes, or mechanisms); the
-//! automatic shift is slightly negative so `K - sigma M` stays positive definite.
+//! automatic shift is negative, half the lowest nonzero eigenvalue below zero, so
+//! `K - sigma M` stays positive definite.
 
 mod cholesky;
 mod dense;
+mod driver;
 mod lanczos;
+mod ops;
+mod shift;
 #[cfg(test)]
 mod tests;
 
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
-use faer::{Accum, Mat, Par};
+use faer::Mat;
 
 pub use cholesky::{ldlt_inertia, Inertia, SparseCholesky};
 pub use dense::{dense_generalized, dense_shift_invert};
 
 use crate::{FeError, SparseMatrix};
-use lanczos::BlockLanczos;
+use driver::lanczos_solution;
+use ops::{apply_mass, apply_stiffness};
 
 /// Which algorithm [`lowest_modes`] uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -44,10 +49,13 @@ pub struct EigenOptions {
     /// Number of lowest eigenpairs wanted.
     pub n_modes: usize,
     /// Spectral shift `sigma`; must lie below the lowest eigenvalue (so that
-    /// `K - sigma M` is positive definite). `None`: automatic, `-1e-5 tr(K)/tr(M)`,
-    /// moved closer to the spectrum if convergence stalls; safe for free-free models.
+    /// `K - sigma M` is positive definite). `None`: automatic, taken from the spectrum:
+    /// `-lambda_e / 2` with `lambda_e` the lowest nonzero eigenvalue, estimated by short Lanczos
+    /// runs started at `-1e-5 tr(K)/tr(M)`; safe for free-free models. Either shift is moved
+    /// into the spectrum (slicing) if the wanted pairs cannot converge at it.
     pub shift: Option<f64>,
-    /// Tolerance on the relative residual (see [`EigenSolution::residuals`]).
+    /// Tolerance on the relative residual of every returned pair (see
+    /// [`EigenSolution::residuals`]).
     pub tol: f64,
     /// Algorithm choice.
     pub method: EigenMethod,
@@ -125,11 +133,20 @@ pub struct EigenSolution {
     pub omega2: Vec<f64>,
     /// Eigenvectors as columns (`n x n_modes`), M-normalised: `X^T M X = I`.
     pub vectors: Mat<f64>,
-    /// Relative residuals `||K x - lambda M x||_2 / ((|lambda| + |sigma|) ||M x||_2)`,
-    /// with `sigma` the shift used (for the dense path: the automatic shift value
-    /// `-1e-5 tr(K)/tr(M)`, used only as a scale). For `sigma` below the spectrum this
-    /// measures the error relative to `lambda - sigma`, which stays meaningful for
-    /// rigid-body modes (`lambda = 0`).
+    /// Relative residuals of the pairs.
+    ///
+    /// Lanczos path: the explicit residual of the shift-inverted operator `OP = (K - sigma M)^-1 M`,
+    /// `||OP x - theta x||_M / (|theta| ||x||_M)` with `theta = 1 / (lambda - sigma)` and `sigma`
+    /// the shift at which the pair converged; it bounds the eigenvalue error,
+    /// `|lambda - lambda_exact| <= r |lambda - sigma|` (first order), i.e. relative to the pair's
+    /// own scale (`|lambda - sigma| <= 1.5 |lambda|` for the automatic shift; `|sigma|`, half the
+    /// lowest nonzero eigenvalue, for zero-energy modes). The plain residual
+    /// `||K x - lambda M x|| / (|lambda| ||M x||)` is not used: evaluating `K x` in floating point
+    /// alone errs by `eps |K| |x|`, up to 2e-5 of `|lambda M x|` for the lowest mode of a slender
+    /// beam (docs/decisions.md).
+    ///
+    /// Dense path: `||K x - lambda M x||_2 / ((|lambda| + |sigma|) ||M x||_2)` with the automatic
+    /// shift value `-1e-5 tr(K)/tr(M)` used only as a scale.
     pub residuals: Vec<f64>,
     /// Sturm check `(eigenvalues returned below the cut, true count below the cut)`,
     /// `None` for the dense path (all eigenvalues known) or if disabled.
@@ -275,7 +292,7 @@ fn diagonal(a: &SparseMatrix) -> Vec<f64> {
         .collect()
 }
 
-/// Automatic shift `-1e-5 tr(K) / tr(M)` (tr(K)/tr(M) is a mean Rayleigh quotient
+/// Starting shift `-1e-5 tr(K) / tr(M)` (tr(K)/tr(M) is a mean Rayleigh quotient
 /// of the unit vectors, a scale of the spectrum).
 fn automatic_shift(k: &SparseMatrix, m: &SparseMatrix) -> f64 {
     let tk: f64 = diagonal(k).iter().map(|v| v.abs()).sum();
@@ -294,22 +311,8 @@ fn rayleigh_and_residuals(
     let (n, p) = (x.nrows(), x.ncols());
     let mut kx = Mat::zeros(n, p);
     let mut mx = Mat::zeros(n, p);
-    sparse_dense_matmul(
-        kx.as_mut(),
-        Accum::Replace,
-        k.as_ref(),
-        x.as_ref(),
-        1.0,
-        Par::Seq,
-    );
-    sparse_dense_matmul(
-        mx.as_mut(),
-        Accum::Replace,
-        m.as_ref(),
-        x.as_ref(),
-        1.0,
-        Par::Seq,
-    );
+    apply_stiffness(k, x.as_ref(), kx.as_mut());
+    apply_mass(m, x.as_ref(), mx.as_mut());
     let mut lam = Vec::with_capacity(p);
     let mut res = Vec::with_capacity(p);
     for j in 0..p {
@@ -401,191 +404,5 @@ pub fn lowest_modes(
             sturm: None,
         });
     }
-    let mut sigma = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
-    let mut last_err = None;
-    for _shift_attempt in 0..3 {
-        match lanczos_at_shift(k, m, opts, sigma, progress)? {
-            Ok(sol) => return Ok(sol),
-            Err((err, lambda_hint)) => {
-                last_err = Some(err);
-                // convergence stalled: move an automatic shift closer to the wanted range
-                match (opts.shift, lambda_hint) {
-                    (None, Some(l)) if l > 0.0 && l < 10.0 * sigma.abs() => sigma = -0.1 * l,
-                    _ => break,
-                }
-            }
-        }
-    }
-    Err(last_err.unwrap_or_else(|| FeError::EigenNotConverged("no attempt made".into())))
-}
-
-/// Result of one Lanczos attempt: `Ok(solution)` or a non-convergence error with a
-/// Ritz estimate of the highest wanted eigenvalue (for a new shift).
-type Attempt = Result<EigenSolution, (FeError, Option<f64>)>;
-
-/// Block Lanczos with shift `sigma`, residual verification and the Sturm check.
-fn lanczos_at_shift(
-    k: &SparseMatrix,
-    m: &SparseMatrix,
-    opts: &EigenOptions,
-    sigma: f64,
-    progress: &mut dyn FnMut(EigenEvent),
-) -> Result<Attempt, FeError> {
-    let n = k.nrows();
-    let nm = opts.n_modes;
-    progress(EigenEvent::Factorizing {
-        n,
-        nnz: k.compute_nnz(),
-    });
-    let mut chol = SparseCholesky::factor_shifted_observed(k, m, sigma, &mut |nnz_l, bytes| {
-        progress(EigenEvent::FactorEstimate { nnz_l, bytes })
-    })
-    .map_err(|e| match e {
-        e @ FeError::MemoryRefused { .. } => e,
-        _ => FeError::NotPositiveDefinite {
-            what: format!("K - sigma M with sigma = {sigma:e}"),
-            hint:
-                ": the shift must lie below the lowest eigenvalue and M must be positive definite"
-                    .into(),
-        },
-    })?;
-    progress(EigenEvent::Factorized {
-        nnz_l: chol.nnz_l(),
-    });
-    let b = opts.block_size.max(1);
-    let cap = if opts.max_basis > 0 {
-        opts.max_basis
-    } else {
-        (4 * nm).max(2 * nm + 10 * b)
-    };
-    let mut need = nm;
-    let cap = cap.max(need + 3 * b);
-    let mut lz = BlockLanczos::new(m, b, cap, 0x5eed_1234)?;
-    let max_steps = 100 + 20 * cap / b;
-    let gap_rel = (1e3 * opts.tol).max(1e-6);
-    let mut tol_int = opts.tol;
-    let mut sturm_failures = 0usize;
-    let mut tightening_allowed = true;
-    loop {
-        let wanted = need.min(n);
-        lz.ensure_capacity(cap.max(wanted + 3 * b));
-        let mut cb = |basis, converged| {
-            progress(EigenEvent::Iteration {
-                basis,
-                converged,
-                wanted,
-            })
-        };
-        // a tightened pass only polishes converged pairs: a small budget, so that a tolerance
-        // below the estimates' round-off floor costs little before it is given up
-        let budget = if tol_int < opts.tol {
-            (max_steps / 10).max(20)
-        } else {
-            max_steps
-        };
-        if chol.is_stale() {
-            chol.refactor(&shifted_lower(k, m, sigma)?)?;
-        }
-        let (pairs, done) = lz.run(&chol, wanted, wanted + b, tol_int, budget, &mut cb)?;
-        let lam_ritz: Vec<f64> = pairs.theta.iter().map(|t| sigma + 1.0 / t).collect();
-        if !done && tol_int < opts.tol {
-            // the tightened internal tolerance lies below the estimates' round-off floor: go
-            // back to the last tolerance that converged and accept its explicit residuals up to
-            // the round-off allowance below (1e3 tol)
-            tol_int *= 100.0;
-            tightening_allowed = false;
-            continue;
-        }
-        if !done {
-            let hint = lam_ritz.get(nm - 1).copied();
-            let err = FeError::EigenNotConverged(format!(
-                "{wanted} wanted pairs not converged after {max_steps} block steps (basis {}, shift {sigma:e}); \
-                 residual estimates {:?}",
-                pairs.basis,
-                &pairs.estimate[..wanted.min(pairs.estimate.len())]
-            ));
-            return Ok(Err((err, hint)));
-        }
-        let nconv = pairs.estimate.iter().take_while(|&&e| e <= tol_int).count();
-        // explicit residuals of the wanted pairs; tighten the internal tolerance if needed
-        let mut x = pairs.vectors.subcols(0, nm).to_owned();
-        let (lam, res) = rayleigh_and_residuals(k, m, &mut x, sigma);
-        let rmax = res.iter().fold(0.0f64, |s, r| s.max(*r));
-        // explicit residuals have a round-off floor of about eps * cond(K - sigma M);
-        // tighten the estimate-based criterion at most twice (to 1e-4 tol)
-        if rmax > opts.tol && tol_int > 1e-3 * opts.tol && tightening_allowed {
-            tol_int *= 0.01;
-            continue;
-        }
-        if rmax > 1e3 * opts.tol {
-            return Ok(Err((
-                FeError::EigenNotConverged(format!(
-                    "max residual {rmax:e} exceeds tolerance {:e}",
-                    opts.tol
-                )),
-                None,
-            )));
-        }
-        let mut sturm = None;
-        if opts.sturm_check && nm < n {
-            // cut at the first relative gap at or after the wanted count
-            let scale = |i: usize| {
-                lam_ritz[i]
-                    .abs()
-                    .max(lam_ritz[i - 1].abs())
-                    .max(sigma.abs())
-            };
-            let cut = (nm..lam_ritz.len().min(nconv + 1))
-                .find(|&j| lam_ritz[j] - lam_ritz[j - 1] > gap_rel * scale(j));
-            let Some(j) = cut else {
-                need = nconv.max(need) + b;
-                continue;
-            };
-            let (lo, hi) = (lam_ritz[j - 1], lam_ritz[j]);
-            let mut found = None;
-            for frac in [0.5, 0.3, 0.7] {
-                let bound = lo + frac * (hi - lo);
-                let kb = shifted_lower(k, m, bound)?;
-                if let Some(inertia) = chol.inertia_in_place(&kb)? {
-                    if inertia.near_zero == 0 {
-                        found = Some(inertia.negative);
-                        break;
-                    }
-                }
-            }
-            let Some(found) = found else {
-                return Ok(Err((
-                    FeError::EigenNotConverged(format!(
-                        "Sturm check inconclusive: LDL^T of K - b M singular for cuts between {lo:e} and {hi:e}"
-                    )),
-                    None,
-                )));
-            };
-            progress(EigenEvent::SturmCheck { expected: j, found });
-            if found != j {
-                sturm_failures += 1;
-                if found < j || sturm_failures > 4 {
-                    return Ok(Err((
-                        FeError::EigenNotConverged(format!(
-                            "Sturm check: {j} eigenvalues found below {:e} but the inertia of K - b M gives {found}",
-                            lo + 0.5 * (hi - lo)
-                        )),
-                        None,
-                    )));
-                }
-                // missed copies of (repeated) eigenvalues: add fresh directions, ask for more
-                lz.inject_random((found - j).max(b));
-                need = need.max(found);
-                continue;
-            }
-            sturm = Some((j, found));
-        }
-        let (omega2, residuals, vectors) = sort_pairs(lam, res, &x);
-        return Ok(Ok(EigenSolution {
-            omega2,
-            vectors,
-            residuals,
-            sturm,
-        }));
-    }
+    lanczos_solution(k, m, opts, progress)
 }
