@@ -233,6 +233,11 @@ impl Element for FfrElement {
         self.body.mass_matrix(&eval(s).state, m);
     }
 
+    /// The modal block `m_ff` (2.69), plus the constant rotary-inertia term if set.
+    fn constant_mass_tail(&self) -> usize {
+        self.body.nf()
+    }
+
     fn mass_times_vector(
         &self,
         q: &[f64],
