@@ -128,3 +128,100 @@ fn check_degree(scratch: &BasisScratch, degree: usize) -> Result<(), NurbsError>
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flexmbs_nurbs::ParamMethod;
+
+    /// Pseudo-random control nets of `nf` modes with `n_ctrl` points.
+    fn nets(n_ctrl: usize, nf: usize) -> ModalNets {
+        let v = |i: usize| ((i * 37 % 101) as f64 / 50.0 - 1.0) * (1.0 + (i % 7) as f64);
+        let net = |k: usize| {
+            (0..n_ctrl)
+                .map(|c| Vector3::new(v(3 * c + k), v(3 * c + k + 1) - 0.3, v(7 * c + 2 * k)))
+                .collect::<Vec<_>>()
+        };
+        let modes: Vec<_> = (1..=nf).map(net).collect();
+        let by_ctrl = ModalNets::by_control_point(&modes, n_ctrl);
+        ModalNets {
+            net0: net(0),
+            modes,
+            by_ctrl,
+        }
+    }
+
+    /// `Φ` of one basis evaluation equals every mode's own field evaluation bit for bit (open
+    /// and closed surfaces and curves, points inside spans and on knots), and the deformed net
+    /// equals the mode-by-mode superposition bit for bit.
+    #[test]
+    fn shapes_equal_per_mode_fields_bitwise() {
+        let nf = 5;
+        for closed in [[false, false], [true, false]] {
+            let (ne, nx) = (7, 5);
+            let grid: Vec<Vector3<f64>> = (0..ne * nx)
+                .map(|n| {
+                    let (i, j) = ((n / nx) as f64, (n % nx) as f64);
+                    let a = std::f64::consts::TAU * i / ne as f64;
+                    Vector3::new(a.cos(), a.sin(), 0.3 * j + 0.01 * i * j)
+                })
+                .collect();
+            let ip = SurfaceInterpolator::from_grid(
+                &grid,
+                ne,
+                nx,
+                ParamMethod::ChordLength,
+                [3, 3],
+                closed,
+            )
+            .unwrap();
+            let n = nets(ip.n_ctrl(), nf);
+            let mut shapes = ModeShapes::new([3, 3], nf);
+            let mut sc = ip.scratch();
+            let (e, x) = (ip.eta().params().to_vec(), ip.xi().params().to_vec());
+            for (eta, xi) in [
+                (0.37 * e[ne - 1], 0.61 * x[nx - 1]),
+                (e[2], x[1]),
+                (e[0], x[nx - 1]),
+            ] {
+                n.surface_shapes(&ip, eta, xi, &mut shapes).unwrap();
+                for (k, net) in n.modes.iter().enumerate() {
+                    let f = ip.field_derivatives(net, eta, xi, &mut sc).unwrap()[0];
+                    assert_eq!(
+                        f.map(f64::to_bits),
+                        shapes.phi[k].map(f64::to_bits),
+                        "mode {k}"
+                    );
+                }
+            }
+            let curve: Vec<Vector3<f64>> = grid[..ne * nx].iter().step_by(nx).copied().collect();
+            let ic = CurveInterpolator::from_points(&curve, ParamMethod::ChordLength, 3, closed[0])
+                .unwrap();
+            let n = nets(ic.n_ctrl(), nf);
+            let mut sc = ic.scratch();
+            for &eta in &[0.0, ic.params()[3], 0.77 * ic.params()[ne - 1]] {
+                n.curve_shapes(&ic, eta, &mut shapes).unwrap();
+                for (k, net) in n.modes.iter().enumerate() {
+                    let f = ic.field_derivatives(net, eta, &mut sc).unwrap()[0];
+                    assert_eq!(
+                        f.map(f64::to_bits),
+                        shapes.phi[k].map(f64::to_bits),
+                        "mode {k}"
+                    );
+                }
+            }
+            let qf = [0.3, -1.2, 0.05, 2.0, -0.7];
+            let mut fast = n.net0.clone();
+            n.deformed_into(&qf, &mut fast);
+            let mut slow = n.net0.clone();
+            for (net, q) in n.modes.iter().zip(&qf) {
+                for (c, m) in slow.iter_mut().zip(net) {
+                    *c += m * *q;
+                }
+            }
+            let bits =
+                |v: &[Vector3<f64>]| v.iter().map(|p| p.map(f64::to_bits)).collect::<Vec<_>>();
+            assert_eq!(bits(&fast), bits(&slow));
+        }
+    }
+}
