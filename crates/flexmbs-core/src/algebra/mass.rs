@@ -192,12 +192,17 @@ impl BlockMass {
     pub fn solve_in_place(&self, b: &mut [f64], k: usize) {
         let nu = b.len().checked_div(k).unwrap_or(0);
         debug_assert_eq!(nu * k, b.len(), "right-hand sides nu x k");
+        // blocks with a constant trailing block: all columns at once
+        for blk in &self.blocks {
+            if let (DofMap::Contiguous(r), Some(schur)) = (&blk.cols, &blk.schur) {
+                let all = faer::MatMut::from_column_major_slice_mut(&mut b[..nu * k], nu, k);
+                schur.solve_columns_in_place(all.subrows_mut(r.start, r.len()));
+            }
+        }
         for col in b.chunks_exact_mut(nu.max(1)).take(k) {
             for blk in &self.blocks {
                 match (&blk.cols, &blk.schur) {
-                    (DofMap::Contiguous(r), Some(schur)) => {
-                        schur.solve_in_place(&mut col[r.clone()])
-                    }
+                    (DofMap::Contiguous(_), Some(_)) => {}
                     (DofMap::Contiguous(r), None) => {
                         cholesky_solve_in_place(&blk.factor, &mut col[r.clone()])
                     }

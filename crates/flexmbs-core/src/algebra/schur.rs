@@ -17,7 +17,11 @@
 //! if it changed (the element's declaration is checked, not trusted).
 
 use crate::linsolve::cholesky_factor;
-use faer::{Mat, MatRef};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 /// The factors `L_c`, `X`, `L_s` of a block with a constant trailing block (module
 /// documentation). No allocation after [`SchurMass::new`].
@@ -61,6 +65,7 @@ fn forward_substitute(l: &Mat<f64>, b: &mut [f64]) {
 }
 
 /// `Lᵀ x = b` in place (`l` lower triangular, row of `Lᵀ` = column of `L`).
+#[cfg(test)]
 fn back_substitute(l: &Mat<f64>, b: &mut [f64]) {
     for j in (0..b.len()).rev() {
         let c = col(l, j);
@@ -121,9 +126,10 @@ impl SchurMass {
         cholesky_factor(self.l_s.as_mut(), 0.0).map_err(|_| ())
     }
 
-    /// Solves `M z = b` in place with the last factors (`b`: the block's `n` entries, varying
-    /// ones first): `y_c = L_c⁻¹ b_c`, `y_v = L_s⁻¹ (b_v - Xᵀ y_c)`, `z_v = L_s⁻ᵀ y_v`,
+    /// Solves `M z = b` in place with the last factors, one column by scalar loops (the
+    /// reference of the tests; `b`: the block's `n` entries, varying ones first): `y_c = L_c⁻¹ b_c`, `y_v = L_s⁻¹ (b_v - Xᵀ y_c)`, `z_v = L_s⁻ᵀ y_v`,
     /// `z_c = L_c⁻ᵀ (y_c - X z_v)`.
+    #[cfg(test)]
     pub(super) fn solve_in_place(&self, b: &mut [f64]) {
         let (bv, bc) = b.split_at_mut(self.nv);
         forward_substitute(&self.l_c, bc);
@@ -140,6 +146,26 @@ impl SchurMass {
             }
         }
         back_substitute(&self.l_c, bc);
+    }
+
+    /// As [`Self::solve_in_place`] for the `k` columns of `b` (`n x k`) at once, with faer's
+    /// SIMD triangular solves and products (the same operations, rounded differently).
+    pub(super) fn solve_columns_in_place(&self, b: MatMut<'_, f64>) {
+        let (mut bv, mut bc) = b.split_at_row_mut(self.nv);
+        solve_lower_triangular_in_place(self.l_c.as_ref(), bc.as_mut(), Par::Seq);
+        let x = self.x.as_ref();
+        matmul(
+            bv.as_mut(),
+            Accum::Add,
+            x.transpose(),
+            bc.as_ref(),
+            -1.0,
+            Par::Seq,
+        );
+        solve_lower_triangular_in_place(self.l_s.as_ref(), bv.as_mut(), Par::Seq);
+        solve_upper_triangular_in_place(self.l_s.transpose(), bv.as_mut(), Par::Seq);
+        matmul(bc.as_mut(), Accum::Add, x, bv.as_ref(), -1.0, Par::Seq);
+        solve_upper_triangular_in_place(self.l_c.transpose(), bc, Par::Seq);
     }
 }
 
@@ -175,6 +201,14 @@ mod tests {
             assert_eq!(schur.constant_factorizations(), factorizations);
             let mut x = rhs.clone();
             schur.solve_in_place(&mut x);
+            // two columns at once: the same solution (to round-off) in each
+            let mut two: Vec<f64> = rhs.iter().chain(&rhs).copied().collect();
+            schur.solve_columns_in_place(MatMut::from_column_major_slice_mut(&mut two, n, 2));
+            for (i, xi) in x.iter().enumerate() {
+                for c in 0..2 {
+                    assert!((two[c * n + i] - xi).abs() <= 1e-13 * xi.abs().max(1.0));
+                }
+            }
             let mut lu = DenseLu::new(n);
             lu.a.copy_from(m);
             assert!(lu.factor());

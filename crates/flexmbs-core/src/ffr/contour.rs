@@ -119,6 +119,8 @@ struct ModalNets {
     modes: Vec<Vec<Vector3<f64>>>,
     /// The same nets control point by control point (`modes.rs`).
     by_ctrl: Vec<Vector3<f64>>,
+    /// The mode nets as one column-major `3 n_ctrl x n_f` matrix (`modes.rs`).
+    flat: Vec<f64>,
 }
 
 mod modes;
@@ -143,10 +145,16 @@ impl ModalNets {
             })
             .collect::<Result<Vec<_>, NurbsError>>()?;
         let by_ctrl = Self::by_control_point(&modes, n_ctrl);
+        let flat = modes
+            .iter()
+            .flatten()
+            .flat_map(|v| v.iter().copied())
+            .collect();
         Ok(Self {
             net0,
             modes,
             by_ctrl,
+            flat,
         })
     }
 }
@@ -246,7 +254,7 @@ impl FfrSurfaceContour {
         )?;
         let degrees = [eta.knot_vector().degree(), xi.knot_vector().degree()];
         Ok(SurfaceContourState {
-            shapes: ModeShapes::new(degrees, self.num_modes()),
+            shapes: ModeShapes::new(degrees, self.num_modes(), self.nets.net0.len()),
             scratch: surface.scratch(),
             surface,
             net: self.nets.net0.clone(),
@@ -260,7 +268,8 @@ impl FfrSurfaceContour {
         s: &FfrScratch,
         state: &mut SurfaceContourState,
     ) -> Result<(), ContourError> {
-        self.nets.deformed_into(s.qf.as_slice(), &mut state.net);
+        self.nets
+            .deformed_into(s.qf.as_slice(), &mut state.shapes, &mut state.net);
         state.surface.set_control_points(&state.net)?;
         Ok(())
     }
@@ -412,7 +421,7 @@ impl FfrCurveContour {
         let curve = NurbsCurve::from_knot_vector(self.interp.knot_vector().clone(), net_w)?;
         let degree = self.interp.knot_vector().degree();
         Ok(CurveContourState {
-            shapes: ModeShapes::new([degree; 2], self.num_modes()),
+            shapes: ModeShapes::new([degree; 2], self.num_modes(), self.nets.net0.len()),
             scratch: self.interp.scratch(),
             curve,
             net: self.nets.net0.clone(),
@@ -425,7 +434,8 @@ impl FfrCurveContour {
         s: &FfrScratch,
         state: &mut CurveContourState,
     ) -> Result<(), ContourError> {
-        self.nets.deformed_into(s.qf.as_slice(), &mut state.net);
+        self.nets
+            .deformed_into(s.qf.as_slice(), &mut state.shapes, &mut state.net);
         state.curve.set_control_points(&state.net)?;
         Ok(())
     }
