@@ -41,15 +41,18 @@ pub(super) struct SchurMass {
     constant_factorizations: usize,
 }
 
+#[cfg(test)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+#[cfg(test)]
 /// Column `j` of a column-major matrix as a slice.
 fn col(m: &Mat<f64>, j: usize) -> &[f64] {
     m.col_as_slice(j)
 }
 
+#[cfg(test)]
 /// `L y = b` in place (`l` lower triangular, column-oriented).
 fn forward_substitute(l: &Mat<f64>, b: &mut [f64]) {
     for j in 0..b.len() {
@@ -109,20 +112,19 @@ impl SchurMass {
                 return Err(());
             }
         }
-        // X = L_c^-1 M_cv, column by column
-        for j in 0..nv {
-            let xj = self.x.col_as_slice_mut(j);
-            for (i, v) in xj.iter_mut().enumerate() {
-                *v = m[(nv + i, j)];
-            }
-            forward_substitute(&self.l_c, xj);
-        }
-        // the Schur complement M_vv - X^T X (lower triangle), then its factor
-        for j in 0..nv {
-            for i in j..nv {
-                self.l_s[(i, j)] = m[(i, j)] - dot(col(&self.x, i), col(&self.x, j));
-            }
-        }
+        // X = L_c^-1 M_cv (all columns at once), the Schur complement M_vv - X^T X, its factor
+        self.x.copy_from(m.submatrix(nv, 0, nc, nv));
+        solve_lower_triangular_in_place(self.l_c.as_ref(), self.x.as_mut(), Par::Seq);
+        self.l_s.copy_from(m.submatrix(0, 0, nv, nv));
+        let x = self.x.as_ref();
+        matmul(
+            self.l_s.as_mut(),
+            Accum::Add,
+            x.transpose(),
+            x,
+            -1.0,
+            Par::Seq,
+        );
         cholesky_factor(self.l_s.as_mut(), 0.0).map_err(|_| ())
     }
 

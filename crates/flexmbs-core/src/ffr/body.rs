@@ -7,7 +7,7 @@ use crate::rotation::{
     cardan_g_bar, cardan_g_bar_dot, cardan_matrix, check_cardan, quaternion_e_transpose,
     quaternion_matrix, skew,
 };
-use faer::MatMut;
+use faer::{MatMut, Par};
 use flexmbs_fe::reduction::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector4};
 
@@ -471,12 +471,12 @@ impl FfrBody {
     pub fn add_internal_forces(&self, s: &FfrScratch, out: &mut [f64]) {
         self.add_geometric_stiffening_force(s, out);
         let nf = self.nf();
-        for a in 0..nf {
-            let mut acc = 0.0;
-            for b in 0..nf {
-                acc += self.k_ff[(a, b)] * s.qf[b] + self.d_ff[(a, b)] * s.qfd[b];
-            }
-            out[6 + a] -= acc;
+        // out_f -= k_ff q_f + d_ff q_f_dot (faer's SIMD products)
+        for (m, v) in [(&self.k_ff, &s.qf), (&self.d_ff, &s.qfd)] {
+            let m = faer::MatRef::from_column_major_slice(m.as_slice(), nf, nf);
+            let v = faer::MatRef::from_column_major_slice(v.as_slice(), nf, 1);
+            let out_f = faer::MatMut::from_column_major_slice_mut(&mut out[6..6 + nf], nf, 1);
+            faer::linalg::matmul::matmul(out_f, faer::Accum::Add, m, v, -1.0, Par::Seq);
         }
     }
 
@@ -498,9 +498,18 @@ impl FfrBody {
         }
     }
 
-    /// Kinetic energy `1/2 u^T M u` (2.43) of the state evaluated by [`Self::update`] (assembles
-    /// M in the scratch buffer `s.m`; no allocation).
+    /// Kinetic energy `1/2 u^T M u` (2.43) of the state evaluated by [`Self::update`] (`M u` by
+    /// [`Self::mass_times_vector`] into `s.rhs`; with node rotary inertia `M` assembled in `s.m`;
+    /// no allocation).
     pub fn kinetic_energy(&self, s: &mut FfrScratch, u: &[f64]) -> f64 {
+        if self.rotary.is_none() {
+            // 1/2 u^T (M u) with the O(n_f^2) product instead of the assembled matrix
+            let mut mu = std::mem::replace(&mut s.rhs, DVector::zeros(0));
+            self.mass_times_vector(s, u, mu.as_mut_slice());
+            let e = 0.5 * mu.iter().zip(u).map(|(a, b)| a * b).sum::<f64>();
+            s.rhs = mu;
+            return e;
+        }
         let nu = self.nu();
         let mut m = std::mem::replace(&mut s.m, DMatrix::zeros(0, 0));
         self.mass_matrix(s, faer_view_mut(&mut m));

@@ -340,6 +340,15 @@ impl Element for FfrElement {
             .is_some()
     }
 
+    /// `1/2 q_fᵀ k_ff q_f` by faer's SIMD product into the evaluation's work buffer.
+    fn elastic_energy_evaluated(&self, q: &[f64], s: &mut ElementScratch) -> f64 {
+        let nf = self.body.nf();
+        let qf = &q[q.len() - nf..];
+        let buf = &mut eval(s).state.rhs.as_mut_slice()[..nf];
+        super::body::mat_vec(&self.body.k_ff, qf, buf);
+        0.5 * buf.iter().zip(qf).map(|(a, b)| a * b).sum::<f64>()
+    }
+
     fn kinetic_energy(&self, _q: &[f64], u: &[f64], s: &mut ElementScratch) -> f64 {
         self.body.kinetic_energy(&mut eval(s).state, u)
     }
