@@ -22,6 +22,9 @@ pub(super) struct ModeShapes {
     pub(super) phi: Vec<Vector3<f64>>,
     /// The deformed net as `3 n_ctrl` numbers.
     net_flat: Vec<f64>,
+    /// The point `(eta, xi)` (bits) that `phi` belongs to (`Φ` depends on the point only, not
+    /// on the state: the contact point's kinematics and its Jacobian share one evaluation).
+    at: Option<[u64; 2]>,
 }
 
 impl ModeShapes {
@@ -32,6 +35,7 @@ impl ModeShapes {
             basis: [BasisScratch::new(degrees[0]), BasisScratch::new(degrees[1])],
             phi: vec![Vector3::zeros(); nf],
             net_flat: vec![0.0; 3 * n_ctrl],
+            at: None,
         }
     }
 }
@@ -78,6 +82,11 @@ impl ModalNets {
         xi: f64,
         shapes: &mut ModeShapes,
     ) -> Result<(), NurbsError> {
+        let at = Some([eta.to_bits(), xi.to_bits()]);
+        if shapes.at == at {
+            return Ok(());
+        }
+        shapes.at = None;
         let (ke, kx) = (interp.eta().knot_vector(), interp.xi().knot_vector());
         let [be, bx] = &mut shapes.basis;
         check_degree(be, ke.degree())?;
@@ -100,6 +109,7 @@ impl ModalNets {
                 }
             }
         }
+        shapes.at = at;
         Ok(())
     }
 
@@ -110,6 +120,11 @@ impl ModalNets {
         eta: f64,
         shapes: &mut ModeShapes,
     ) -> Result<(), NurbsError> {
+        let at = Some([eta.to_bits(), u64::MAX]);
+        if shapes.at == at {
+            return Ok(());
+        }
+        shapes.at = None;
         let kv = interp.knot_vector();
         let be = &mut shapes.basis[0];
         check_degree(be, kv.degree())?;
@@ -127,6 +142,7 @@ impl ModalNets {
                 *o += m * w;
             }
         }
+        shapes.at = at;
         Ok(())
     }
 }
