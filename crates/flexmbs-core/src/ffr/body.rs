@@ -7,7 +7,7 @@ use crate::rotation::{
     cardan_g_bar, cardan_g_bar_dot, cardan_matrix, check_cardan, quaternion_e_transpose,
     quaternion_matrix, skew,
 };
-use faer::{MatMut, Par};
+use faer::MatMut;
 use flexmbs_fe::reduction::ReducedBody;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector4};
 
@@ -471,12 +471,12 @@ impl FfrBody {
     pub fn add_internal_forces(&self, s: &FfrScratch, out: &mut [f64]) {
         self.add_geometric_stiffening_force(s, out);
         let nf = self.nf();
-        // out_f -= k_ff q_f + d_ff q_f_dot (faer's SIMD products)
-        for (m, v) in [(&self.k_ff, &s.qf), (&self.d_ff, &s.qfd)] {
-            let m = faer::MatRef::from_column_major_slice(m.as_slice(), nf, nf);
-            let v = faer::MatRef::from_column_major_slice(v.as_slice(), nf, 1);
-            let out_f = faer::MatMut::from_column_major_slice_mut(&mut out[6..6 + nf], nf, 1);
-            faer::linalg::matmul::matmul(out_f, faer::Accum::Add, m, v, -1.0, Par::Seq);
+        for a in 0..nf {
+            let mut acc = 0.0;
+            for b in 0..nf {
+                acc += self.k_ff[(a, b)] * s.qf[b] + self.d_ff[(a, b)] * s.qfd[b];
+            }
+            out[6 + a] -= acc;
         }
     }
 
