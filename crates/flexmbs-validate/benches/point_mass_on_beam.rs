@@ -17,7 +17,7 @@
 //!   instead of minutes under valgrind);
 //! - `PMB_BENCH_DUMP=dir`: write the signals of every S2 run (`s2_<modes>.csv`: t, y of the
 //!   mass, its y velocity, the probe node's y displacement, relative energy change) to compare
-//!   trajectories between builds.
+//!   trajectories between builds; likewise `s1_cr0.csv`, `s1_cr1.csv`, `s3.csv` of the S1/S3 runs.
 
 use flexmbs_validate::point_mass_on_beam::{reduce_beam, simulate, Beam, Config, Run};
 use std::io::{Read, Write};
@@ -139,10 +139,10 @@ fn main() {
     if std::env::var("PMB_BENCH_ONLY_S2").is_ok() {
         return;
     }
-    for (name, restitution) in [
-        ("S1 C_R=0", Some(0.0)),
-        ("S1 C_R=1", Some(1.0)),
-        ("S3", None),
+    for (name, file, restitution) in [
+        ("S1 C_R=0", "s1_cr0", Some(0.0)),
+        ("S1 C_R=1", "s1_cr1", Some(1.0)),
+        ("S3", "s3", None),
     ] {
         let c = Config {
             restitution,
@@ -154,6 +154,9 @@ fn main() {
             "{name} 20 modes: {:.3} s (on CPU {:.3} s), {} steps",
             r.cpu, r.cpu_thread, r.steps
         );
+        if let Some(d) = &dump_dir {
+            dump(d, file, &r);
+        }
     }
     for band in [false, true] {
         let c = Config {
