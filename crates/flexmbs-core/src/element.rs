@@ -298,6 +298,13 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     }
     /// Mass matrix `M(q)` (nu x nu, symmetric positive definite), overwriting `m`.
     fn mass_matrix(&self, q: &[f64], scratch: &mut ElementScratch, m: MatMut<'_, f64>);
+    /// Size `n_c` of a trailing block of the mass matrix (its last `n_c` velocity coordinates)
+    /// that never depends on the state: an FFR body's modal mass `m_ff` (2.69). The block-Cholesky
+    /// mass ([`crate::algebra::BlockMass`]) then factors it once and per state only the Schur
+    /// complement of the leading block. Default 0 (none).
+    fn constant_mass_tail(&self) -> usize {
+        0
+    }
     /// `out = M(q) v` (`v`, `out`: nu), for residuals that need only the product. Default:
     /// [`Element::mass_matrix`] into the scratch matrix `m_scratch` (nu x nu, left holding `M`),
     /// then the product column by column; elements with a cheaper product (FFR bodies) override

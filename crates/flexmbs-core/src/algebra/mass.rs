@@ -6,6 +6,7 @@
 //! when its mass changed (compared bitwise with the factored one: a rigid body in body-fixed
 //! velocities factors once).
 
+use super::schur::SchurMass;
 use crate::element::ElementScratch;
 use crate::gather::with_local_q;
 use crate::linsolve::{cholesky_in_place, cholesky_solve_in_place};
@@ -35,6 +36,10 @@ struct MassBlock {
     factor: Mat<f64>,
     /// The block's current mass matrix.
     current: Mat<f64>,
+    /// A single contiguous body with a constant trailing mass block
+    /// ([`crate::Element::constant_mass_tail`]): factored through its Schur complement
+    /// (`schur.rs`) instead of `factor`.
+    schur: Option<SchurMass>,
 }
 
 /// The bodies grouped by shared velocity columns (connected components: bodies that share a
@@ -113,6 +118,13 @@ impl BlockMass {
                         .map(|g| block.binary_search(&g).expect("column in its block"))
                         .collect()
                 };
+                let schur = match (&cols, &members[..]) {
+                    (DofMap::Contiguous(_), [b]) => {
+                        let nc = model.bodies[*b].element.constant_mass_tail();
+                        (nc > 0 && nc < n).then(|| SchurMass::new(n, nc))
+                    }
+                    _ => None,
+                };
                 let bodies = if members.len() == 1 {
                     vec![(members[0], Mat::zeros(0, 0), Vec::new())]
                 } else {
@@ -123,8 +135,9 @@ impl BlockMass {
                     cols,
                     bodies,
                     factored: Mat::from_fn(n, n, |_, _| f64::NAN),
-                    factor: Mat::zeros(n, n),
+                    factor: Mat::zeros(if schur.is_some() { 0 } else { n }, n),
                     current: Mat::zeros(n, n),
+                    schur,
                 }
             })
             .collect();
@@ -157,8 +170,15 @@ impl BlockMass {
                 continue;
             }
             blk.factored.copy_from(&blk.current);
-            blk.factor.copy_from(&blk.current);
             self.refactored += 1;
+            if let Some(schur) = &mut blk.schur {
+                if schur.factor(blk.current.as_ref()).is_err() {
+                    blk.factored.fill(f64::NAN);
+                    return Err(blk.bodies[0].0);
+                }
+                continue;
+            }
+            blk.factor.copy_from(&blk.current);
             if !cholesky_in_place(&mut blk.factor) {
                 blk.factored.fill(f64::NAN);
                 return Err(blk.bodies[0].0);
@@ -172,13 +192,21 @@ impl BlockMass {
     pub fn solve_in_place(&self, b: &mut [f64], k: usize) {
         let nu = b.len().checked_div(k).unwrap_or(0);
         debug_assert_eq!(nu * k, b.len(), "right-hand sides nu x k");
+        // blocks with a constant trailing block: all columns at once
+        for blk in &self.blocks {
+            if let (DofMap::Contiguous(r), Some(schur)) = (&blk.cols, &blk.schur) {
+                let all = faer::MatMut::from_column_major_slice_mut(&mut b[..nu * k], nu, k);
+                schur.solve_columns_in_place(all.subrows_mut(r.start, r.len()));
+            }
+        }
         for col in b.chunks_exact_mut(nu.max(1)).take(k) {
             for blk in &self.blocks {
-                match &blk.cols {
-                    DofMap::Contiguous(r) => {
+                match (&blk.cols, &blk.schur) {
+                    (DofMap::Contiguous(_), Some(_)) => {}
+                    (DofMap::Contiguous(r), None) => {
                         cholesky_solve_in_place(&blk.factor, &mut col[r.clone()])
                     }
-                    DofMap::Scattered(v) => cholesky_solve_indexed(&blk.factor, col, v),
+                    (DofMap::Scattered(v), _) => cholesky_solve_indexed(&blk.factor, col, v),
                 }
             }
         }
@@ -187,6 +215,13 @@ impl BlockMass {
     /// Block factorizations done so far (a statistic: constant-mass elements factor once).
     pub fn refactorizations(&self) -> usize {
         self.refactored
+    }
+
+    /// Factorizations of constant trailing mass blocks so far (an FFR body's `m_ff`: once per
+    /// body; blocks without one count nothing).
+    pub fn constant_block_factorizations(&self) -> usize {
+        let count = |b: &MassBlock| b.schur.as_ref().map_or(0, |s| s.constant_factorizations());
+        self.blocks.iter().map(count).sum()
     }
 }
 

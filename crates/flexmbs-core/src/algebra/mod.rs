@@ -17,6 +17,7 @@ mod blocks;
 mod dense;
 mod mass;
 mod pattern;
+mod schur;
 mod sparse;
 
 pub use mass::BlockMass;

@@ -498,9 +498,18 @@ impl FfrBody {
         }
     }
 
-    /// Kinetic energy `1/2 u^T M u` (2.43) of the state evaluated by [`Self::update`] (assembles
-    /// M in the scratch buffer `s.m`; no allocation).
+    /// Kinetic energy `1/2 u^T M u` (2.43) of the state evaluated by [`Self::update`] (`M u` by
+    /// [`Self::mass_times_vector`] into `s.rhs`; with node rotary inertia `M` assembled in `s.m`;
+    /// no allocation).
     pub fn kinetic_energy(&self, s: &mut FfrScratch, u: &[f64]) -> f64 {
+        if self.rotary.is_none() {
+            // 1/2 u^T (M u) with the O(n_f^2) product instead of the assembled matrix
+            let mut mu = std::mem::replace(&mut s.rhs, DVector::zeros(0));
+            self.mass_times_vector(s, u, mu.as_mut_slice());
+            let e = 0.5 * mu.iter().zip(u).map(|(a, b)| a * b).sum::<f64>();
+            s.rhs = mu;
+            return e;
+        }
         let nu = self.nu();
         let mut m = std::mem::replace(&mut s.m, DMatrix::zeros(0, 0));
         self.mass_matrix(s, faer_view_mut(&mut m));

@@ -117,7 +117,14 @@ fn mode_values(body: &FfrBody, nodes: &[usize], k: usize) -> Vec<Vector3<f64>> {
 struct ModalNets {
     net0: Vec<Vector3<f64>>,
     modes: Vec<Vec<Vector3<f64>>>,
+    /// The same nets control point by control point (`modes.rs`).
+    by_ctrl: Vec<Vector3<f64>>,
+    /// The mode nets as one column-major `3 n_ctrl x n_f` matrix (`modes.rs`).
+    flat: Vec<f64>,
 }
+
+mod modes;
+use modes::ModeShapes;
 
 impl ModalNets {
     /// The nets of the listed nodes through `interpolate` (node values -> control points).
@@ -136,18 +143,19 @@ impl ModalNets {
                 interpolate(&mode_values(body, nodes, k), &mut net)?;
                 Ok(net)
             })
-            .collect::<Result<_, NurbsError>>()?;
-        Ok(Self { net0, modes })
-    }
-
-    /// `out = C_0 + Σ q_f,k C_k`. O(n_ctrl n_f), no allocation.
-    fn deformed_into(&self, qf: &[f64], out: &mut [Vector3<f64>]) {
-        out.copy_from_slice(&self.net0);
-        for (net_k, q) in self.modes.iter().zip(qf) {
-            for (c, m) in out.iter_mut().zip(net_k) {
-                *c += m * *q;
-            }
-        }
+            .collect::<Result<Vec<_>, NurbsError>>()?;
+        let by_ctrl = Self::by_control_point(&modes, n_ctrl);
+        let flat = modes
+            .iter()
+            .flatten()
+            .flat_map(|v| v.iter().copied())
+            .collect();
+        Ok(Self {
+            net0,
+            modes,
+            by_ctrl,
+            flat,
+        })
     }
 }
 
@@ -167,6 +175,7 @@ pub struct SurfaceContourState {
     pub surface: NurbsSurface,
     net: Vec<Vector3<f64>>,
     scratch: SurfaceScratch,
+    shapes: ModeShapes,
 }
 
 /// Kinematics of a contour point `(eta, xi)` in global coordinates.
@@ -243,7 +252,9 @@ impl FfrSurfaceContour {
             &self.nets.net0,
             &vec![1.0; self.nets.net0.len()],
         )?;
+        let degrees = [eta.knot_vector().degree(), xi.knot_vector().degree()];
         Ok(SurfaceContourState {
+            shapes: ModeShapes::new(degrees, self.num_modes(), self.nets.net0.len()),
             scratch: surface.scratch(),
             surface,
             net: self.nets.net0.clone(),
@@ -257,7 +268,8 @@ impl FfrSurfaceContour {
         s: &FfrScratch,
         state: &mut SurfaceContourState,
     ) -> Result<(), ContourError> {
-        self.nets.deformed_into(s.qf.as_slice(), &mut state.net);
+        self.nets
+            .deformed_into(s.qf.as_slice(), &mut state.shapes, &mut state.net);
         state.surface.set_control_points(&state.net)?;
         Ok(())
     }
@@ -276,12 +288,11 @@ impl FfrSurfaceContour {
         let d = self
             .interp
             .field_derivatives(&state.net, eta, xi, &mut state.scratch)?;
+        self.nets
+            .surface_shapes(&self.interp, eta, xi, &mut state.shapes)?;
         let mut phi_qd = Vector3::zeros();
-        for (net_k, qd) in self.nets.modes.iter().zip(&s.qfd) {
-            phi_qd += self
-                .interp
-                .field_derivatives(net_k, eta, xi, &mut state.scratch)?[0]
-                * *qd;
+        for (phi_k, qd) in state.shapes.phi.iter().zip(&s.qfd) {
+            phi_qd += phi_k * *qd;
         }
         Ok(material_point(
             r,
@@ -307,18 +318,10 @@ impl FfrSurfaceContour {
         let u = self
             .interp
             .field_derivatives(&state.net, eta, xi, &mut state.scratch)?[0];
-        let phi = |k: usize, sc: &mut SurfaceScratch| {
-            self.interp
-                .field_derivatives(&self.nets.modes[k], eta, xi, sc)
-                .map(|d| d[0])
-        };
-        write_jacobian(
-            s,
-            &u,
-            self.nets.modes.len(),
-            &mut |k| phi(k, &mut state.scratch),
-            jt,
-        )
+        self.nets
+            .surface_shapes(&self.interp, eta, xi, &mut state.shapes)?;
+        let phi = &state.shapes.phi;
+        write_jacobian(s, &u, phi.len(), &mut |k| Ok(phi[k]), jt)
     }
 }
 
@@ -378,6 +381,7 @@ pub struct CurveContourState {
     pub curve: NurbsCurve,
     net: Vec<Vector3<f64>>,
     scratch: CurveScratch,
+    shapes: ModeShapes,
 }
 
 impl FfrCurveContour {
@@ -415,7 +419,9 @@ impl FfrCurveContour {
     pub fn state(&self) -> Result<CurveContourState, ContourError> {
         let net_w = self.nets.net0.iter().map(|p| p.push(1.0)).collect();
         let curve = NurbsCurve::from_knot_vector(self.interp.knot_vector().clone(), net_w)?;
+        let degree = self.interp.knot_vector().degree();
         Ok(CurveContourState {
+            shapes: ModeShapes::new([degree; 2], self.num_modes(), self.nets.net0.len()),
             scratch: self.interp.scratch(),
             curve,
             net: self.nets.net0.clone(),
@@ -428,7 +434,8 @@ impl FfrCurveContour {
         s: &FfrScratch,
         state: &mut CurveContourState,
     ) -> Result<(), ContourError> {
-        self.nets.deformed_into(s.qf.as_slice(), &mut state.net);
+        self.nets
+            .deformed_into(s.qf.as_slice(), &mut state.shapes, &mut state.net);
         state.curve.set_control_points(&state.net)?;
         Ok(())
     }
@@ -446,12 +453,11 @@ impl FfrCurveContour {
         let d = self
             .interp
             .field_derivatives(&state.net, eta, &mut state.scratch)?;
+        self.nets
+            .curve_shapes(&self.interp, eta, &mut state.shapes)?;
         let mut phi_qd = Vector3::zeros();
-        for (net_k, qd) in self.nets.modes.iter().zip(&s.qfd) {
-            phi_qd += self
-                .interp
-                .field_derivatives(net_k, eta, &mut state.scratch)?[0]
-                * *qd;
+        for (phi_k, qd) in state.shapes.phi.iter().zip(&s.qfd) {
+            phi_qd += phi_k * *qd;
         }
         let mut p = material_point(r, r_dot, s, d[0], phi_qd, [d[1], Vector3::zeros()], 1.0);
         p.normal = Vector3::zeros();
@@ -495,18 +501,10 @@ impl FfrCurveContour {
         let u = self
             .interp
             .field_derivatives(&state.net, eta, &mut state.scratch)?[0];
-        let phi = |k: usize, sc: &mut CurveScratch| {
-            self.interp
-                .field_derivatives(&self.nets.modes[k], eta, sc)
-                .map(|d| d[0])
-        };
-        write_jacobian(
-            s,
-            &u,
-            self.nets.modes.len(),
-            &mut |k| phi(k, &mut state.scratch),
-            jt,
-        )
+        self.nets
+            .curve_shapes(&self.interp, eta, &mut state.shapes)?;
+        let phi = &state.shapes.phi;
+        write_jacobian(s, &u, phi.len(), &mut |k| Ok(phi[k]), jt)
     }
 }
 

@@ -233,6 +233,11 @@ impl Element for FfrElement {
         self.body.mass_matrix(&eval(s).state, m);
     }
 
+    /// The modal block `m_ff` (2.69), plus the constant rotary-inertia term if set.
+    fn constant_mass_tail(&self) -> usize {
+        self.body.nf()
+    }
+
     fn mass_times_vector(
         &self,
         q: &[f64],
@@ -333,6 +338,15 @@ impl Element for FfrElement {
         self.body
             .force_load_tangent(q, frame, force, follower, st, out)
             .is_some()
+    }
+
+    /// `1/2 q_fᵀ k_ff q_f` by faer's SIMD product into the evaluation's work buffer.
+    fn elastic_energy_evaluated(&self, q: &[f64], s: &mut ElementScratch) -> f64 {
+        let nf = self.body.nf();
+        let qf = &q[q.len() - nf..];
+        let buf = &mut eval(s).state.rhs.as_mut_slice()[..nf];
+        super::body::mat_vec(&self.body.k_ff, qf, buf);
+        0.5 * buf.iter().zip(qf).map(|(a, b)| a * b).sum::<f64>()
     }
 
     fn kinetic_energy(&self, _q: &[f64], u: &[f64], s: &mut ElementScratch) -> f64 {

@@ -1,0 +1,174 @@
+//! CPU time of `point_mass_on_beam` (the validation case's model, `simulate` of
+//! `flexmbs_validate::point_mass_on_beam`) over 0.1 s: setup A, C_R = 0, S2 (Moreau, h = 1e-5 s)
+//! for 10 ... 100 modes, then at 20 modes S1 (step-size control, C_R = 0 and 1) and S3 (penalty,
+//! step-size control), and the contour comparison (S2, 0.05 s, 2D neutral contour vs
+//! FlexibleBand). The beam is reduced once (100 modes); the times are the integration only.
+//!
+//! Run: `cargo bench -p flexmbs-validate --bench point_mass_on_beam`. Not a test: nothing is
+//! asserted. Environment:
+//! - `PMB_BENCH_MODES=10,100`: restrict the mode counts of the S2 sweep;
+//! - `PMB_BENCH_ONLY_S2=1`: skip the S1/S3 and contour runs;
+//! - `PMB_BENCH_T_END=0.02`: a shorter end time (e.g. under callgrind: `valgrind
+//!   --tool=callgrind --collect-atstart=no --toggle-collect='*MoreauStepper*advance*'`);
+//! - `PMB_BENCH_REPEAT=3`: run every configuration this many times and report the run with the
+//!   least time on CPU;
+//! - `PMB_BENCH_CACHE=dir`: keep the reduced beam in `dir` (`beam.h5`, the reduced-body file,
+//!   and `mass.bin`, the consistent mass matrix) and read it from there in later runs (seconds
+//!   instead of minutes under valgrind);
+//! - `PMB_BENCH_DUMP=dir`: write the signals of every S2 run (`s2_<modes>.csv`: t, y of the
+//!   mass, its y velocity, the probe node's y displacement, relative energy change) to compare
+//!   trajectories between builds; likewise `s1_cr0.csv`, `s1_cr1.csv`, `s3.csv` of the S1/S3 runs.
+
+use flexmbs_validate::point_mass_on_beam::{reduce_beam, simulate, Beam, Config, Run};
+use std::io::{Read, Write};
+use std::path::Path;
+use std::time::Instant;
+
+fn env_list(name: &str, default: &[usize]) -> Vec<usize> {
+    match std::env::var(name) {
+        Ok(s) => s.split(',').filter_map(|x| x.trim().parse().ok()).collect(),
+        Err(_) => default.to_vec(),
+    }
+}
+
+fn env_f64(name: &str, default: f64) -> f64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+fn dump(dir: &str, name: &str, r: &Run) {
+    std::fs::create_dir_all(dir).expect("dump dir");
+    let mut f = std::fs::File::create(format!("{dir}/{name}.csv")).expect("dump file");
+    for (i, &(t, y)) in r.y.iter().enumerate() {
+        writeln!(
+            f,
+            "{t:.17e},{y:.17e},{:.17e},{:.17e},{:.17e}",
+            r.v_y[i].1, r.node[i].1, r.energy[i].1
+        )
+        .expect("write");
+    }
+}
+
+/// The consistent mass matrix as `n`, `nnz`, column pointers, row indices, values (u64/f64 LE).
+fn write_mass(path: &Path, m: &flexmbs_fe::SparseMatrix) {
+    let mut f = std::fs::File::create(path).expect("mass file");
+    let (ptr, idx, val) = (m.col_ptr(), m.row_idx(), m.val());
+    let mut put = |x: u64| f.write_all(&x.to_le_bytes()).expect("write");
+    put(m.nrows() as u64);
+    put(val.len() as u64);
+    ptr.iter().chain(idx).for_each(|&x| put(x as u64));
+    for x in val {
+        f.write_all(&x.to_le_bytes()).expect("write");
+    }
+}
+
+fn read_mass(path: &Path) -> flexmbs_fe::SparseMatrix {
+    let mut bytes = vec![];
+    std::fs::File::open(path)
+        .expect("mass file")
+        .read_to_end(&mut bytes)
+        .expect("read");
+    let word = |i: usize| u64::from_le_bytes(bytes[8 * i..8 * i + 8].try_into().unwrap());
+    let (n, nnz) = (word(0) as usize, word(1) as usize);
+    let ptr: Vec<usize> = (0..=n).map(|i| word(2 + i) as usize).collect();
+    let idx: Vec<usize> = (0..nnz).map(|i| word(3 + n + i) as usize).collect();
+    let val: Vec<f64> = (0..nnz)
+        .map(|i| f64::from_bits(word(3 + n + nnz + i)))
+        .collect();
+    let sym = faer::sparse::SymbolicSparseColMat::new_checked(n, n, ptr, None, idx);
+    faer::sparse::SparseColMat::new(sym, val)
+}
+
+/// The reduced beam, from the cache directory `PMB_BENCH_CACHE` if it holds one.
+fn beam() -> Beam {
+    let Ok(dir) = std::env::var("PMB_BENCH_CACHE") else {
+        return reduce_beam().expect("beam");
+    };
+    let dir = Path::new(&dir);
+    let (body, mass) = (dir.join("beam.h5"), dir.join("mass.bin"));
+    if body.exists() && mass.exists() {
+        return Beam {
+            reduced: flexmbs_io::body_file::read_body(&body).expect("cached beam"),
+            mass: read_mass(&mass),
+        };
+    }
+    let beam = reduce_beam().expect("beam");
+    std::fs::create_dir_all(dir).expect("cache dir");
+    flexmbs_io::body_file::write_body(&body, &beam.reduced).expect("write beam");
+    write_mass(&mass, &beam.mass);
+    beam
+}
+
+fn main() {
+    let t0 = Instant::now();
+    let beam = beam();
+    println!("beam reduced in {:.1} s", t0.elapsed().as_secs_f64());
+    let t_end = env_f64("PMB_BENCH_T_END", 0.1);
+    let repeat = env_list("PMB_BENCH_REPEAT", &[1])[0].max(1);
+    let dump_dir = std::env::var("PMB_BENCH_DUMP").ok();
+    let base = Config {
+        modes: 20,
+        z0: 0.025,
+        restitution: Some(0.0),
+        step: Some(1e-5),
+        band: false,
+        t_end,
+    };
+    let best = |c: &Config| {
+        let mut best: Option<Run> = None;
+        for _ in 0..repeat {
+            let r = simulate(&beam, c).expect("run");
+            if best.as_ref().is_none_or(|b| r.cpu_thread < b.cpu_thread) {
+                best = Some(r);
+            }
+        }
+        best.expect("one run")
+    };
+    for n in env_list("PMB_BENCH_MODES", &[10, 20, 30, 40, 60, 80, 100]) {
+        let r = best(&Config { modes: n, ..base });
+        println!(
+            "S2 modes {n:3}: {:.3} s (on CPU {:.3} s), {} steps, v_y_final {:.6}, y_min {:.7}",
+            r.cpu, r.cpu_thread, r.steps, r.v_y_final, r.y_min
+        );
+        if let Some(d) = &dump_dir {
+            dump(d, &format!("s2_{n}"), &r);
+        }
+    }
+    if std::env::var("PMB_BENCH_ONLY_S2").is_ok() {
+        return;
+    }
+    for (name, file, restitution) in [
+        ("S1 C_R=0", "s1_cr0", Some(0.0)),
+        ("S1 C_R=1", "s1_cr1", Some(1.0)),
+        ("S3", "s3", None),
+    ] {
+        let c = Config {
+            restitution,
+            step: None,
+            ..base
+        };
+        let r = best(&c);
+        println!(
+            "{name} 20 modes: {:.3} s (on CPU {:.3} s), {} steps",
+            r.cpu, r.cpu_thread, r.steps
+        );
+        if let Some(d) = &dump_dir {
+            dump(d, file, &r);
+        }
+    }
+    for band in [false, true] {
+        let c = Config {
+            band,
+            t_end: 0.05,
+            ..base
+        };
+        let r = best(&c);
+        let what = if band { "band" } else { "surface" };
+        println!(
+            "contour {what} (S2, 0.05 s, 20 modes): {:.3} s (on CPU {:.3} s)",
+            r.cpu, r.cpu_thread
+        );
+    }
+}
