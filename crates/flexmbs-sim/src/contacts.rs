@@ -401,3 +401,58 @@ fn friction_law(
         }
     })
 }
+
+/// Which solver a model's contacts need: the `moreau` solver takes every law; `generalized-alpha`
+/// takes regularized contacts only (normal `regularized`, friction none or `regularized`: forces
+/// with their tangent in the implicit stepper), and not with `solver.initial = "static"` (statics
+/// has no contact forces); other solvers take none. Err: located at the first contact the solver
+/// cannot take.
+pub(crate) fn check_contact_solver(
+    ctx: &Ctx,
+    contacts: &[ContactSpec],
+    solver: &crate::config::SolverConfig,
+    static_start: bool,
+) -> Result<(), SimError> {
+    use crate::config::SolverConfig;
+    if contacts.is_empty() || matches!(solver, SolverConfig::Moreau { .. }) {
+        return Ok(());
+    }
+    if !matches!(solver, SolverConfig::GenAlpha { .. }) {
+        return Err(ctx.err(
+            "solver.type",
+            "the model has contacts: they are solved by `type = \"moreau\"` (any law) or \
+             `type = \"generalized-alpha\"` (regularized laws)",
+        ));
+    }
+    for (i, c) in contacts.iter().enumerate() {
+        if c.normal != NormalName::Regularized {
+            return Err(ctx.err(
+                &format!("contact[{i}].normal"),
+                format!(
+                    "contact `{}`: a set-valued law (`unilateral`, `bilateral`) needs \
+                     `solver.type = \"moreau\"`; `generalized-alpha` takes `normal = \
+                     \"regularized\"`",
+                    c.name
+                ),
+            ));
+        }
+        if c.friction == Some(FrictionName::Coulomb) {
+            return Err(ctx.err(
+                &format!("contact[{i}].friction"),
+                format!(
+                    "contact `{}`: set-valued Coulomb friction needs `solver.type = \
+                     \"moreau\"`; `generalized-alpha` takes `friction = \"regularized\"`",
+                    c.name
+                ),
+            ));
+        }
+    }
+    if static_start {
+        return Err(ctx.err(
+            "solver.initial",
+            "a static start has no contact forces: start a model with contacts from its \
+             initial state",
+        ));
+    }
+    Ok(())
+}

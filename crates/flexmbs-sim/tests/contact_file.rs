@@ -85,8 +85,8 @@ const CASES: &[(&str, &str, &str, &str)] = &[
     (
         "type = \"moreau\"",
         "type = \"generalized-alpha\"",
-        "solver.type",
-        "solved by `type = \"moreau\"` only",
+        "contact[0].normal",
+        "a set-valued law (`unilateral`, `bilateral`) needs `solver.type = \"moreau\"`",
     ),
 ];
 

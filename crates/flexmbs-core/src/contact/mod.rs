@@ -13,6 +13,7 @@ pub mod flexible;
 pub mod guide;
 pub mod law;
 pub mod pair;
+pub mod regularized;
 
 pub use contour::{
     CircleContour, Contour, ContourKind, ContourScratch, PlaneContour, PointContour, SphereContour,
