@@ -296,8 +296,10 @@ fn rebound_ratio(zeta: f64, h: f64) -> f64 {
 }
 
 /// The restitution of the damped linear oscillator (no-tension law, [`no_tension_restitution`])
-/// for damping ratios 0.05, 0.2 and 0.5: the error falls with the step and is below 5e-4 relative at
-/// h = 5e-6 s (the force jumps by `d v0` where the contact opens and closes: an O(h) error).
+/// for damping ratios 0.05, 0.2 and 0.5: the error falls with the step at first order (the
+/// force jumps by `d v0` where the contact closes; the closing step fades the damping in,
+/// `regularized::damping_factor`), by a factor 1.8 to 2.2 per halving, and is below 1e-3
+/// relative at h = 5e-6 s.
 #[test]
 fn dropped_ball_rebounds_with_damped_oscillator_restitution() {
     for zeta in [0.05, 0.2, 0.5] {
@@ -309,53 +311,64 @@ fn dropped_ball_rebounds_with_damped_oscillator_restitution() {
         }
         println!("zeta {zeta}: e = {e:.6} (pulling law {e_pull:.6}), errors {errors:?}");
         for w in errors.windows(2) {
+            let ratio = w[0] / w[1];
             assert!(
-                w[1] < w[0],
-                "zeta {zeta}: error must fall with h: {errors:?}"
+                (1.8..2.2).contains(&ratio),
+                "zeta {zeta}: first-order convergence: {errors:?}"
             );
         }
-        assert!(errors[3] < 5e-4 * e, "zeta {zeta}: {errors:?}");
+        assert!(errors[3] < 1e-3 * e, "zeta {zeta}: {errors:?}");
     }
 }
 
-/// A ball dropped 5 cm on a penalty contact (k = 1e5, d = 20) under Moreau and
-/// generalized-alpha: the difference of the two at 0.2 s (after the bounce) falls with the
-/// step, to below 1e-3 of the drop speed at h = 2.5e-5 s.
+/// A ball dropped about 5 cm on a penalty contact (k = 1e5, d = 20) under Moreau and
+/// generalized-alpha: the difference of the rebound velocities at 0.2 s (after the bounce),
+/// the envelope over five drop heights (each integrator's error depends on where the steps
+/// fall relative to the contact's start), falls with the step (first order), to below 6e-4 of the drop speed
+/// at h = 2.5e-5 s.
 #[test]
 fn moreau_and_genalpha_agree_as_h_falls() {
-    let law = ContactLaw::regularized(1e5, 20.0);
-    let t_end = 0.2;
     let mut diffs = Vec::new();
     for h in [2e-4, 1e-4, 5e-5, 2.5e-5] {
-        let (model, s0) = ball_on_plane(law, 1.0, 0.05, 0.05, G);
-        let mut ga = s0.clone();
-        run_genalpha(
-            &model,
-            &mut ga,
-            1.0,
-            LinearSolver::Dense,
-            h,
-            t_end,
-            |_, _| {},
-        );
-        let mut mo = s0.clone();
-        let mut ws = Workspace::new(&model);
-        let mut st = MoreauStepper::new(MoreauSettings::default());
-        st.initialize(&model, &mut mo, &mut ws).unwrap();
-        for _ in 0..(t_end / h).round() as usize {
-            st.step(&model, &mut mo, &mut ws, h).unwrap();
-        }
-        assert!(
-            ga.u[2] > 0.0 && mo.u[2] > 0.0,
-            "both rising after the bounce"
-        );
-        diffs.push((ga.u[2] - mo.u[2]).abs() / (2.0 * G * 0.05_f64).sqrt());
+        let worst = (0..5)
+            .map(|j| moreau_genalpha_difference(0.05 * (1.0 + 0.0123 * j as f64), h))
+            .fold(0.0, f64::max);
+        diffs.push(worst);
     }
     println!("Moreau vs generalized-alpha, |du_z| / v0: {diffs:?}");
     for w in diffs.windows(2) {
         assert!(w[1] < w[0], "{diffs:?}");
     }
-    assert!(diffs[3] < 1e-3, "{diffs:?}");
+    assert!(diffs[3] < 6e-4, "{diffs:?}");
+}
+
+/// `|u_z(Moreau) - u_z(generalized-alpha)| / v0` at 0.2 s of a ball dropped from gap `h0` on a
+/// penalty contact (k = 1e5, d = 20), step `h`.
+fn moreau_genalpha_difference(h0: f64, h: f64) -> f64 {
+    let t_end = 0.2;
+    let (model, s0) = ball_on_plane(ContactLaw::regularized(1e5, 20.0), 1.0, 0.05, h0, G);
+    let mut ga = s0.clone();
+    run_genalpha(
+        &model,
+        &mut ga,
+        1.0,
+        LinearSolver::Dense,
+        h,
+        t_end,
+        |_, _| {},
+    );
+    let mut mo = s0.clone();
+    let mut ws = Workspace::new(&model);
+    let mut st = MoreauStepper::new(MoreauSettings::default());
+    st.initialize(&model, &mut mo, &mut ws).unwrap();
+    for _ in 0..(t_end / h).round() as usize {
+        st.step(&model, &mut mo, &mut ws, h).unwrap();
+    }
+    assert!(
+        ga.u[2] > 0.0 && mo.u[2] > 0.0,
+        "both rising after the bounce"
+    );
+    (ga.u[2] - mo.u[2]).abs() / (2.0 * G * h0).sqrt()
 }
 
 /// Undamped penalty bounce with generalized-alpha (`rho_inf = 1`): the step statistics report

@@ -35,7 +35,7 @@ fn all_examples_compile() {
             n += 1;
         }
     }
-    assert_eq!(n, 13, "expected 13 example models");
+    assert_eq!(n, 14, "expected 14 example models");
     // FE body files are not multibody models
     let fe = std::fs::read_to_string(dir.join("parts/rod.toml")).unwrap();
     assert!(!flexmbs_sim::is_multibody_model(&fe));

@@ -170,16 +170,23 @@ impl SystemMatrix {
         c_q: f64,
         c_u: f64,
     ) {
-        for (k, (c, w)) in model.contacts.iter().zip(&mut work.sides).enumerate() {
+        let all = model
+            .contacts
+            .iter()
+            .zip(&mut work.sides)
+            .zip(&work.start_gap);
+        for (k, ((c, w), &g0)) in all.enumerate() {
             if c.law.set_valued_normal() {
                 continue;
             }
             match &mut self.backend {
                 Backend::Dense(d) => {
                     let mut sink = dense::MatrixSink::new(&mut d.lu.a, -c_q, -c_u);
-                    crate::system::add_contact_tangent(model, c, q, u, sys, w, &mut sink);
+                    crate::system::add_contact_tangent(model, c, q, u, sys, w, g0, &mut sink);
                 }
-                Backend::Sparse(s) => s.add_contact_tangent(k, model, q, u, sys, w, -c_q, -c_u),
+                Backend::Sparse(s) => {
+                    s.add_contact_tangent(k, model, (q, u), sys, w, g0, -c_q, -c_u)
+                }
             }
         }
     }

@@ -135,16 +135,16 @@ impl SparseSystem {
         &mut self,
         k: usize,
         model: &Model,
-        q: &[f64],
-        u: &[f64],
+        (q, u): (&[f64], &[f64]),
         sys: &mut SystemBuffers,
         work: &mut [crate::contact::ContourScratch; 2],
+        start_gap: f64,
         c_q: f64,
         c_u: f64,
     ) {
         let c = &model.contacts[k];
         let mut sink = self.contacts[k].sink(&mut self.values, c_q, c_u);
-        system::add_contact_tangent(model, c, q, u, sys, work, &mut sink);
+        system::add_contact_tangent(model, c, q, u, sys, work, start_gap, &mut sink);
     }
 
     /// Dimension `nu + nc`.

@@ -145,6 +145,10 @@ impl Contact {
 pub struct ContactWork {
     /// Per contact: the buffers of contour `a` and `b`.
     pub sides: Vec<[ContourScratch; 2]>,
+    /// Per contact: the gap at the start of the step, which scales a regularized law's damping
+    /// in a step that closes the contact ([`regularized::damping_factor`]; default `-inf`: full
+    /// damping). Generalized-alpha sets it per step ([`regularized::gaps_at_start`]).
+    pub start_gap: Vec<f64>,
 }
 
 impl ContactWork {
@@ -156,6 +160,7 @@ impl ContactWork {
                 .iter()
                 .map(|c| [c.contour_a.new_scratch(), c.contour_b.new_scratch()])
                 .collect(),
+            start_gap: vec![f64::NEG_INFINITY; model.contacts.len()],
         }
     }
 }

@@ -13,11 +13,17 @@ use crate::element::{ElementScratch, FrameKinematics};
 use crate::model::Model;
 
 /// Forces `[F_N, F_T1, F_T2]` of a regularized contact with geometry `geo` (`None` for a
-/// set-valued normal law; zero when apart or without a contact point).
-pub fn regularized_contact_forces(c: &Contact, geo: &ContactGeometry) -> Option<[f64; 3]> {
+/// set-valued normal law; zero when apart or without a contact point), the damping scaled by
+/// [`damping_factor`] of the gap `start_gap` at the start of the step.
+pub fn regularized_contact_forces(
+    c: &Contact,
+    geo: &ContactGeometry,
+    start_gap: f64,
+) -> Option<[f64; 3]> {
     let NormalLaw::Regularized { stiffness, damping } = c.law.normal else {
         return None;
     };
+    let damping = damping * damping_factor(start_gap, geo.gap);
     let mut f = [0.0; 3];
     if !geo.has_contact_point() {
         return Some(f);
@@ -35,16 +41,18 @@ pub fn regularized_contact_forces(c: &Contact, geo: &ContactGeometry) -> Option<
 }
 
 /// Adds `W_N F_N + W_T F_T` of contact `c` (geometry `geo`, contour buffers `work`, frames
-/// `frames`) to `h`; returns the forces (`None`: set-valued law, nothing added).
+/// `frames`; gap `start_gap` at the start of the step) to `h`; returns the forces (`None`:
+/// set-valued law, nothing added).
 pub fn add_regularized_contact_force(
     model: &Model,
     c: &Contact,
     frames: &[FrameKinematics],
     work: &[ContourScratch; 2],
     geo: &ContactGeometry,
+    start_gap: f64,
     h: &mut [f64],
 ) -> Option<[f64; 3]> {
-    let f = regularized_contact_forces(c, geo)?;
+    let f = regularized_contact_forces(c, geo, start_gap)?;
     if f[0] != 0.0 {
         for (k, fk) in f.iter().enumerate() {
             if *fk != 0.0 {
@@ -67,12 +75,17 @@ pub fn add_regularized_forces(
     h: &mut [f64],
 ) -> f64 {
     let mut scale = 0.0_f64;
-    for (c, w) in model.contacts.iter().zip(&mut work.sides) {
+    let all = model
+        .contacts
+        .iter()
+        .zip(&mut work.sides)
+        .zip(&work.start_gap);
+    for ((c, w), &g0) in all {
         if c.law.set_valued_normal() {
             continue;
         }
         let geo = c.geometry(model, frames, eval, w);
-        if let Some(f) = add_regularized_contact_force(model, c, frames, w, &geo, h) {
+        if let Some(f) = add_regularized_contact_force(model, c, frames, w, &geo, g0, h) {
             let ft = (f[1] * f[1] + f[2] * f[2]).sqrt();
             scale = scale.max(f[0].abs() + ft);
         }
@@ -91,13 +104,17 @@ pub fn update_regularized_states(
     h: f64,
     states: &mut [ContactState],
 ) {
-    let all = model.contacts.iter().zip(&mut work.sides).zip(states);
-    for ((c, w), st) in all {
+    let all = model
+        .contacts
+        .iter()
+        .zip(&mut work.sides)
+        .zip(&work.start_gap);
+    for (((c, w), &g0), st) in all.zip(states) {
         if c.law.set_valued_normal() {
             continue;
         }
         let geo = c.geometry(model, frames, eval, w);
-        let f = regularized_contact_forces(c, &geo).unwrap_or_default();
+        let f = regularized_contact_forces(c, &geo, g0).unwrap_or_default();
         *st = ContactState {
             active: f[0] > 0.0,
             gap: geo.gap,
@@ -122,4 +139,30 @@ pub fn first_set_valued(model: &Model) -> Option<(usize, &str)> {
             c.law.set_valued_normal() || matches!(c.law.friction, Friction::Coulomb { .. })
         })
         .map(|i| (i, model.contacts[i].name.as_str()))
+}
+
+/// The share of a regularized law's damping in a step from gap `g0` to gap `g` (implicit
+/// integrators): 1 if the contact penetrated at the start (`g0 < 0`), else the fraction of the
+/// step spent penetrating, linear in the gap, `-g / (g0 - g)` for `g < 0` (0 apart). The
+/// spring-damper's force jumps by `d |g_N_dot|` where a contact closes; with that jump inside a
+/// step the step's equations may have no solution (Newton cycles across it), with the damping
+/// faded in by the penetrated fraction they are continuous, and the closing step still gets
+/// the damping impulse of its penetrating part to first order.
+pub fn damping_factor(g0: f64, g: f64) -> f64 {
+    if g0 < 0.0 {
+        1.0
+    } else if g < 0.0 {
+        -g / (g0 - g)
+    } else {
+        0.0
+    }
+}
+
+/// Sets the start gaps of every contact ([`ContactWork::start_gap`]) for the next step of an
+/// implicit integrator from the contact states at its start (an open contact without a contact
+/// point: `+inf`, no damping until it penetrates at a step start).
+pub fn gaps_at_start(states: &[ContactState], work: &mut ContactWork) {
+    for (st, g0) in states.iter().zip(&mut work.start_gap) {
+        *g0 = st.gap;
+    }
 }

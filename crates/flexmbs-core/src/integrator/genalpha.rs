@@ -182,7 +182,11 @@ impl GenAlpha {
             });
         }
         s.contacts.resize(model.contacts.len(), Default::default());
-        consistent_accelerations(model, s, ws)
+        ws.contact.start_gap.fill(f64::NEG_INFINITY);
+        consistent_accelerations(model, s, ws)?;
+        // the contact states of the initial state (the damping of the first step)
+        regularized_contacts_converged(model, s, ws, 0.0, false);
+        Ok(())
     }
 
     /// One step of size `h`; on success the state is advanced, on error it is unchanged.
@@ -224,6 +228,7 @@ impl GenAlpha {
                 reason: "step must be positive",
             });
         }
+        crate::contact::regularized::gaps_at_start(&s.contacts, &mut ws.contact);
         ws.step.u_dot_new.copy_from_slice(&s.u_dot); // predictor: constant acceleration
         ws.step.lambda_new.copy_from_slice(&s.lambda);
         // max |du_dot|, max |d lambda| of the last solve (none yet)

@@ -35,8 +35,10 @@ fn contact_owners(model: &Model, c: &Contact) -> ([FrameId; 2], [FrameOwner; 2])
 /// Adds the tangents `d h_c / dq` and (damping or friction) `d h_c / du` of the generalized
 /// force `h_c = W_N F_N + W_T F_T` of one regularized contact `c` at `(q, u)` to `sink` (rows
 /// and columns of the two owners; module documentation). `work` are the contact's contour
-/// buffers. Expects `ws.frames` at `(q, u)` and leaves them there; a set-valued contact adds
-/// nothing. Steps: `1e-6` for positions, `1e-6 max(1, |u_j|)` for velocities.
+/// buffers, `start_gap` its gap at the start of the step ([`ContactWork::start_gap`]). Expects `ws.frames`
+/// at `(q, u)` and leaves them there; a set-valued contact adds nothing. Steps: `1e-6` for
+/// positions, `1e-6 max(1, |u_j|)` for velocities.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn add_contact_tangent(
     model: &Model,
     c: &Contact,
@@ -44,6 +46,7 @@ pub(crate) fn add_contact_tangent(
     u: &[f64],
     ws: &mut SystemBuffers,
     work: &mut [ContourScratch; 2],
+    start_gap: f64,
     sink: &mut impl TangentSink,
 ) {
     if c.law.set_valued_normal() {
@@ -89,6 +92,7 @@ pub(crate) fn add_contact_tangent(
                 frames: &frames,
                 owners: &owners,
                 owner: o,
+                start_gap,
                 overlap,
                 gj: ru.at(j),
             };
@@ -119,6 +123,8 @@ struct Column<'a> {
     frames: &'a [FrameId; 2],
     owners: &'a [FrameOwner; 2],
     owner: FrameOwner,
+    /// The contact's gap at the start of the step.
+    start_gap: f64,
     /// The owners share coordinates (bodies on one node): each row once.
     overlap: bool,
     gj: usize,
@@ -161,7 +167,15 @@ impl Column<'_> {
                 owner_ranges(model, ow).1.iter().for_each(|i| hh[i] = 0.0);
             }
             let geo = self.c.geometry(model, &ws.frames, &ws.probe, work);
-            add_regularized_contact_force(model, self.c, &ws.frames, work, &geo, hh);
+            add_regularized_contact_force(
+                model,
+                self.c,
+                &ws.frames,
+                work,
+                &geo,
+                self.start_gap,
+                hh,
+            );
         }
         ws.dv_pert[gj] = 0.0;
         ws.u_pert[gj] = self.u[gj];
@@ -191,7 +205,12 @@ pub fn add_contact_tangents(
     sys: &mut SystemBuffers,
     work: &mut ContactWork,
 ) {
-    for (c, w) in model.contacts.iter().zip(&mut work.sides) {
-        add_contact_tangent(model, c, q, u, sys, w, &mut DenseTangents);
+    let all = model
+        .contacts
+        .iter()
+        .zip(&mut work.sides)
+        .zip(&work.start_gap);
+    for ((c, w), &g0) in all {
+        add_contact_tangent(model, c, q, u, sys, w, g0, &mut DenseTangents);
     }
 }
