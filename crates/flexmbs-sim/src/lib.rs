@@ -8,6 +8,7 @@ mod animation_points;
 pub mod bodies;
 pub mod compile;
 pub mod config;
+mod contact_drawing;
 pub mod contacts;
 pub mod drives;
 pub mod error;

@@ -9,6 +9,7 @@
 //! coordinates for warm starts) is a [`ContactState`] in [`crate::State::contacts`].
 
 pub mod contour;
+pub mod drawing;
 pub mod flexible;
 pub mod guide;
 pub mod law;
