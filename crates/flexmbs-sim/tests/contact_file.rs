@@ -127,7 +127,7 @@ fn penalty_ball_example_runs_in_generalized_alpha() {
     let SolverConfig::GenAlpha {
         settings,
         h,
-        adaptive: Some(adaptive),
+        adaptive: None,
         ..
     } = cm.solver
     else {
@@ -135,7 +135,7 @@ fn penalty_ball_example_runs_in_generalized_alpha() {
     };
     let mut s = cm.initial.clone();
     let mut ws = Workspace::new(&cm.model);
-    let mut st = GenAlphaStepper::new(GenAlpha::new(settings).unwrap(), Some(adaptive));
+    let mut st = GenAlphaStepper::new(GenAlpha::new(settings).unwrap(), None);
     st.initialize(&cm.model, &mut s, &mut ws).unwrap();
     let (mut apex, mut bounced, mut spin) = (f64::NEG_INFINITY, false, 0.0);
     let control = st.control(h);
@@ -169,11 +169,7 @@ fn penalty_contact_solver_errors_are_located() {
     let cases = [
         (
             text.replacen("type = \"generalized-alpha\"", "type = \"dopri5\"", 1)
-                .replacen(
-                    "h = \"2e-5 s\"\nadaptive = { h_min = \"1e-9 s\", h_max = \"2e-5 s\" }\n",
-                    "",
-                    1,
-                ),
+                .replacen("h = \"2e-5 s\"\n", "", 1),
             "solver.type",
         ),
         (
