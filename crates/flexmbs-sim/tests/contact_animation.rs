@@ -4,7 +4,8 @@
 //! and 2 of each time; in the last frame every node of the face lies on the written contour
 //! (the deformed FE node positions from the results' coordinates through the mesh-node
 //! kinematics, an independent path), and the contact points, gap and normal force are where
-//! and what the result signals say.
+//! and what the result signals say; VTK's own reader loads the parts (quads, vertices and
+//! fields; skipped without python3 and its vtk module).
 
 mod common;
 
@@ -189,7 +190,72 @@ fn contact_points_and_deformed_contours_are_drawn() {
         f > 0.0 && (force[0] - f).abs() < 1e-12 * f,
         "{force:?} vs {f}"
     );
+    vtk_reads_the_parts(&frames, written.len());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// VTK's own reader (`vtkXMLUnstructuredGridReader`, PyPI `vtk`) loads the last contour and
+/// contact-point files: the contour as quads (cell type 9) with as many points as written, the
+/// contact points as two vertices (type 1) with the point fields. Skipped with a printed reason
+/// when python3 or its vtk module is missing.
+fn vtk_reads_the_parts(frames: &Path, contour_points: usize) {
+    let last = |part: &str| {
+        let prefix = format!("pressed_beam_{part}_");
+        let mut files: Vec<_> = std::fs::read_dir(frames)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|f| {
+                f.file_name()
+                    .unwrap()
+                    .to_string_lossy()
+                    .starts_with(&prefix)
+            })
+            .collect();
+        files.sort();
+        files.pop().unwrap()
+    };
+    let script = format!(
+        r#"
+import vtk
+out = []
+for f in [{:?}, {:?}]:
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(f)
+    r.Update()
+    g = r.GetOutput()
+    types = sorted(set(g.GetCellType(i) for i in range(g.GetNumberOfCells())))
+    names = [g.GetPointData().GetArrayName(i) for i in range(g.GetPointData().GetNumberOfArrays())]
+    out.append("%d %s %s" % (g.GetNumberOfPoints(), types, names))
+print("|".join(out))
+"#,
+        last("contours").to_string_lossy(),
+        last("contact_points").to_string_lossy()
+    );
+    let run = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(&script)
+        .output();
+    let out = match run {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
+        Ok(o) => {
+            println!(
+                "skipped the VTK reader check: {}",
+                String::from_utf8_lossy(&o.stderr)
+                    .lines()
+                    .last()
+                    .unwrap_or("")
+            );
+            return;
+        }
+        Err(e) => {
+            println!("skipped the VTK reader check: python3: {e}");
+            return;
+        }
+    };
+    println!("VTK reader: {out}");
+    let (contours, points) = out.split_once('|').unwrap();
+    assert_eq!(contours, format!("{contour_points} [9] []"));
+    assert_eq!(points, "2 [1] ['gap', 'normal_force', 'normal', 'contact']");
 }
 
 /// A fresh evaluation scratch of body `b`.
