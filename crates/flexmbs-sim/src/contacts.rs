@@ -402,10 +402,11 @@ fn friction_law(
     })
 }
 
-/// Which solver a model's contacts need: the `moreau` solver takes every law; `generalized-alpha`
-/// takes regularized contacts only (normal `regularized`, friction none or `regularized`: forces
-/// with their tangent in the implicit stepper), and not with `solver.initial = "static"` (statics
-/// has no contact forces); other solvers take none. Err: located at the first contact the solver
+/// Which solver a model's contacts need: the `moreau` solver takes every law;
+/// `generalized-alpha` and `statics` (also as `solver.initial = "static"`) take regularized
+/// contacts only (normal `regularized`, friction none or `regularized`: forces with their tangent
+/// in the Newton iteration); `dopri5` takes none. Guides (bilateral contacts on a flexible
+/// contour: constraints) go with every solver. Err: located at the first contact the solver
 /// cannot take.
 pub(crate) fn check_contact_solver(
     ctx: &Ctx,
@@ -414,24 +415,30 @@ pub(crate) fn check_contact_solver(
     static_start: bool,
 ) -> Result<(), SimError> {
     use crate::config::SolverConfig;
-    if contacts.is_empty() || matches!(solver, SolverConfig::Moreau { .. }) {
+    if contacts.is_empty() || matches!(solver, SolverConfig::Moreau { .. }) && !static_start {
         return Ok(());
     }
-    if !matches!(solver, SolverConfig::GenAlpha { .. }) {
+    if matches!(solver, SolverConfig::Dopri5 { .. })
+        && !contacts.iter().all(crate::guides::is_guide)
+    {
         return Err(ctx.err(
             "solver.type",
             "the model has contacts: they are solved by `type = \"moreau\"` (any law) or \
-             `type = \"generalized-alpha\"` (regularized laws)",
+             `type = \"generalized-alpha\"` and `\"statics\"` (regularized laws)",
         ));
     }
     for (i, c) in contacts.iter().enumerate() {
+        // a bilateral contact on a flexible contour is a guide: a constraint every solver takes
+        if crate::guides::is_guide(c) {
+            continue;
+        }
         if c.normal != NormalName::Regularized {
             return Err(ctx.err(
                 &format!("contact[{i}].normal"),
                 format!(
                     "contact `{}`: a set-valued law (`unilateral`, `bilateral`) needs \
-                     `solver.type = \"moreau\"`; `generalized-alpha` takes `normal = \
-                     \"regularized\"`",
+                     `solver.type = \"moreau\"` (without a static start); `generalized-alpha` \
+                     and `statics` take `normal = \"regularized\"`",
                     c.name
                 ),
             ));
@@ -441,18 +448,12 @@ pub(crate) fn check_contact_solver(
                 &format!("contact[{i}].friction"),
                 format!(
                     "contact `{}`: set-valued Coulomb friction needs `solver.type = \
-                     \"moreau\"`; `generalized-alpha` takes `friction = \"regularized\"`",
+                     \"moreau\"`; `generalized-alpha` and `statics` take `friction = \
+                     \"regularized\"`",
                     c.name
                 ),
             ));
         }
-    }
-    if static_start {
-        return Err(ctx.err(
-            "solver.initial",
-            "a static start has no contact forces: start a model with contacts from its \
-             initial state",
-        ));
     }
     Ok(())
 }

@@ -199,6 +199,14 @@ impl Statics {
         let (nu, t, sys) = (model.nu, s.t, &mut ws.sys);
         system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(mu, mu))?;
         system::assemble_forces(model, t, &s.q, &s.u, mu, sys);
+        let (fr, ev) = (&sys.frames, &sys.eval);
+        crate::contact::regularized::add_regularized_forces(
+            model,
+            fr,
+            ev,
+            &mut ws.contact,
+            &mut sys.h,
+        );
         system::update_constraints(model, t, sys);
         let saddle = &mut ws.saddle;
         saddle.build(SaddleKind::LeastSquares, model, &s.q, &s.u, &s.lambda, sys);
@@ -236,6 +244,15 @@ impl Statics {
             let sys = &mut ws.sys;
             system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(mu, mu))?;
             system::assemble_forces(model, t, &s.q, &s.u, mu, sys);
+            // regularized contacts: reactions of the penalty springs (not scaled by mu)
+            let (fr, ev) = (&sys.frames, &sys.eval);
+            crate::contact::regularized::add_regularized_forces(
+                model,
+                fr,
+                ev,
+                &mut ws.contact,
+                &mut sys.h,
+            );
             system::update_constraints(model, t, sys);
             let rhs = &mut ws.step.rhs;
             for (i, ri) in rhs[..nu].iter_mut().enumerate() {
@@ -268,6 +285,7 @@ impl Statics {
             let saddle = &mut ws.saddle;
             let kind = SaddleKind::StaticTangent { t, mu };
             saddle.build(kind, model, &s.q, &s.u, &s.lambda, sys);
+            saddle.add_contact_tangents(model, &s.q, &s.u, sys, &mut ws.contact, 1.0, 0.0);
             if !saddle.factor() {
                 return Err(SolverError::Singular {
                     what: "static tangent",
