@@ -11,8 +11,11 @@ use crate::model::{FrameOwner, Model};
 use crate::state::{ElementBuffers, State, SystemBuffers, Workspace};
 use faer::MatMut;
 
+mod contact_tangent;
 mod load_stiffening;
 mod local_tangent;
+pub(crate) use contact_tangent::add_contact_tangent;
+pub use contact_tangent::add_contact_tangents;
 pub use load_stiffening::{add_load_stiffening_forces, load_coefficients, load_stiffening_power};
 pub use local_tangent::{add_load_tangents, subtract_constraint_force_tangent};
 pub(crate) use local_tangent::{

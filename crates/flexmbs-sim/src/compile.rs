@@ -659,12 +659,8 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     crate::contacts::add_contacts(&ctx, &mf.contact, &frame, &owner, &mut spec)?;
     let has_joints = spec_has_joints(&mf) || !se.fixed.is_empty();
     let solver = solver_config(&ctx, &mf, &has_joints)?;
-    if !mf.contact.is_empty() && !matches!(solver, SolverConfig::Moreau { .. }) {
-        return Err(ctx.err(
-            "solver.type",
-            "the model has contacts: they are solved by `type = \"moreau\"` only",
-        ));
-    }
+    let static_start = mf.solver.initial == Some(crate::schema::InitialName::Static);
+    crate::contacts::check_contact_solver(&ctx, &mf.contact, &solver, static_start)?;
     crate::stiffening::check_load_stiffening_solver(&ctx, &mf.body, &solver)?;
     let model = spec.compile().map_err(|source| {
         if let ModelError::InvalidContact { contact, reason } = &source {

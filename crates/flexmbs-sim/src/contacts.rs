@@ -401,3 +401,59 @@ fn friction_law(
         }
     })
 }
+
+/// Which solver a model's contacts need: the `moreau` solver takes every law;
+/// `generalized-alpha` and `statics` (also as `solver.initial = "static"`) take regularized
+/// contacts only (normal `regularized`, friction none or `regularized`: forces with their tangent
+/// in the Newton iteration); `dopri5` takes none. Guides (bilateral contacts on a flexible
+/// contour: constraints) go with every solver. Err: located at the first contact the solver
+/// cannot take.
+pub(crate) fn check_contact_solver(
+    ctx: &Ctx,
+    contacts: &[ContactSpec],
+    solver: &crate::config::SolverConfig,
+    static_start: bool,
+) -> Result<(), SimError> {
+    use crate::config::SolverConfig;
+    if contacts.is_empty() || matches!(solver, SolverConfig::Moreau { .. }) && !static_start {
+        return Ok(());
+    }
+    if matches!(solver, SolverConfig::Dopri5 { .. })
+        && !contacts.iter().all(crate::guides::is_guide)
+    {
+        return Err(ctx.err(
+            "solver.type",
+            "the model has contacts: they are solved by `type = \"moreau\"` (any law) or \
+             `type = \"generalized-alpha\"` and `\"statics\"` (regularized laws)",
+        ));
+    }
+    for (i, c) in contacts.iter().enumerate() {
+        // a bilateral contact on a flexible contour is a guide: a constraint every solver takes
+        if crate::guides::is_guide(c) {
+            continue;
+        }
+        if c.normal != NormalName::Regularized {
+            return Err(ctx.err(
+                &format!("contact[{i}].normal"),
+                format!(
+                    "contact `{}`: a set-valued law (`unilateral`, `bilateral`) needs \
+                     `solver.type = \"moreau\"` (without a static start); `generalized-alpha` \
+                     and `statics` take `normal = \"regularized\"`",
+                    c.name
+                ),
+            ));
+        }
+        if c.friction == Some(FrictionName::Coulomb) {
+            return Err(ctx.err(
+                &format!("contact[{i}].friction"),
+                format!(
+                    "contact `{}`: set-valued Coulomb friction needs `solver.type = \
+                     \"moreau\"`; `generalized-alpha` and `statics` take `friction = \
+                     \"regularized\"`",
+                    c.name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}

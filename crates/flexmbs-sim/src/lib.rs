@@ -9,6 +9,7 @@ pub mod bodies;
 mod body_loading;
 pub mod compile;
 pub mod config;
+mod contact_drawing;
 pub mod contacts;
 pub mod drives;
 pub mod error;

@@ -327,6 +327,11 @@ impl<'a> Recorder<'a> {
                 if self.cm.output.stress {
                     anim.set_next_point_fields(crate::stress::point_stress_fields(self.cm, &s.q));
                 }
+                if !m.contacts.is_empty() {
+                    let (fr, ev, w) = (&self.frames, &self.eval, &mut self.contact);
+                    let parts = crate::contact_drawing::contact_parts(self.cm, s, st.h, fr, ev, w);
+                    anim.set_next_parts(parts);
+                }
                 anim.write_frame_elastic(t, &refs, Some(&el))?;
             }
         }

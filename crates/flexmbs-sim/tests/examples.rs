@@ -35,7 +35,7 @@ fn all_examples_compile() {
             n += 1;
         }
     }
-    assert!(n >= 18, "expected at least 18 example models, found {n}");
+    assert!(n >= 19, "expected at least 19 example models, found {n}");
     // FE body files are not multibody models
     let fe = std::fs::read_to_string(dir.join("parts/rod.toml")).unwrap();
     assert!(!flexmbs_sim::is_multibody_model(&fe));

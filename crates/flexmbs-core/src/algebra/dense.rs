@@ -92,3 +92,25 @@ fn fill_constraint_blocks(out: &mut Mat<f64>, nu: usize, g: &Mat<f64>) {
         }
     }
 }
+
+/// [`crate::system::TangentSink`] adding `c_q` times the `d/dq` entries and `c_u` times the
+/// `d/du` entries into a dense matrix (the iteration matrix of [`DenseSystem`]).
+pub(super) struct MatrixSink<'a> {
+    a: &'a mut Mat<f64>,
+    c_q: f64,
+    c_u: f64,
+}
+
+impl<'a> MatrixSink<'a> {
+    /// A sink into `a` with the coefficients `c_q`, `c_u`.
+    pub(super) fn new(a: &'a mut Mat<f64>, c_q: f64, c_u: f64) -> Self {
+        Self { a, c_q, c_u }
+    }
+}
+
+impl crate::system::TangentSink for MatrixSink<'_> {
+    fn add(&mut self, _: &mut SystemBuffers, row: usize, col: usize, velocity: bool, value: f64) {
+        let c = if velocity { self.c_u } else { self.c_q };
+        self.a[(row, col)] += c * value;
+    }
+}

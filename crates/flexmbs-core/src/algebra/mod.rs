@@ -156,6 +156,42 @@ impl SystemMatrix {
         }
     }
 
+    /// Adds `-c_q dh_c/dq - c_u dh_c/du` of the regularized contacts' forces `h_c` at `(q, u)`
+    /// ([`crate::system::add_contact_tangents`]: the two contact bodies' coordinates only) to
+    /// the last built iteration matrix (`sys` evaluated at `(q, u)`, its frames left there);
+    /// nothing for a model without regularized contacts.
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_contact_tangents(
+        &mut self,
+        model: &Model,
+        q: &[f64],
+        u: &[f64],
+        sys: &mut SystemBuffers,
+        work: &mut crate::contact::ContactWork,
+        c_q: f64,
+        c_u: f64,
+    ) {
+        let all = model
+            .contacts
+            .iter()
+            .zip(&mut work.sides)
+            .zip(&work.start_gap);
+        for (k, ((c, w), &g0)) in all.enumerate() {
+            if c.law.set_valued_normal() {
+                continue;
+            }
+            match &mut self.backend {
+                Backend::Dense(d) => {
+                    let mut sink = dense::MatrixSink::new(&mut d.lu.a, -c_q, -c_u);
+                    crate::system::add_contact_tangent(model, c, q, u, sys, w, g0, &mut sink);
+                }
+                Backend::Sparse(s) => {
+                    s.add_contact_tangent(k, model, (q, u), sys, w, g0, -c_q, -c_u)
+                }
+            }
+        }
+    }
+
     /// Factors the last built matrix; `false` if it is numerically singular or not finite.
     pub fn factor(&mut self) -> bool {
         match &mut self.backend {

@@ -34,6 +34,9 @@ pub struct ColumnLists {
     pub loads: Vec<Vec<usize>>,
     /// Per constraint row: the columns of the owners of its joint's frames.
     pub constraint_rows: Vec<Vec<usize>>,
+    /// Per contact: the columns of the owners of its two contours' frames (the tangent of a
+    /// regularized contact couples them; empty for a set-valued contact).
+    pub contacts: Vec<Vec<usize>>,
 }
 
 impl ColumnLists {
@@ -72,10 +75,23 @@ impl ColumnLists {
                 constraint_rows.push(cols.clone());
             }
         }
+        let contacts = model
+            .contacts
+            .iter()
+            .map(|c| {
+                let (a, b) = c.frames();
+                if c.law.set_valued_normal() {
+                    Vec::new()
+                } else {
+                    owners(&[a, b])
+                }
+            })
+            .collect();
         Self {
             elements,
             loads,
             constraint_rows,
+            contacts,
         }
     }
 }
@@ -101,7 +117,12 @@ impl SystemPattern {
                 cols[j].extend_from_slice(list);
             }
         };
-        for list in lists.elements.iter().chain(&lists.loads) {
+        for list in lists
+            .elements
+            .iter()
+            .chain(&lists.loads)
+            .chain(&lists.contacts)
+        {
             couple(list);
         }
         for list in &lists.constraint_rows {
@@ -170,6 +191,7 @@ mod tests {
             elements: vec![vec![0, 1], vec![2, 3]],
             loads: vec![vec![2, 3]],
             constraint_rows: vec![vec![1, 2]],
+            contacts: vec![],
         };
         let p = SystemPattern::new(4, &lists);
         assert_eq!(p.dim(), 5);

@@ -30,6 +30,8 @@ pub(super) struct SparseSystem {
     elements: Vec<ElementBlock>,
     loads: Vec<CouplingSlots>,
     joints: Vec<CouplingSlots>,
+    /// Per contact: the coupling block of its two owners (regularized contacts' tangents).
+    contacts: Vec<CouplingSlots>,
     /// Per constraint row `r`, entries `g_ptr[r]..g_ptr[r + 1]` of `g_entries`.
     g_ptr: Vec<usize>,
     /// `(column c, slot of (nu + r, c), slot of (c, nu + r))`.
@@ -64,6 +66,7 @@ impl SparseSystem {
             .iter()
             .map(|&r0| coupling(lists.constraint_rows.get(r0).unwrap_or(&Vec::new())))
             .collect();
+        let contacts = lists.contacts.iter().map(coupling).collect();
         let mut g_ptr = vec![0];
         let mut g_entries = Vec::new();
         for (r, cols) in lists.constraint_rows.iter().enumerate() {
@@ -95,6 +98,7 @@ impl SparseSystem {
             elements,
             loads,
             joints,
+            contacts,
             g_ptr,
             g_entries,
             diag_slots,
@@ -122,6 +126,25 @@ impl SparseSystem {
             self.factor();
         }
         self.values.fill(0.0);
+    }
+
+    /// Adds `c_q dh_c/dq + c_u dh_c/du` of contact `k` (regularized, `c`) into the coupling
+    /// block of its owners ([`super::SystemMatrix::add_contact_tangents`]).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn add_contact_tangent(
+        &mut self,
+        k: usize,
+        model: &Model,
+        (q, u): (&[f64], &[f64]),
+        sys: &mut SystemBuffers,
+        work: &mut [crate::contact::ContourScratch; 2],
+        start_gap: f64,
+        c_q: f64,
+        c_u: f64,
+    ) {
+        let c = &model.contacts[k];
+        let mut sink = self.contacts[k].sink(&mut self.values, c_q, c_u);
+        system::add_contact_tangent(model, c, q, u, sys, work, start_gap, &mut sink);
     }
 
     /// Dimension `nu + nc`.

@@ -9,10 +9,12 @@
 //! coordinates for warm starts) is a [`ContactState`] in [`crate::State::contacts`].
 
 pub mod contour;
+pub mod drawing;
 pub mod flexible;
 pub mod guide;
 pub mod law;
 pub mod pair;
+pub mod regularized;
 
 pub use contour::{
     CircleContour, Contour, ContourKind, ContourScratch, PlaneContour, PointContour, SphereContour,
@@ -144,6 +146,10 @@ impl Contact {
 pub struct ContactWork {
     /// Per contact: the buffers of contour `a` and `b`.
     pub sides: Vec<[ContourScratch; 2]>,
+    /// Per contact: the gap at the start of the step, which scales a regularized law's damping
+    /// in a step that closes the contact ([`regularized::damping_factor`]; default `-inf`: full
+    /// damping). Generalized-alpha sets it per step ([`regularized::gaps_at_start`]).
+    pub start_gap: Vec<f64>,
 }
 
 impl ContactWork {
@@ -155,6 +161,7 @@ impl ContactWork {
                 .iter()
                 .map(|c| [c.contour_a.new_scratch(), c.contour_b.new_scratch()])
                 .collect(),
+            start_gap: vec![f64::NEG_INFINITY; model.contacts.len()],
         }
     }
 }

@@ -173,7 +173,20 @@ impl GenAlpha {
         ws: &mut Workspace,
     ) -> Result<(), SolverError> {
         system::check_assembly(model, s, ws, system::ASSEMBLY_TOL)?;
-        consistent_accelerations(model, s, ws)
+        if let Some((i, _)) = crate::contact::regularized::first_set_valued(model) {
+            return Err(SolverError::InvalidSetting {
+                name: "contact",
+                value: i as f64,
+                reason: "a set-valued contact law (unilateral, bilateral, Coulomb friction) \
+                         needs the Moreau stepper; generalized-alpha takes regularized laws",
+            });
+        }
+        s.contacts.resize(model.contacts.len(), Default::default());
+        ws.contact.start_gap.fill(f64::NEG_INFINITY);
+        consistent_accelerations(model, s, ws)?;
+        // the contact states of the initial state (the damping of the first step)
+        regularized_contacts_converged(model, s, ws, 0.0, false);
+        Ok(())
     }
 
     /// One step of size `h`; on success the state is advanced, on error it is unchanged.
@@ -187,7 +200,8 @@ impl GenAlpha {
         system::check_state_size(model, s)?;
         let mut stats = self.solve_step(model, s, ws, h)?;
         commit(s, &ws.step, h);
-        let (energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
+        let (mut energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
+        energy.springs += regularized_contacts_converged(model, s, ws, h, self.step_energy);
         (stats.energy, stats.g_max, stats.g_dot_max) = (energy, g, gd);
         Ok(stats)
     }
@@ -214,6 +228,7 @@ impl GenAlpha {
                 reason: "step must be positive",
             });
         }
+        crate::contact::regularized::gaps_at_start(&s.contacts, &mut ws.contact);
         ws.step.u_dot_new.copy_from_slice(&s.u_dot); // predictor: constant acceleration
         ws.step.lambda_new.copy_from_slice(&s.lambda);
         // max |du_dot|, max |d lambda| of the last solve (none yet)
@@ -234,8 +249,17 @@ impl GenAlpha {
             // node-load stiffening: coefficients from this iterate's multipliers until the
             // increments are small, then frozen (their multiplier dependence is not in the matrix)
             let update_c = last_e > LOAD_COEFFICIENT_FREEZE;
-            let it = newton_residual(model, t1, &mut ws.step, &mut ws.sys, saddle, update_c)
-                .map_err(|e| e.at(s.t, h, residual))?;
+            let contact = &mut ws.contact;
+            let it = newton_residual(
+                model,
+                t1,
+                &mut ws.step,
+                &mut ws.sys,
+                contact,
+                saddle,
+                update_c,
+            )
+            .map_err(|e| e.at(s.t, h, residual))?;
             residual = it.r_max;
             let b = &ws.step;
             let conv = judge_convergence(nt, &it, b, (du, dl), prev, beta_p);
@@ -275,7 +299,8 @@ impl GenAlpha {
                     c_q: beta_p,
                 };
                 let b = &ws.step;
-                if !build_and_factor(saddle, kind, model, &b.q_new, &b.u_new, &mut ws.sys) {
+                let (sys, contact) = (&mut ws.sys, &mut ws.contact);
+                if !build_and_factor(saddle, kind, model, &b.q_new, &b.u_new, sys, contact) {
                     return Err(SolverError::Singular {
                         what: "iteration",
                         t: s.t,
@@ -420,7 +445,8 @@ impl GenAlpha {
             return Ok(StepAttempt::rejected(err, h_next));
         }
         commit(s, &ws.step, h);
-        let (energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
+        let (mut energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
+        energy.springs += regularized_contacts_converged(model, s, ws, h, self.step_energy);
         (
             stats.energy,
             stats.g_max,
@@ -444,8 +470,12 @@ fn build_and_factor(
     q: &[f64],
     u: &[f64],
     sys: &mut crate::state::SystemBuffers,
+    contact: &mut crate::contact::ContactWork,
 ) -> bool {
     saddle.build(kind, model, q, u, &[], sys);
+    if let SaddleKind::Iteration { c_u, c_q, .. } = kind {
+        saddle.add_contact_tangents(model, q, u, sys, contact, c_q, c_u);
+    }
     saddle.factor()
 }
 
@@ -536,12 +566,21 @@ fn newton_residual(
     t1: f64,
     b: &mut StepBuffers,
     sys: &mut SystemBuffers,
+    contact: &mut crate::contact::ContactWork,
     saddle: &mut SystemMatrix,
     update_load_coefficients: bool,
 ) -> Result<IterateResidual, IterateError> {
     let nu = model.nu;
     system::evaluate(model, &b.q_new, &b.u_new, sys).map_err(IterateError::Element)?;
     system::assemble_forces(model, t1, &b.q_new, &b.u_new, 1.0, sys);
+    // regularized contacts: the contact search once per evaluation, W_N F_N + W_T F_T into h
+    let contact_scale = crate::contact::regularized::add_regularized_forces(
+        model,
+        &sys.frames,
+        &sys.eval,
+        contact,
+        &mut sys.h,
+    );
     let (ud, l) = (&b.u_dot_new, &b.lambda_new);
     system::add_load_stiffening_forces(model, t1, 1.0, ud, l, update_load_coefficients, sys);
     system::update_constraints(model, t1, sys);
@@ -551,7 +590,8 @@ fn newton_residual(
     let f_scale = super::max_abs(r_acc)
         .max(super::max_abs(&sys.h))
         .max(system::force_scale_in(model, &b.q_new, &mut sys.eval))
-        .max(crate::force::force_element_scale(model, &sys.frames));
+        .max(crate::force::force_element_scale(model, &sys.frames))
+        .max(contact_scale);
     // -h, then + G^T lambda (column by column of G, rows in order)
     for (r, h) in r_acc.iter_mut().zip(&sys.h) {
         *r -= h;
@@ -693,6 +733,36 @@ fn monitor_converged(
         system::Energy::default()
     };
     (energy, g, gd)
+}
+
+/// The regularized contacts after a converged step of size `h` (evaluated state in `ws.sys`):
+/// their states into `s.contacts` ([`crate::contact::regularized::update_regularized_states`])
+/// and, with `with_energy`, their penalty energy `sum 1/2 k g_N^2` (returned; reported with the
+/// springs' energy as the Moreau stepper does). Nothing for a model without contacts.
+fn regularized_contacts_converged(
+    model: &Model,
+    s: &mut State,
+    ws: &mut Workspace,
+    h: f64,
+    with_energy: bool,
+) -> f64 {
+    if model.contacts.is_empty() {
+        return 0.0;
+    }
+    let (sys, work) = (&ws.sys, &mut ws.contact);
+    crate::contact::regularized::update_regularized_states(
+        model,
+        &sys.frames,
+        &sys.eval,
+        work,
+        h,
+        &mut s.contacts,
+    );
+    if with_energy {
+        crate::contact::regularized_energy(model, &sys.frames, &sys.eval, work)
+    } else {
+        0.0
+    }
 }
 
 /// Copies the converged step into the state.

@@ -134,6 +134,9 @@ pub fn consistent_accelerations(
     let sys = &mut ws.sys;
     system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(s.t, 0.0))?;
     system::assemble_forces(model, s.t, &s.q, &s.u, 1.0, sys);
+    let (frames, eval) = (&sys.frames, &sys.eval);
+    let h = &mut sys.h;
+    crate::contact::regularized::add_regularized_forces(model, frames, eval, &mut ws.contact, h);
     system::update_constraints(model, s.t, sys);
     let rhs = &mut ws.step.rhs;
     rhs[..nu].copy_from_slice(&sys.h);

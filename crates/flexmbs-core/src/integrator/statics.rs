@@ -202,6 +202,14 @@ impl Statics {
         system::evaluate(model, &s.q, &s.u, sys).map_err(|e| e.at(mu, mu))?;
         system::assemble_forces(model, t, &s.q, &s.u, mu, sys);
         system::add_load_stiffening_forces(model, t, mu, &s.u_dot, &s.lambda, true, sys);
+        let (fr, ev) = (&sys.frames, &sys.eval);
+        crate::contact::regularized::add_regularized_forces(
+            model,
+            fr,
+            ev,
+            &mut ws.contact,
+            &mut sys.h,
+        );
         system::update_constraints(model, t, sys);
         let saddle = &mut ws.saddle;
         saddle.build(SaddleKind::LeastSquares, model, &s.q, &s.u, &s.lambda, sys);
@@ -243,6 +251,15 @@ impl Statics {
             // multipliers, loads at `mu` and `u_dot = 0`; their dependence on `lambda` is not in
             // the tangent
             system::add_load_stiffening_forces(model, t, mu, &s.u_dot, &s.lambda, true, sys);
+            // regularized contacts: reactions of the penalty springs (not scaled by mu)
+            let (fr, ev) = (&sys.frames, &sys.eval);
+            crate::contact::regularized::add_regularized_forces(
+                model,
+                fr,
+                ev,
+                &mut ws.contact,
+                &mut sys.h,
+            );
             system::update_constraints(model, t, sys);
             let rhs = &mut ws.step.rhs;
             for (i, ri) in rhs[..nu].iter_mut().enumerate() {
@@ -275,6 +292,7 @@ impl Statics {
             let saddle = &mut ws.saddle;
             let kind = SaddleKind::StaticTangent { t, mu };
             saddle.build(kind, model, &s.q, &s.u, &s.lambda, sys);
+            saddle.add_contact_tangents(model, &s.q, &s.u, sys, &mut ws.contact, 1.0, 0.0);
             if !saddle.factor() {
                 return Err(SolverError::Singular {
                     what: "static tangent",

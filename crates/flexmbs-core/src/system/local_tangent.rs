@@ -43,7 +43,7 @@ fn frame_owners(model: &Model, frames: &[FrameId]) -> ([FrameOwner; MAX_LOAD_FRA
 /// Global indices of a frame owner's coordinates: a range (a node, a contiguous body) or a
 /// list (a scattered body).
 #[derive(Debug, Clone)]
-enum Cols<'a> {
+pub(super) enum Cols<'a> {
     Range(std::ops::Range<usize>),
     List(&'a [usize]),
 }
@@ -56,7 +56,7 @@ impl<'a> Cols<'a> {
         }
     }
 
-    fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         match self {
             Cols::Range(r) => r.len(),
             Cols::List(v) => v.len(),
@@ -64,7 +64,7 @@ impl<'a> Cols<'a> {
     }
 
     /// Global index of local coordinate `j`.
-    fn at(&self, j: usize) -> usize {
+    pub(super) fn at(&self, j: usize) -> usize {
         match self {
             Cols::Range(r) => r.start + j,
             Cols::List(v) => v[j],
@@ -78,20 +78,20 @@ impl<'a> Cols<'a> {
         }
     }
 
-    fn overlaps(&self, other: &Cols) -> bool {
+    pub(super) fn overlaps(&self, other: &Cols) -> bool {
         match (self, other) {
             (Cols::Range(a), Cols::Range(b)) => a.start < b.end && b.start < a.end,
             _ => (0..self.len()).any(|j| other.contains(self.at(j))),
         }
     }
 
-    fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+    pub(super) fn iter(&self) -> impl Iterator<Item = usize> + '_ {
         (0..self.len()).map(|j| self.at(j))
     }
 }
 
 /// Global `q` and `u` indices of a frame owner (empty for ground).
-fn owner_ranges(model: &Model, owner: FrameOwner) -> (Cols<'_>, Cols<'_>) {
+pub(super) fn owner_ranges(model: &Model, owner: FrameOwner) -> (Cols<'_>, Cols<'_>) {
     match owner {
         FrameOwner::Ground => (Cols::Range(0..0), Cols::Range(0..0)),
         FrameOwner::Body(b) => {
@@ -107,7 +107,13 @@ fn owner_ranges(model: &Model, owner: FrameOwner) -> (Cols<'_>, Cols<'_>) {
 
 /// `q_new = q ⊕ dv` on the coordinates of `owner` (global vectors; a scattered body node by
 /// node).
-fn integrate_owner(model: &Model, owner: FrameOwner, q: &[f64], dv: &[f64], q_new: &mut [f64]) {
+pub(super) fn integrate_owner(
+    model: &Model,
+    owner: FrameOwner,
+    q: &[f64],
+    dv: &[f64],
+    q_new: &mut [f64],
+) {
     let node = |n: crate::NodeId, q_new: &mut [f64]| {
         let n = &model.nodes[n.0];
         let (rq, ru) = (n.q.clone(), n.u.clone());
@@ -137,7 +143,7 @@ fn integrate_owner(model: &Model, owner: FrameOwner, q: &[f64], dv: &[f64], q_ne
 /// body's `probe` scratch, so the evaluated state of the iterate is left alone). A perturbed
 /// state the element cannot evaluate gives NaN frames (a non-finite tangent).
 #[allow(clippy::too_many_arguments)]
-fn update_owned_frames(
+pub(super) fn update_owned_frames(
     model: &Model,
     owner: FrameOwner,
     all: bool,

@@ -53,6 +53,10 @@ pub struct AnimationWriter {
     pvd_dirty: bool,
     /// Extra point fields of the next frame ([`AnimationWriter::set_next_point_fields`]).
     next_fields: Vec<(String, usize, Vec<f64>)>,
+    /// Extra parts of the next frame ([`AnimationWriter::set_next_parts`]).
+    next_parts: Vec<super::AnimationPart>,
+    /// `(time, part, file)` of every extra part written (parts 1, 2, ...).
+    part_entries: Vec<(f64, usize, String)>,
 }
 
 impl AnimationWriter {
@@ -135,6 +139,8 @@ impl AnimationWriter {
             last_pvd: None,
             pvd_dirty: false,
             next_fields: Vec::new(),
+            next_parts: Vec::new(),
+            part_entries: Vec::new(),
         })
     }
 
@@ -155,6 +161,14 @@ impl AnimationWriter {
     /// length is an error of that frame's write.
     pub fn set_next_point_fields(&mut self, fields: Vec<(String, usize, Vec<f64>)>) {
         self.next_fields = fields;
+    }
+
+    /// Extra parts for the next frame only (contact points, contours: [`super::AnimationPart`]),
+    /// written as `<name>_frames/<name>_<part name>_NNNNNN.vtu` and listed in the `.pvd` as parts
+    /// 1, 2, ... of the frame's time (the bodies are part 0); a bad part is an error of that
+    /// frame's write.
+    pub fn set_next_parts(&mut self, parts: Vec<super::AnimationPart>) {
+        self.next_parts = parts;
     }
 
     /// Rewrites the `.pvd` if frames were written since the last rewrite.
@@ -261,6 +275,16 @@ impl AnimationWriter {
             &[("TimeValue", 1, &[t])],
             VtuEncoding::Base64,
         )?;
+        for (i, part) in std::mem::take(&mut self.next_parts).iter().enumerate() {
+            part.check()
+                .map_err(|message| ResultsError::InvalidAnimation {
+                    path: self.pvd_path(),
+                    message,
+                })?;
+            let rel = format!("{0}_frames/{0}_{1}_{k:06}.vtu", self.name, part.name);
+            super::animation_parts::write_part_vtu(&self.dir.join(&rel), part, t)?;
+            self.part_entries.push((t, i + 1, rel));
+        }
         self.entries.push((t, rel));
         self.pvd_dirty = true;
         let due = match self.last_pvd {
@@ -296,9 +320,22 @@ impl AnimationWriter {
         let pvd = self.pvd_path();
         let tmp = temporary_sibling(&pvd);
         let refs: Vec<(f64, &str)> = self.entries.iter().map(|(t, f)| (*t, f.as_str())).collect();
-        if let Err(e) = write_pvd(&tmp, &refs) {
+        let written = if self.part_entries.is_empty() {
+            write_pvd(&tmp, &refs).map_err(ResultsError::from)
+        } else {
+            // bodies (part 0) and the extra parts of each time, in time order
+            let mut all: Vec<(f64, usize, &str)> = refs.iter().map(|&(t, f)| (t, 0, f)).collect();
+            all.extend(
+                self.part_entries
+                    .iter()
+                    .map(|(t, p, f)| (*t, *p, f.as_str())),
+            );
+            all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            super::animation_parts::write_pvd_with_parts(&tmp, &all)
+        };
+        if let Err(e) = written {
             let _ = std::fs::remove_file(&tmp);
-            return Err(e.into());
+            return Err(e);
         }
         std::fs::rename(&tmp, &pvd).map_err(|source| {
             let _ = std::fs::remove_file(&tmp);
@@ -329,9 +366,11 @@ fn remove_old_frames(frames: &Path, name: &str) -> Result<(), ResultsError> {
         let Some(file) = path.file_name().and_then(|f| f.to_str()) else {
             continue;
         };
+        // `<name>_NNNNNN.vtu` and the extra parts' `<name>_<part>_NNNNNN.vtu`
         let is_frame = file
             .strip_prefix(&prefix)
             .and_then(|r| r.strip_suffix(".vtu"))
+            .map(|r| r.rsplit_once('_').map_or(r, |(_, k)| k))
             .is_some_and(|k| k.len() == 6 && k.bytes().all(|b| b.is_ascii_digit()));
         if is_frame {
             std::fs::remove_file(&path).map_err(|source| ResultsError::Io { path, source })?;

@@ -14,6 +14,7 @@
 //! `.pvd` collection for ParaView.
 
 mod animation;
+mod animation_parts;
 mod export;
 mod flusher;
 mod h5;
@@ -21,6 +22,7 @@ mod stream;
 mod writer;
 
 pub use animation::{AnimationBody, AnimationWriter};
+pub use animation_parts::{AnimationPart, VTK_LINE, VTK_QUAD, VTK_VERTEX};
 pub use export::{plot_series, write_csv};
 pub use writer::{ResultsWriter, DEFAULT_FLUSH_INTERVAL, MAX_PENDING_BYTES};
 
