@@ -171,17 +171,29 @@ pub fn modal_analysis(
         n_modes: wanted,
         ..opts.clone()
     };
-    let sol = lowest_modes(&sys.k, &sys.m, &o, progress)?;
     let expected = if free { 6 } else { 0 };
+    let mechanism = |found: usize, computed: usize| FeError::Mechanism {
+        found,
+        computed,
+        expected,
+        kind: if free { "free-free" } else { "supported" },
+        tolerance: ZERO_ENERGY_TOLERANCE,
+    };
+    let sol = match lowest_modes(&sys.k, &sys.m, &o, progress) {
+        Ok(sol) => sol,
+        Err(e @ FeError::EigenNotConverged(_)) => {
+            // a mechanism with more zero-energy modes than requested can defeat the eigen
+            // solver (a cluster at round-off zero): name the cause if that is it
+            return Err(match zero_energy_count_by_inertia(sys) {
+                Some(found) if found > expected => mechanism(found, found),
+                _ => e,
+            });
+        }
+        Err(e) => return Err(e),
+    };
     let found = count_zero_energy(&sol.omega2, spectrum_scale(&sys.k, &sys.m));
     if found > expected {
-        return Err(FeError::Mechanism {
-            found,
-            computed: sol.omega2.len(),
-            expected,
-            kind: if free { "free-free" } else { "supported" },
-            tolerance: ZERO_ENERGY_TOLERANCE,
-        });
+        return Err(mechanism(found, sol.omega2.len()));
     }
     let labels = label_modes(sys, sol.vectors.as_ref(), &sol.omega2);
     let n_rigid = count_rigid(&labels);
@@ -191,6 +203,23 @@ pub fn modal_analysis(
         labels,
         n_rigid,
     })
+}
+
+/// The number of eigenvalues of `K x = omega^2 M x` below the zero-energy bound
+/// `ZERO_ENERGY_TOLERANCE * spectrum_scale` (the definition of [`count_zero_energy`]), from the
+/// inertia of `K - b M` (Sturm count), trying the bound and two larger ones if a pivot of the
+/// first is numerically zero; `None` if none gives a reliable count.
+fn zero_energy_count_by_inertia(sys: &FeSystem) -> Option<usize> {
+    let bound = ZERO_ENERGY_TOLERANCE * spectrum_scale(&sys.k, &sys.m);
+    for factor in [1.0, 3.0, 10.0] {
+        let a = crate::eigen::shifted(&sys.k, &sys.m, factor * bound).ok()?;
+        if let Ok(Some(inertia)) = crate::eigen::ldlt_inertia(&a) {
+            if inertia.near_zero == 0 {
+                return Some(inertia.negative);
+            }
+        }
+    }
+    None
 }
 
 /// Builds a reduced body from the elastic modes of a modal analysis (rigid-body modes excluded,
