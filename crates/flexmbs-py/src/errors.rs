@@ -134,9 +134,15 @@ pub fn results_error(py: Python<'_>, e: &ResultsError) -> PyErr {
     }
 }
 
-/// A run error: `ModelError`, `SolverError` (time, step, residual, results file), `IoError`, or
-/// `Error` for an internal error.
-pub fn run_error(py: Python<'_>, e: &RunError, origin: Origin) -> PyErr {
+/// A run error: `ModelError`, `SolverError` (time, step, residual, results file, and the hint
+/// chosen by the cause of the failure for a run with `solver`), `IoError`, or `Error` for an
+/// internal error.
+pub fn run_error(
+    py: Python<'_>,
+    e: &RunError,
+    origin: Origin,
+    solver: &flexmbs_sim::SolverConfig,
+) -> PyErr {
     match e {
         RunError::Model(m) => sim_error(py, m, origin),
         RunError::Results(r) => results_error(py, r),
@@ -149,6 +155,7 @@ pub fn run_error(py: Python<'_>, e: &RunError, origin: Origin) -> PyErr {
             h,
             residual,
             results,
+            cause,
             ..
         } => raise(
             py,
@@ -159,6 +166,7 @@ pub fn run_error(py: Python<'_>, e: &RunError, origin: Origin) -> PyErr {
                 ("h", Attr::Float(*h)),
                 ("residual", Attr::Float(*residual)),
                 ("results", path_attr(results)),
+                ("hint", Attr::Str(cause.hint(solver))),
             ],
         ),
         RunError::Internal { results, .. } => raise(

@@ -164,6 +164,6 @@ pub fn run<'py>(
     }
     match result {
         Ok(summary) => summary_dict(py, &summary),
-        Err(e) => Err(run_error(py, &e, origin)),
+        Err(e) => Err(run_error(py, &e, origin, &cm.solver)),
     }
 }

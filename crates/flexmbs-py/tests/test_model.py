@@ -172,6 +172,7 @@ def test_solver_error_keeps_a_failed_results_file(pendulum: flexmbs.Model, tmp_p
     err = e.value
     assert isinstance(err, flexmbs.Error)
     assert 0.0 <= err.t < 20.0 and err.h == pytest.approx(0.5)
+    assert isinstance(err.hint, str) and "`h`" in err.hint, err.hint
     r = flexmbs.read_results(err.results)
     assert r.status == "failed" and r.status_time == pytest.approx(err.t)
     assert r.time[-1] <= err.t + 1e-12

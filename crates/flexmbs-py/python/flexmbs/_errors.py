@@ -42,12 +42,15 @@ class SolverError(Error):
         h: its step size in s.
         residual: the last residual (NaN if unknown).
         results: path of the results file.
+        hint: what to try, chosen by the cause of the failure (the text the command line
+            prints after ``hint:``).
     """
 
     t: float = float("nan")
     h: float = float("nan")
     residual: float = float("nan")
     results: str | None = None
+    hint: str | None = None
 
 
 class IoError(Error):
