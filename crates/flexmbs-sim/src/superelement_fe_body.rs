@@ -12,8 +12,8 @@ use crate::error::SimError;
 use crate::schema::{BodySpec, ModelFile, RotationName};
 use crate::superelement_fe::{superelement_from_reduced, FeFrame};
 use crate::superelements::{
-    fixed_joint, initial_velocity, new_interface, superelement_keys_present, Component,
-    FictitiousName, FrameName, MatricesName, PendingJoint, SuperelementBuild, NO_STRESS,
+    fixed_joint, initial_velocity, new_interface, Component, FictitiousName, FrameName,
+    MatricesName, PendingJoint, SuperelementBuild, NO_STRESS,
 };
 use crate::units::Dimension;
 use flexmbs_core::superelement::{FictitiousForces, Superelement, TransformMatrices};
@@ -163,22 +163,6 @@ pub(crate) fn add_fe_superelement(
 
 /// Refuses the keys a superelement body does not use.
 fn check_keys(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(), SimError> {
-    let mut present = vec![
-        ("mass", b.mass.is_some()),
-        ("inertia", b.inertia.is_some()),
-        ("inertia_matrix", b.inertia_matrix.is_some()),
-        ("box", b.box_size.is_some()),
-        ("source", b.source.is_some()),
-        ("units", b.units.is_some()),
-        ("modes", b.modes.is_some()),
-        ("damping", b.damping.is_some()),
-        ("geometric_stiffening", b.geometric_stiffening.is_some()),
-        ("load_stiffening", b.load_stiffening.is_some()),
-        ("rotary_inertia", b.rotary_inertia.is_some()),
-        ("modal_coordinates", b.modal_coordinates.is_some()),
-        ("modal_velocities", b.modal_velocities.is_some()),
-    ];
-    present.extend(superelement_keys_present(b));
     let allowed = [
         "source",
         "frame",
@@ -187,15 +171,7 @@ fn check_keys(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(), SimError> {
         "interfaces",
         "fixed",
     ];
-    ctx.only(p, "a superelement body", &present, &allowed)?;
-    if b.rotation != RotationName::Cardan {
-        return Err(ctx.err(
-            &format!("{p}.rotation"),
-            "a superelement body has no rotation coordinates of its own (its interface points \
-             rotate by quaternions): remove `rotation`",
-        ));
-    }
-    Ok(())
+    crate::superelements::check_superelement_keys(ctx, p, b, "a superelement body", &allowed)
 }
 
 /// The FE source of body `b` from `cache`, read and reduced by [`load_source`] on first use.

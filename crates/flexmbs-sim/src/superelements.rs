@@ -282,6 +282,20 @@ fn component_input(
 
 /// Refuses the keys of rigid and ffr bodies.
 fn check_keys(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(), SimError> {
+    let allowed: Vec<&str> = superelement_keys_present(b).iter().map(|k| k.0).collect();
+    check_superelement_keys(ctx, p, b, "a superelement_beam body", &allowed)
+}
+
+/// Refuses, for a superelement body of kind `kind` (`superelement_beam` or `superelement`), every
+/// key of rigid and ffr bodies and every superelement key not in `allowed`, and a `rotation`
+/// (its interface points rotate by quaternions).
+pub(crate) fn check_superelement_keys(
+    ctx: &Ctx,
+    p: &str,
+    b: &BodySpec,
+    kind: &str,
+    allowed: &[&str],
+) -> Result<(), SimError> {
     let mut present = vec![
         ("mass", b.mass.is_some()),
         ("inertia", b.inertia.is_some()),
@@ -292,16 +306,20 @@ fn check_keys(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<(), SimError> {
         ("modes", b.modes.is_some()),
         ("damping", b.damping.is_some()),
         ("geometric_stiffening", b.geometric_stiffening.is_some()),
+        ("load_stiffening", b.load_stiffening.is_some()),
         ("rotary_inertia", b.rotary_inertia.is_some()),
+        ("modal_coordinates", b.modal_coordinates.is_some()),
+        ("modal_velocities", b.modal_velocities.is_some()),
     ];
     present.extend(superelement_keys_present(b));
-    let allowed: Vec<&str> = superelement_keys_present(b).iter().map(|k| k.0).collect();
-    ctx.only(p, "a superelement_beam body", &present, &allowed)?;
+    ctx.only(p, kind, &present, allowed)?;
     if b.rotation != RotationName::Cardan {
         return Err(ctx.err(
             &format!("{p}.rotation"),
-            "a superelement_beam body has no rotation coordinates of its own (its interface \
-             points rotate by quaternions): remove `rotation`",
+            format!(
+                "{kind} has no rotation coordinates of its own (its interface points rotate by \
+                 quaternions): remove `rotation`"
+            ),
         ));
     }
     Ok(())

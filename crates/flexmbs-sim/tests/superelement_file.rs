@@ -502,6 +502,11 @@ INTERFACE
             "not used by a superelement_beam body",
         ),
         (
+            CANTILEVER.replace("segments = 10", "segments = 10\nload_stiffening = true"),
+            "body[0].load_stiffening",
+            "not used by a superelement_beam body",
+        ),
+        (
             CANTILEVER.replace("frame = \"beam.i10\"", "frame = \"beam.i11\""),
             "load[0].frame",
             "unknown frame `beam.i11`",
