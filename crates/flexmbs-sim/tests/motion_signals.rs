@@ -193,6 +193,7 @@ animation = false
 #[test]
 fn crank_angle_is_unwrapped_over_turns() {
     let dir = common::work_dir("motion", "crank");
+    let crank = driven_crank(CRANK_START);
     for every in ["every = 1", "dt = \"0.5 s\""] {
         let text = format!(
             r#"
@@ -202,27 +203,7 @@ name = "crank"
 type = "generalized-alpha"
 h = "1 ms"
 t_end = "3 s"
-[[body]]
-name = "crank"
-type = "rigid"
-mass = "1 kg"
-inertia = [0.001, 0.01, 0.01]
-position = [0.1, 0, 0]
-angular_velocity = [0, 0, "10 rad/s"]
-velocity = [0, 1.0, 0]
-[[frame]]
-name = "axis"
-body = "ground"
-[[frame]]
-name = "hub"
-body = "crank"
-position = [-0.1, 0, 0]
-[[joint]]
-name = "drive"
-type = "revolute"
-a = "axis"
-b = "hub"
-angular_velocity = "10 rad/s"
+{crank}
 [[body]]
 name = "probe"
 type = "rigid"
@@ -285,25 +266,14 @@ animation = false
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The crank driven at 10 rad/s to 1 s (10 rad, more than one and a half turns), restarted from
-/// its last row to 1.5 s: the restarted run continues the unwrapped angle (`phi = 10 t` to
-/// 1e-9 rad, its first row equal to the stored 10 rad) instead of starting again in (-pi, pi].
-#[test]
-fn restart_continues_the_unwrapped_angle() {
-    let dir = common::work_dir("motion", "restart_angle");
-    // the restarted model takes the state from the results file: no initial velocities
-    let start = "angular_velocity = [0, 0, \"10 rad/s\"]\nvelocity = [0, 1.0, 0]";
-    let text = |t_end: &str, restart: &str, start: &str| {
-        format!(
-            r#"
-[model]
-name = "crank"
-[solver]
-type = "generalized-alpha"
-h = "1 ms"
-t_end = "{t_end}"
-{restart}
-[[body]]
+/// Initial velocities of the crank of [`driven_crank`] turning at 10 rad/s about the axis.
+const CRANK_START: &str = "angular_velocity = [0, 0, \"10 rad/s\"]\nvelocity = [0, 1.0, 0]";
+
+/// A crank 0.1 m long, hinged to ground at the origin by the revolute joint `drive` driven at
+/// 10 rad/s; `start`: its initial velocities (empty for a restart).
+fn driven_crank(start: &str) -> String {
+    format!(
+        r#"[[body]]
 name = "crank"
 type = "rigid"
 mass = "1 kg"
@@ -322,17 +292,39 @@ name = "drive"
 type = "revolute"
 a = "axis"
 b = "hub"
-angular_velocity = "10 rad/s"
+angular_velocity = "10 rad/s""#
+    )
+}
+
+/// The crank driven at 10 rad/s to 1 s (10 rad, more than one and a half turns), restarted from
+/// its last row to 1.5 s: the restarted run continues the unwrapped angle (`phi = 10 t` to
+/// 1e-9 rad, its first row equal to the stored 10 rad) instead of starting again in (-pi, pi].
+#[test]
+fn restart_continues_the_unwrapped_angle() {
+    let dir = common::work_dir("motion", "restart_angle");
+    let text = |t_end: &str, restart: &str, start: &str| {
+        let crank = driven_crank(start);
+        format!(
+            r#"
+[model]
+name = "crank"
+[solver]
+type = "generalized-alpha"
+h = "1 ms"
+t_end = "{t_end}"
+{restart}
+{crank}
 [output]
 signals = ["drive.coordinates"]
 animation = false
 "#
         )
     };
-    let first = run(&dir, "first", &text("1 s", "", start));
+    let first = run(&dir, "first", &text("1 s", "", CRANK_START));
     let stored = *series(&first, "drive.coordinates.rz").last().unwrap();
     assert!((stored - 10.0).abs() < 1e-9, "{stored}");
     let key = format!("restart = {{ results = \"{}\" }}", first.path().display());
+    // the restarted model takes the state from the results file: no initial velocities
     let second = run(&dir, "second", &text("1.5 s", &key, ""));
     let phi = series(&second, "drive.coordinates.rz");
     assert!((phi[0] - stored).abs() < 1e-12, "{} vs {stored}", phi[0]);
