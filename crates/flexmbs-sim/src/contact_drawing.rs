@@ -3,10 +3,11 @@
 //! point fields `gap`, `normal_force` (the last step's normal impulse over its step; 0 in the
 //! first frame), `normal` and `contact` (its index)) and `contours` (the contours sampled at the
 //! state, deformed like the drawn bodies: quads of surfaces and bands, lines of curves, circles,
-//! with the cell field `contact`).
+//! planes as a square patch under their partner, points as vertices, with the cell field
+//! `contact`).
 
 use crate::compile::CompiledModel;
-use flexmbs_core::contact::drawing::{draw_contour, ContourDrawing};
+use flexmbs_core::contact::drawing::{draw_contact_pair, ContourDrawing};
 use flexmbs_core::contact::ContactWork;
 use flexmbs_core::{ElementScratch, FrameKinematics, State};
 use flexmbs_io::results::{AnimationPart, VTK_LINE, VTK_QUAD, VTK_VERTEX};
@@ -53,17 +54,7 @@ pub(crate) fn contact_parts(
         }
         let mut d = ContourDrawing::default();
         let scale = cm.output.deformation_scale;
-        for contour in [c.contour_a.as_ref(), c.contour_b.as_ref()] {
-            draw_contour(
-                m,
-                contour,
-                frames,
-                eval,
-                scale,
-                CONTOUR_SUBDIVISIONS,
-                &mut d,
-            );
-        }
+        draw_contact_pair(m, c, frames, eval, scale, CONTOUR_SUBDIVISIONS, &mut d);
         let base = contours.points.len();
         contours
             .points
@@ -76,7 +67,8 @@ pub(crate) fn contact_parts(
             .quads
             .iter()
             .map(|q| (VTK_QUAD, q.iter().map(|k| base + k).collect()));
-        for cell in lines.chain(quads) {
+        let vertices = d.vertices.iter().map(|&k| (VTK_VERTEX, vec![base + k]));
+        for cell in lines.chain(quads).chain(vertices) {
             contours.cells.push(cell);
             contour_index.push(i as f64);
         }

@@ -1,12 +1,15 @@
 //! Contours sampled for drawing (the ParaView output of a run): a neutral NURBS surface as a
 //! grid of quads, a neutral curve as a polyline, a flexible band as a strip of quads, all at the
 //! deformed state (elastic part scaled like the drawn bodies); spheres and circles as circles
-//! of line segments. Points and planes draw nothing (a point is its contact point; a plane has
-//! no extent). Allocates: for output, not for a time step.
+//! of line segments; a point as a vertex; a plane (infinite) as a square patch in its frame's
+//! x-y plane centred under its partner contour ([`draw_contact_pair`]). Closed (periodic)
+//! curves and surfaces are drawn closed: the last sample joined to the first. Allocates: for
+//! output, not for a time step.
 
 use super::contour::{CircleContour, Contour, ContourKind, SphereContour};
 use super::flexible::{FlexibleBand, NeutralCurve, NeutralSurface};
 use super::unit_or_zero;
+use super::Contact;
 use crate::element::{ElementScratch, FrameKinematics};
 use crate::ffr::{FfrEval, FfrScratch};
 use crate::model::{FrameOwner, Model};
@@ -21,7 +24,15 @@ pub struct ContourDrawing {
     pub lines: Vec<[usize; 2]>,
     /// Quadrilaterals (indices into `points`, counter-clockwise in the parameters).
     pub quads: Vec<[usize; 4]>,
+    /// Vertices (indices into `points`): point contours.
+    pub vertices: Vec<usize>,
 }
+
+/// Half-width (m) of the patch drawn for a plane whose partner has no radius (a point).
+pub const PLANE_PATCH_HALF_WIDTH: f64 = 0.1;
+
+/// Half-width of a plane's patch, in radii of a sphere or circle partner.
+pub const PLANE_PATCH_RADII: f64 = 4.0;
 
 /// The parameters `params` (increasing) with `subdivisions - 1` equally spaced values inserted
 /// in every interval (`subdivisions >= 1`): the contour's node parameters come out at every
@@ -55,13 +66,89 @@ fn scaled_owner_state(
     Some(s)
 }
 
-/// Adds the quads of an `n_a x n_b` grid of points (row-major from `base`) to `out`.
-fn grid_quads(base: usize, n_a: usize, n_b: usize, out: &mut ContourDrawing) {
-    for i in 0..n_a.saturating_sub(1) {
-        for j in 0..n_b.saturating_sub(1) {
-            let p = |i: usize, j: usize| base + i * n_b + j;
+/// The drawing samples of one parameter direction: [`refined_parameters`] of the node
+/// parameters, and for a closed (periodic) direction also the closing interval up to the
+/// domain's end, whose end sample (the first point again) is left out: the drawing joins the
+/// last sample to the first instead.
+fn drawing_samples(params: &[f64], closed: bool, domain_end: f64, subdivisions: usize) -> Vec<f64> {
+    if !closed || params.last().is_none_or(|&u| u >= domain_end) {
+        return refined_parameters(params, subdivisions);
+    }
+    let mut with_end = params.to_vec();
+    with_end.push(domain_end);
+    let mut s = refined_parameters(&with_end, subdivisions);
+    s.pop();
+    s
+}
+
+/// Adds the quads of an `n_a x n_b` grid of points (row-major from `base`) to `out`; a closed
+/// direction (`wrap`) also gets the quads joining its last row to its first.
+fn grid_quads(base: usize, n_a: usize, n_b: usize, wrap: [bool; 2], out: &mut ContourDrawing) {
+    let cells = |n: usize, w: bool| if w && n > 2 { n } else { n.saturating_sub(1) };
+    let p = |i: usize, j: usize| base + (i % n_a) * n_b + j % n_b;
+    for i in 0..cells(n_a, wrap[0]) {
+        for j in 0..cells(n_b, wrap[1]) {
             out.quads
                 .push([p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]);
+        }
+    }
+}
+
+/// Adds a square patch of half-width `half_width` of the plane through `frame` (its x-y plane)
+/// to `out`, centred at the projection of `around` onto the plane.
+pub fn draw_plane_patch(
+    frame: &FrameKinematics,
+    around: &Vector3<f64>,
+    half_width: f64,
+    out: &mut ContourDrawing,
+) {
+    let a = frame.rotation;
+    let (ex, ey, ez) = (
+        a.column(0).into_owned(),
+        a.column(1).into_owned(),
+        a.column(2).into_owned(),
+    );
+    let c = around - (around - frame.position).dot(&ez) * ez;
+    let base = out.points.len();
+    for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+        out.points.push(c + half_width * (sx * ex + sy * ey));
+    }
+    out.quads.push([base, base + 1, base + 2, base + 3]);
+}
+
+/// The half-width of the patch drawn for a plane touched by `partner`:
+/// [`PLANE_PATCH_RADII`] radii of a sphere or circle, else [`PLANE_PATCH_HALF_WIDTH`].
+fn plane_patch_half_width(partner: &dyn Contour) -> f64 {
+    let any = partner.as_any();
+    let radius = match partner.kind() {
+        ContourKind::Sphere => any.downcast_ref::<SphereContour>().map(|s| s.radius),
+        ContourKind::Circle => any.downcast_ref::<CircleContour>().map(|c| c.radius),
+        _ => None,
+    };
+    radius.map_or(PLANE_PATCH_HALF_WIDTH, |r| PLANE_PATCH_RADII * r)
+}
+
+/// Samples both contours of `contact` into `out` ([`draw_contour`]); a plane is drawn as a
+/// patch centred under its partner's frame origin ([`draw_plane_patch`], half-width from
+/// the partner: [`PLANE_PATCH_RADII`] radii of a sphere or circle, else
+/// [`PLANE_PATCH_HALF_WIDTH`]).
+pub fn draw_contact_pair(
+    model: &Model,
+    contact: &Contact,
+    frames: &[FrameKinematics],
+    eval: &[ElementScratch],
+    deformation_scale: f64,
+    subdivisions: usize,
+    out: &mut ContourDrawing,
+) {
+    let (a, b) = (contact.contour_a.as_ref(), contact.contour_b.as_ref());
+    for (c, partner) in [(a, b), (b, a)] {
+        if c.kind() == ContourKind::Plane {
+            let around = frames[partner.frame().0].position;
+            let half = plane_patch_half_width(partner);
+            draw_plane_patch(&frames[c.frame().0], &around, half, out);
+        } else {
+            draw_contour(model, c, frames, eval, deformation_scale, subdivisions, out);
         }
     }
 }
@@ -112,8 +199,14 @@ pub fn draw_contour(
             if c.update(&s, &mut st).is_err() {
                 return;
             }
-            let eta = refined_parameters(c.interpolator().eta().params(), subdivisions);
-            let xi = refined_parameters(c.interpolator().xi().params(), subdivisions);
+            let (ie, ix) = (c.interpolator().eta(), c.interpolator().xi());
+            let closed = [
+                ie.knot_vector().is_periodic(),
+                ix.knot_vector().is_periodic(),
+            ];
+            let end = [ie.knot_vector().domain().1, ix.knot_vector().domain().1];
+            let eta = drawing_samples(ie.params(), closed[0], end[0], subdivisions);
+            let xi = drawing_samples(ix.params(), closed[1], end[1], subdivisions);
             let base = out.points.len();
             for &e in &eta {
                 for &x in &xi {
@@ -122,7 +215,7 @@ pub fn draw_contour(
                         .push(p.map_or(Vector3::repeat(f64::NAN), |p| p.position));
                 }
             }
-            grid_quads(base, eta.len(), xi.len(), out);
+            grid_quads(base, eta.len(), xi.len(), closed, out);
         }
         ContourKind::NeutralCurve | ContourKind::FlexibleBand => {
             let band = any.downcast_ref::<FlexibleBand>();
@@ -137,7 +230,14 @@ pub fn draw_contour(
             if c.update(&s, &mut st).is_err() {
                 return;
             }
-            let eta = refined_parameters(c.interpolator().params(), subdivisions);
+            let kv = c.interpolator().knot_vector();
+            let closed = kv.is_periodic();
+            let eta = drawing_samples(
+                c.interpolator().params(),
+                closed,
+                kv.domain().1,
+                subdivisions,
+            );
             let base = out.points.len();
             for &e in &eta {
                 let Ok(p) = c.point(&r, &r_dot, &s, &mut st, e) else {
@@ -158,11 +258,15 @@ pub fn draw_contour(
                     None => out.points.push(p.position),
                 }
             }
+            let n = eta.len();
             if band.is_some() {
-                grid_quads(base, eta.len(), 2, out);
+                grid_quads(base, n, 2, [closed, false], out);
             } else {
-                for i in 1..eta.len() {
+                for i in 1..n {
                     out.lines.push([base + i - 1, base + i]);
+                }
+                if closed && n > 2 {
+                    out.lines.push([base + n - 1, base]);
                 }
             }
         }
@@ -189,6 +293,70 @@ pub fn draw_contour(
             let (ex, ey) = (a.column(0).into_owned(), a.column(1).into_owned());
             add_circle(r, ex, ey, ci.radius, 16 * subdivisions.max(1), out);
         }
-        ContourKind::Point | ContourKind::Plane => {}
+        ContourKind::Point => {
+            out.vertices.push(out.points.len());
+            out.points.push(r);
+        }
+        ContourKind::Plane => {
+            draw_plane_patch(k, &r, PLANE_PATCH_HALF_WIDTH, out);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Rotation3;
+
+    #[test]
+    fn open_and_closed_directions_are_sampled_and_joined() {
+        // open: nodes at 0, 0.5, 1 refined twice: 5 samples, 4 segments of quads' rows
+        let open = drawing_samples(&[0.0, 0.5, 1.0], false, 1.0, 2);
+        assert_eq!(open, vec![0.0, 0.25, 0.5, 0.75, 1.0]);
+        // closed: the interval from the last node to the domain end is sampled too, its end
+        // (= the first point) left out
+        let closed = drawing_samples(&[0.0, 0.4, 0.7], true, 1.0, 2);
+        assert_eq!(closed, vec![0.0, 0.2, 0.4, 0.55, 0.7, 0.85]);
+        // an open 3 x 2 grid has 2 quads; closing the 3-direction adds the seam quad, which
+        // joins the last row to the first
+        let mut d = ContourDrawing::default();
+        grid_quads(10, 3, 2, [false, false], &mut d);
+        assert_eq!(d.quads, vec![[10, 12, 13, 11], [12, 14, 15, 13]]);
+        let mut d = ContourDrawing::default();
+        grid_quads(0, 3, 4, [true, true], &mut d);
+        assert_eq!(d.quads.len(), 12, "a closed 3 x 4 torus grid has 12 cells");
+        assert!(d.quads.contains(&[11, 3, 0, 8]), "{:?}", d.quads);
+        // every edge of the torus grid is shared by exactly two quads
+        let mut edges = std::collections::HashMap::new();
+        for q in &d.quads {
+            for k in 0..4 {
+                let (a, b) = (q[k], q[(k + 1) % 4]);
+                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        assert!(edges.values().all(|&n| n == 2), "{edges:?}");
+    }
+
+    #[test]
+    fn plane_patch_lies_in_the_plane_under_the_partner() {
+        let mut f = FrameKinematics::new(0);
+        f.position = Vector3::new(1.0, 2.0, 3.0);
+        f.rotation = *Rotation3::from_euler_angles(0.3, -0.2, 0.7).matrix();
+        let ez = f.rotation.column(2).into_owned();
+        let around = Vector3::new(0.5, -1.0, 4.0);
+        let mut d = ContourDrawing::default();
+        draw_plane_patch(&f, &around, 0.25, &mut d);
+        assert_eq!(d.quads, vec![[0, 1, 2, 3]]);
+        let centre = d.points.iter().sum::<Vector3<f64>>() / 4.0;
+        for p in &d.points {
+            assert!((p - f.position).dot(&ez).abs() < 1e-14, "in the plane");
+            assert!(((p - centre).norm() - 0.25 * 2f64.sqrt()).abs() < 1e-14);
+        }
+        // the centre is the partner's foot point: around - centre along the normal
+        let off = around - centre;
+        assert!((off - off.dot(&ez) * ez).norm() < 1e-14, "{off:?}");
+        // counter-clockwise about the outward normal z
+        let n = (d.points[1] - d.points[0]).cross(&(d.points[2] - d.points[1]));
+        assert!(n.dot(&ez) > 0.0);
     }
 }
