@@ -614,3 +614,34 @@ fn bilateral_contact_holds_a_ball_under_a_ceiling() {
     assert!(max_gap < 1e-12, "gap {max_gap}");
     assert!(pulling, "the bilateral contact must pull");
 }
+
+/// DOPRI5 refuses a model with contacts (it would integrate through them as if absent), through
+/// its own entry point and through the stepper contract.
+#[test]
+fn dopri5_refuses_contacts() {
+    use flexmbs_core::integrator::{Dopri5, Dopri5Settings, Dopri5Stepper};
+    use flexmbs_core::SolverError;
+    let (model, mut s, _) = ball_on_plane(ContactLaw::unilateral(0.5), 0.1, 0.2);
+    let mut ws = Workspace::new(&model);
+    let dopri = Dopri5::new(Dopri5Settings::default());
+    let e = dopri
+        .integrate(&model, &mut s, &mut ws, 0.1, |_, _| {})
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            SolverError::InvalidSetting {
+                name: "contact",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("DOPRI5 does not handle contacts"),
+        "{e}"
+    );
+    let mut st = Dopri5Stepper::new(dopri);
+    let e = st.initialize(&model, &mut s, &mut ws).unwrap_err();
+    assert!(matches!(e, SolverError::InvalidSetting { .. }), "{e}");
+}

@@ -176,13 +176,22 @@ impl Dopri5 {
         drive(&mut stepper, model, s, ws, control, t_end, on_step)
     }
 
-    /// The state fits the model and the model has no constraints.
+    /// The state fits the model and the model has no constraints and no contacts (DOPRI5
+    /// would integrate through them as if they were absent).
     pub(super) fn check(&self, model: &Model, s: &State) -> Result<(), SolverError> {
         crate::system::check_state_size(model, s)?;
         if model.nc > 0 {
             return Err(SolverError::ConstraintsUnsupported {
                 integrator: "DOPRI5",
                 nc: model.nc,
+            });
+        }
+        if !model.contacts.is_empty() {
+            return Err(SolverError::InvalidSetting {
+                name: "contact",
+                value: model.contacts.len() as f64,
+                reason: "DOPRI5 does not handle contacts: use generalized-alpha (regularized \
+                         laws) or the Moreau stepper",
             });
         }
         Ok(())
