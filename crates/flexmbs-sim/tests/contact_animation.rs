@@ -200,7 +200,7 @@ fn contact_points_and_deformed_contours_are_drawn() {
 /// VTK's own reader (`vtkXMLUnstructuredGridReader`, PyPI `vtk`) loads the last contour and
 /// contact-point files: the contour as quads (cell type 9) and the point contour as a vertex
 /// (type 1) with as many points as written, the contact points as two vertices (type 1) with the point fields. Skipped with a printed reason
-/// when python3 or its vtk module is missing.
+/// when python3 or its vtk module is missing (a failure with `FLEXMBS_REQUIRE_TOOLS=1`, as in CI).
 fn vtk_reads_the_parts(frames: &Path, contour_points: usize) {
     let last = |part: &str| {
         let prefix = format!("pressed_beam_{part}_");
@@ -234,27 +234,20 @@ print("|".join(out))
         last("contours").to_string_lossy(),
         last("contact_points").to_string_lossy()
     );
+    if !flexmbs_io::test_tools::python_or_skip("contact_animation VTK reader check", &["vtk"]) {
+        return;
+    }
     let run = std::process::Command::new("python3")
         .arg("-c")
         .arg(&script)
-        .output();
-    let out = match run {
-        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).trim().to_string(),
-        Ok(o) => {
-            println!(
-                "skipped the VTK reader check: {}",
-                String::from_utf8_lossy(&o.stderr)
-                    .lines()
-                    .last()
-                    .unwrap_or("")
-            );
-            return;
-        }
-        Err(e) => {
-            println!("skipped the VTK reader check: python3: {e}");
-            return;
-        }
-    };
+        .output()
+        .expect("python3 runs");
+    assert!(
+        run.status.success(),
+        "VTK reader failed: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let out = String::from_utf8_lossy(&run.stdout).trim().to_string();
     println!("VTK reader: {out}");
     let (contours, points) = out.split_once('|').unwrap();
     assert_eq!(contours, format!("{contour_points} [1, 9] []"));
