@@ -14,19 +14,34 @@ pub const SLIDER_CRANK: &str = include_str!("../../../examples/mbs/slider_crank.
 /// Its FE rod (referenced as `parts/rod.toml`).
 pub const SLIDER_CRANK_ROD: &str = include_str!("../../../examples/mbs/parts/rod.toml");
 
-/// Writes the embedded slider-crank model into `out/slider_crank/` and runs it through the same
-/// path as `flexmbs run` (results.h5, CSV, plots, ParaView animation).
-fn run_slider_crank(out: &Path, quiet: bool) -> Result<()> {
-    let dir = out.join("slider_crank");
+/// The embedded contact model: a point mass bouncing on a soft flexible beam (NURBS contour on
+/// the FFR body's face, Newton impact, Moreau time-stepping).
+pub const POINT_MASS_ON_BEAM: &str = include_str!("../../../examples/mbs/point_mass_on_beam.toml");
+/// Its FE beam (referenced as `parts/soft_beam.toml`).
+pub const SOFT_BEAM: &str = include_str!("../../../examples/mbs/parts/soft_beam.toml");
+
+/// Writes an embedded multibody model `name` (`model` text, `parts`: file name under `parts/`
+/// and text) into `out/<name>/` and runs it through the same path as `flexmbs run` (results.h5,
+/// CSV, plots, ParaView animation).
+fn run_embedded(
+    out: &Path,
+    name: &str,
+    model: &str,
+    parts: &[(&str, &str)],
+    quiet: bool,
+) -> Result<()> {
+    let dir = out.join(name);
     std::fs::create_dir_all(dir.join("parts"))?;
-    let model = dir.join("slider_crank.toml");
-    std::fs::write(&model, SLIDER_CRANK)?;
-    std::fs::write(dir.join("parts/rod.toml"), SLIDER_CRANK_ROD)?;
-    let cm = flexmbs_sim::load_model(&model)?;
+    let file = dir.join(format!("{name}.toml"));
+    std::fs::write(&file, model)?;
+    for (part, text) in parts {
+        std::fs::write(dir.join("parts").join(part), text)?;
+    }
+    let cm = flexmbs_sim::load_model(&file)?;
     let opts = flexmbs_sim::run::RunOptions::new(&dir);
     match crate::run_cmd::run_compiled(&cm, &opts, quiet)? {
         0 => Ok(()),
-        code => anyhow::bail!("slider-crank run ended with exit code {code}"),
+        code => anyhow::bail!("{name} run ended with exit code {code}"),
     }
 }
 
@@ -115,9 +130,16 @@ pub fn run(out: &Path, quiet: bool) -> Result<()> {
     .write(&out.join("frequencies.png"))?;
     crate::demo_sim::run(out, &reduced, quiet)?;
     println!("\nflexible slider-crank (examples/mbs/slider_crank.toml):");
-    run_slider_crank(out, quiet)?;
+    let rod = [("rod.toml", SLIDER_CRANK_ROD)];
+    run_embedded(out, "slider_crank", SLIDER_CRANK, &rod, quiet)?;
     println!(
-        "\nwrote {0}/slider_crank/ (results.h5, slider_crank.pvd, plots), {0}/tip.csv, {0}/tip.png, {0}/animation/cantilever.pvd (ParaView), {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes_animation.pvd)",
+        "\ncontact on a flexible body: a point mass bouncing on a soft beam's NURBS face \
+         (examples/mbs/point_mass_on_beam.toml):"
+    );
+    let beam = [("soft_beam.toml", SOFT_BEAM)];
+    run_embedded(out, "point_mass_on_beam", POINT_MASS_ON_BEAM, &beam, quiet)?;
+    println!(
+        "\nwrote {0}/slider_crank/ (results.h5, slider_crank.pvd, plots), {0}/point_mass_on_beam/ (results.h5, point_mass_on_beam.pvd with the contact points and the deformed contour, plots), {0}/tip.csv, {0}/tip.png, {0}/animation/cantilever.pvd (ParaView), {0}/frequencies.csv, {0}/frequencies.png, {1} and {2} ParaView files in {3} (open modes_animation.pvd)",
         out.display(),
         body_path.display(),
         files.len(),

@@ -119,8 +119,9 @@ enum Command {
     },
     /// The main job on embedded models: modal analysis and reduction of a steel cantilever and its
     /// time simulation as an FFR body under a tip force step (CSV, plots, reduced-body file, ParaView
-    /// animations), then the flexible slider-crank multibody model run end to end like
-    /// `flexmbs run` (results.h5, plots, animation in <output>/slider_crank/).
+    /// animations), then the flexible slider-crank multibody model and a point mass bouncing on a
+    /// soft beam's NURBS face (contact on a flexible body) run end to end like `flexmbs run`
+    /// (results.h5, plots, animations in <output>/slider_crank/ and <output>/point_mass_on_beam/).
     Demo {
         /// Output folder.
         #[arg(long, short, default_value = "out/demo")]
