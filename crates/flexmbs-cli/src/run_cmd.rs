@@ -108,7 +108,8 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
                 SolverConfig::Moreau { .. } => "contact-solver sweeps",
                 _ => "Newton iterations",
             };
-            print_summary(&summary, statics, work);
+            let contacts = !cm.model.contacts.is_empty();
+            print_summary(&summary, statics, work, contacts);
             for w in &summary.warnings {
                 eprintln!("warning: {w}");
             }
@@ -128,8 +129,10 @@ pub fn run_compiled(cm: &CompiledModel, opts: &RunOptions, quiet: bool) -> Resul
     }
 }
 
-/// The run's summary; `work` names what `newton_iterations` counts for the solver.
-fn print_summary(s: &RunSummary, statics: bool, work: &str) {
+/// The run's summary; `work` names what `newton_iterations` counts for the solver; with
+/// `contacts` the energy balance says that it contains what the contacts dissipate (not
+/// metered as work).
+fn print_summary(s: &RunSummary, statics: bool, work: &str, contacts: bool) {
     if statics {
         println!(
             "statics completed: full load in {} load increments, {} Newton iterations, wall time {:.2} s",
@@ -164,8 +167,17 @@ fn print_summary(s: &RunSummary, statics: bool, work: &str) {
         s.steps as f64 / s.wall_time.as_secs_f64().max(1e-9)
     );
     println!(
-        "  energy: initial {:.6e} J, work W of loads, dampers, drives and geometric stiffening {:.6e} J, largest balance error |E - W - E0| {:.3e} J; constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
-        s.energy_initial, s.external_work, s.energy_drift, s.position_drift, s.velocity_drift
+        "  energy: initial {:.6e} J, work W of loads, dampers, drives and geometric stiffening {:.6e} J, largest balance error |E - W - E0| {:.3e} J{}; constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
+        s.energy_initial,
+        s.external_work,
+        s.energy_drift,
+        if contacts {
+            " (includes the energy the contacts dissipate: impacts with restitution < 1, friction, contact damping)"
+        } else {
+            ""
+        },
+        s.position_drift,
+        s.velocity_drift
     );
     println!("  {} output rows; files:", s.rows);
     for f in &s.files {
