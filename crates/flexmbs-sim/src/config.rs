@@ -412,6 +412,7 @@ pub(crate) fn solver_config(
                         h_max,
                         rtol,
                         atol,
+                        ..d
                     })
                 }
             };
