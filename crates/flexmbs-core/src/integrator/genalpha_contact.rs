@@ -21,10 +21,12 @@
 //! [`AdaptiveSettings::max_penetration`](super::AdaptiveSettings::max_penetration) a
 //! regularized contact that is open at the start of a step (`g_N >= 0`) may penetrate at most
 //! that much at its end: [`closing_step_limit`] bounds the step from the gap and its rate at the
-//! start (the linear prediction ends at half the tolerance), and [`penetration_rejection`]
-//! rejects a step that ends deeper anyway (a contact closing by acceleration), with the step
-//! that the linear interpolation of the gap puts at half the tolerance, as the Moreau stepper's
-//! gap-based refinement does ([`super::MoreauSscSettings::max_penetration`]).
+//! start (the linear prediction ends half the tolerance before the contact, then a short step
+//! closes it half the tolerance deep: [`target_gap`]), and [`penetration_rejection`] rejects a
+//! step that ends deeper anyway (a contact closing by acceleration), with the step that the
+//! linear interpolation of the gap puts at its target, as the Moreau stepper's gap-based
+//! refinement does ([`super::MoreauSscSettings::max_penetration`]). A body cannot pass a thin
+//! contact (a ball past a ball) within one step, which the error estimate would not notice.
 
 use super::AdaptiveSettings;
 use crate::contact::regularized::regularized_contact_forces;
@@ -94,23 +96,37 @@ pub(super) fn linear_zone_crossing(v0: [f64; 2], dv: [f64; 2], v_reg: f64) -> Op
     (s > 0.0 && s < 1.0 && norm(closest) < v_reg).then_some(s)
 }
 
+/// The gap a step that starts at the open gap `g0` should end at (linear prediction): well
+/// open (`g0 > p`, `p` = [`AdaptiveSettings::max_penetration`]), just before the contact, `+p/2`;
+/// about to close (`g0 <= p`), just inside it, `-p/2`. A contact thus closes in a step of about
+/// `p / |g_N_dot|`, short enough that the penalty spring does not act in it (its iteration matrix
+/// stays that of the free body, and the closing step's first-order error, `damping_factor`, is
+/// negligible), instead of in a step of the free flight's size.
+fn target_gap(g0: f64, p: f64) -> f64 {
+    if g0 > p {
+        0.5 * p
+    } else {
+        -0.5 * p
+    }
+}
+
 /// The largest step from a state with contact states `contacts` for which no regularized
 /// contact that is open (`g_N >= 0`) and closing (`g_N_dot < 0`) ends, linearly predicted,
-/// deeper than half of [`AdaptiveSettings::max_penetration`]:
-/// `min (g_N + max_penetration / 2) / -g_N_dot`, at least `h_min` (infinite if none closes).
-/// Set-valued contacts are not looked at.
+/// beyond its [`target_gap`]: `min (g_N - target) / -g_N_dot`, at least `h_min` (infinite if
+/// none closes). Set-valued contacts are not looked at.
 pub(super) fn closing_step_limit(
     model: &Model,
     contacts: &[ContactState],
     ctl: &AdaptiveSettings,
 ) -> f64 {
+    let p = ctl.max_penetration;
     let mut h = f64::INFINITY;
     for (c, st) in model.contacts.iter().zip(contacts) {
         if c.law.set_valued_normal() || !(st.gap >= 0.0 && st.gap.is_finite()) {
             continue;
         }
         if st.gap_velocity < 0.0 {
-            h = h.min((st.gap + 0.5 * ctl.max_penetration) / -st.gap_velocity);
+            h = h.min((st.gap - target_gap(st.gap, p)) / -st.gap_velocity);
         }
     }
     h.max(ctl.h_min)
@@ -119,8 +135,8 @@ pub(super) fn closing_step_limit(
 /// After a converged step of size `h` (its last evaluation in `ws.sys`, the start gaps in
 /// `ws.contact`): `Some(h_next)` if a regularized contact that was open at the start
 /// (`g_N >= 0`) ends deeper than [`AdaptiveSettings::max_penetration`] (the step is to be
-/// rejected), with `h_next` where the gap, linear in time over the step, reaches half the
-/// tolerance's depth (at most `h / 2`, at least `h / 20`, not below `h_min`); `None` if the step
+/// rejected), with `h_next` where the gap, linear in time over the step, reaches its
+/// [`target_gap`] (at most `h / 2`, at least `h / 20`, not below `h_min`); `None` if the step
 /// stands or is at `h_min`.
 pub(super) fn penetration_rejection(
     model: &Model,
@@ -145,7 +161,7 @@ pub(super) fn penetration_rejection(
         }
         let g1 = c.geometry(model, &sys.frames, &sys.eval, w).gap;
         if g1 < -p {
-            factor = factor.min((g0 + 0.5 * p) / (g0 - g1));
+            factor = factor.min((g0 - target_gap(g0, p)) / (g0 - g1));
         }
     }
     factor
