@@ -134,7 +134,9 @@ pub(super) fn closing_step_limit(
 
 /// After a converged step of size `h` (its last evaluation in `ws.sys`, the start gaps in
 /// `ws.contact`): `Some(h_next)` if a regularized contact that was open at the start
-/// (`g_N >= 0`) ends deeper than [`AdaptiveSettings::max_penetration`] (the step is to be
+/// (`g_N >= 0`) ends closed although it started more than `p` =
+/// [`AdaptiveSettings::max_penetration`] away (an approach step that an acceleration towards
+/// the contact carried past the linear prediction), or ends deeper than `p` (the step is to be
 /// rejected), with `h_next` where the gap, linear in time over the step, reaches its
 /// [`target_gap`] (at most `h / 2`, at least `h / 20`, not below `h_min`); `None` if the step
 /// stands or is at `h_min`.
@@ -160,7 +162,10 @@ pub(super) fn penetration_rejection(
             continue;
         }
         let g1 = c.geometry(model, &sys.frames, &sys.eval, w).gap;
-        if g1 < -p {
+        // an approach step (from well open) must not close the contact, a closing step not
+        // penetrate deeper than the tolerance
+        let limit = if g0 > p { 0.0 } else { -p };
+        if g1 < limit {
             factor = factor.min((g0 - target_gap(g0, p)) / (g0 - g1));
         }
     }
