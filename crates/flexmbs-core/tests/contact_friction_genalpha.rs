@@ -108,7 +108,8 @@ fn block_slides_to_rest_at_the_regularized_stopping_distance() {
     let coulomb = v0 * v0 / (2.0 * mu * G);
     let regularized = (v0 * v0 + v_reg * v_reg) / (2.0 * mu * G);
     println!(
-        "block: x = {x:.9} m, regularized {regularized:.9}, Coulomb {coulomb:.9}, v = {:.3e}",
+        "block: x = {x:.9} m, regularized {regularized:.9} (relative error {:.1e}), Coulomb {coulomb:.9}, v = {:.3e}",
+        (x - regularized).abs() / regularized,
         s.u[0]
     );
     assert!(
