@@ -413,7 +413,6 @@ pub(crate) fn solver_config(
                         rtol,
                         atol,
                         max_penetration: max_penetration(ctx, a, d.max_penetration)?,
-                        ..d
                     })
                 }
             };
