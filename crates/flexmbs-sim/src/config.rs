@@ -412,6 +412,7 @@ pub(crate) fn solver_config(
                         h_max,
                         rtol,
                         atol,
+                        max_penetration: max_penetration(ctx, a, d.max_penetration)?,
                     })
                 }
             };
@@ -477,6 +478,7 @@ pub(crate) fn solver_config(
                         h_max,
                         rtol,
                         atol,
+                        max_penetration: max_penetration(ctx, a, d.max_penetration)?,
                         ..d
                     })
                 }
@@ -498,6 +500,19 @@ pub(crate) fn solver_config(
             })
         }
     }
+}
+
+/// `solver.adaptive.max_penetration` (a length > 0) or `default`.
+fn max_penetration(ctx: &Ctx, a: &AdaptiveSpec, default: f64) -> Result<f64, SimError> {
+    let Some(q) = &a.max_penetration else {
+        return Ok(default);
+    };
+    let key = "solver.adaptive.max_penetration";
+    let v = ctx.q(q, Dimension::Length, key)?;
+    if v <= 0.0 {
+        return Err(ctx.err(key, format!("must be > 0, got {v} m")));
+    }
+    Ok(v)
 }
 
 /// `[solver.adaptive]` of a step-size controlled solver: `[h_min, h_max, rtol, atol]`, each the

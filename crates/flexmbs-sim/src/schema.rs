@@ -146,6 +146,8 @@ pub struct AdaptiveSpec {
     pub h_min: Option<Quantity>,
     /// Maximum step, default 0.1 s.
     pub h_max: Option<Quantity>,
+    /// Largest penetration of a contact closing in a step (length), default 1e-6 m.
+    pub max_penetration: Option<Quantity>,
 }
 
 /// `[solver.newton]`.

@@ -110,6 +110,11 @@ pub struct AdaptiveSettings {
     pub atol: f64,
     /// Relative position tolerance. Default 1e-6.
     pub rtol: f64,
+    /// Largest penetration (length unit) of a regularized contact that was open at the start
+    /// of a step, at the step's end: steps are limited from the gap and its rate before a
+    /// contact closes and rejected if they end deeper (steps at `h_min` are accepted anyway;
+    /// [`super::genalpha_contact`]). Default 1e-6; `f64::INFINITY` switches the restriction off.
+    pub max_penetration: f64,
 }
 
 impl Default for AdaptiveSettings {
@@ -120,6 +125,7 @@ impl Default for AdaptiveSettings {
             h_max: 0.1,
             atol: 1e-6,
             rtol: 1e-6,
+            max_penetration: 1e-6,
         }
     }
 }
@@ -317,6 +323,10 @@ impl GenAlpha {
             prev = (du, dl);
             (du, dl) = apply_newton_increment(nu, beta_p, &ws.sys.g, saddle, &mut ws.step)
                 .ok_or_else(|| nonfinite("Newton increment", s.t, h, residual))?;
+            if !model.contacts.is_empty() {
+                let f = super::genalpha_contact::shorten_increment(model, ws, gamma_p);
+                (du, dl) = (f * du, f * dl);
+            }
         }
         ws.newton_matrix_h = f64::NAN;
         Err(SolverError::NewtonFailed {
@@ -409,6 +419,10 @@ impl GenAlpha {
         h: f64,
     ) -> Result<StepAttempt, SolverError> {
         let err_coeff = (self.params.beta - 1.0 / 6.0).abs();
+        let h_gap = super::genalpha_contact::closing_step_limit(model, &s.contacts, ctl);
+        if h > h_gap {
+            return Ok(StepAttempt::rejected(f64::NAN, h_gap));
+        }
         let mut stats = match self.solve_step(model, s, ws, h) {
             Ok(stats) => stats,
             // Newton failure, singular matrix, or an iterate outside an element's valid region
@@ -444,9 +458,17 @@ impl GenAlpha {
         if err > 1.0 {
             return Ok(StepAttempt::rejected(err, h_next));
         }
+        if let Some(h_gap) = super::genalpha_contact::penetration_rejection(model, ws, ctl, h) {
+            return Ok(StepAttempt::rejected(f64::INFINITY, h_gap));
+        }
         commit(s, &ws.step, h);
         let (mut energy, g, gd) = monitor_converged(model, s, ws, self.step_energy);
         energy.springs += regularized_contacts_converged(model, s, ws, h, self.step_energy);
+        let h_next = h_next.min(super::genalpha_contact::closing_step_limit(
+            model,
+            &s.contacts,
+            ctl,
+        ));
         (
             stats.energy,
             stats.g_max,

@@ -13,6 +13,7 @@
 
 mod dopri5;
 mod genalpha;
+mod genalpha_contact;
 mod moreau;
 mod statics;
 mod stepper;
