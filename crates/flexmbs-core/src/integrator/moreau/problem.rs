@@ -27,11 +27,13 @@ impl MoreauStepper {
         let (nu, sys, b) = (model.nu, &ws.sys, &mut self.buf);
         let gap_tol = self.settings.gap_tolerance;
         b.blocks.clear();
-        for r in 0..model.nc {
-            let col = &mut b.w[r * nu..(r + 1) * nu];
-            for (j, c) in col.iter_mut().enumerate() {
-                *c = sys.g_jac[(r, j)];
+        // W's joint columns are G's rows: read G column by column (contiguous)
+        for j in 0..nu {
+            for (r, g) in sys.g_jac.col_as_slice(j).iter().enumerate() {
+                b.w[r * nu + j] = *g;
             }
+        }
+        for r in 0..model.nc {
             b.b[r] = sys.g_t[r];
             b.lambda[r] = s.lambda[r] * h;
             b.blocks.push(Block::Joint { row: r });
@@ -272,7 +274,8 @@ impl MoreauStepper {
     }
 
     /// Newton iterations `dq = M^-1 G^T mu`, `(G M^-1 G^T) mu = -g(q_E)` with `G`, `M` of the
-    /// midpoint (the joint block of the Delassus matrix), on `ws.step.q_new`.
+    /// midpoint (the joint block of the Delassus matrix), on `ws.step.q_new`; the iterates need
+    /// only `g` ([`system::update_constraint_values`]: guides skip their `G`).
     fn project(
         &mut self,
         model: &Model,
@@ -289,7 +292,7 @@ impl MoreauStepper {
             let (q, u) = (&ws.step.q_new, &ws.step.u_new);
             system::evaluate_kinematics(model, q, u, &mut sys.eval).map_err(|e| e.at(s.t, h))?;
             system::update_frames(model, q, u, &mut sys.eval, &mut sys.frames);
-            system::update_constraints(model, t_e, sys);
+            system::update_constraint_values(model, t_e, sys);
             if sys
                 .g
                 .iter()
