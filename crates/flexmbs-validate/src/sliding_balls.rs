@@ -181,8 +181,15 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
     });
     let control = stepper.control();
     stepper.initialize(&model, &mut s, &mut ws)?;
-    let energy =
-        |s: &State, ws: &mut Workspace| flexmbs_core::integrator::monitor(&model, s, ws).0.total();
+    // the guide's projection at the accepted state, for `beyond_end` (kinematics and the rows'
+    // values only; the energy is the stepper's own end-of-step monitor's, `stats.energy`)
+    let guide_at = |s: &State, ws: &mut Workspace| {
+        let sys = &mut ws.sys;
+        let ok = flexmbs_core::system::evaluate_kinematics(&model, &s.q, &s.u, &mut sys.eval);
+        flexmbs_core::system::update_frames(&model, &s.q, &s.u, &mut sys.eval, &mut sys.frames);
+        flexmbs_core::system::update_constraint_values(&model, s.t, sys);
+        ok.is_ok() && !sys.guides[0].beyond_end
+    };
     let nf = c.modes;
     let tip_y = |s: &State| {
         let qf = &model.body_q(b, &s.q)[6..6 + nf];
@@ -207,7 +214,7 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
             run.steps += 1;
             run.sweeps += stats.iterations;
             let v = Vector3::from_column_slice(&model.body_u(m, &s.u)[..3]);
-            let e = energy(s, &mut ws_out);
+            let e = stats.energy.total();
             if run.steps == 1 {
                 e1 = e;
             } else {
@@ -222,7 +229,7 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
             let de = (e - e1) / e1;
             run.energy_deviation = run.energy_deviation.max(de.abs());
             run.drift = run.drift.max(stats.g_max);
-            run.beyond_end |= ws_out.sys.guides[0].beyond_end;
+            run.beyond_end |= !guide_at(s, &mut ws_out);
             run.z_dev = run.z_dev.max((model.body_q(m, &s.q)[2] - 0.025).abs());
             if s.t >= next_out {
                 let q = model.body_q(m, &s.q);
