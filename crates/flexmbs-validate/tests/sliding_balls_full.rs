@@ -30,9 +30,16 @@ fn setup_b_to_five_seconds_against_the_reference() {
     let reference = reference::simulate(40, 1.0, h, 5.0, h, 0.75, 0.01, -0.002).unwrap();
     let [dy, dtip, dx] = differences_to_reference(&run, &reference);
     println!(
-        "100 modes, 5 s: {} steps, {:.0} s; energy dev {:.2e}; ball y {dy:.3e}, tip y {dtip:.3e}, \
-         ball x {dx:.2e} m",
-        run.steps, run.cpu, run.energy_deviation
+        "100 modes, 5 s: {} steps, {:.0} s ({:.0} s on CPU); energy dev {:.2e}; drift {:.1e}; \
+         z dev {:.1e}; acc max/rms {:.3}/{:.3}; ball y {dy:.3e}, tip y {dtip:.3e}, ball x {dx:.2e} m",
+        run.steps,
+        run.cpu,
+        run.cpu_thread,
+        run.energy_deviation,
+        run.drift,
+        run.z_dev,
+        run.acc_max,
+        run.acc_rms
     );
     assert!(run.energy_deviation < 5e-3 && run.drift < 1e-9 && run.z_dev < 1e-5);
     assert!(dy < 0.1 && dtip < 0.1, "{dy} {dtip}");
