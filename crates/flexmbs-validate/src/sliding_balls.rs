@@ -538,7 +538,7 @@ pub fn differences_to_reference(
 }
 
 /// Writes the reference's samples (every 1 ms) as CSV: t, ball x, ball y, tip y (m), energy (J).
-fn write_reference_series(
+pub fn write_reference_series(
     path: &Path,
     r: &crate::sliding_balls_reference::ReferenceRun,
 ) -> Result<()> {

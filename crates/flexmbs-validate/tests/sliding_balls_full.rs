@@ -2,9 +2,12 @@
 //! nonlinear reference. Too slow for CI: the 100-mode run takes about 15 times the steps of the
 //! 0.5 s run (12 121 steps, 307 s on this 2-core machine when quiet), about 180 000 steps and
 //! 80 min; the reference (40 elements, h = 0.125 ms) about 2 min. Run with
-//! `cargo test -p flexmbs-validate --test sliding_balls_full -- --ignored --nocapture`.
+//! `cargo test -p flexmbs-validate --test sliding_balls_full -- --ignored --nocapture`
+//! (`SLIDING_BALLS_SERIES_DIR=dir` also writes the series for `compare_series.py`).
 
-use flexmbs_validate::sliding_balls::{differences_to_reference, reduce_beam, simulate, Config};
+use flexmbs_validate::sliding_balls::{
+    differences_to_reference, reduce_beam, simulate, write_reference_series, write_series, Config,
+};
 use flexmbs_validate::sliding_balls_reference as reference;
 
 /// Setup B to 5 s: the laws of the CI run (energy within 5e-3, constraint at round-off, the
@@ -29,6 +32,13 @@ fn setup_b_to_five_seconds_against_the_reference() {
     let h = 1.25e-4;
     let reference = reference::simulate(40, 1.0, h, 5.0, h, 0.75, 0.01, -0.002).unwrap();
     let [dy, dtip, dx] = differences_to_reference(&run, &reference);
+    // `SLIDING_BALLS_SERIES_DIR=dir`: the series for `compare_series.py` (as the case writes them)
+    if let Some(dir) = std::env::var_os("SLIDING_BALLS_SERIES_DIR") {
+        let dir = std::path::Path::new(&dir);
+        std::fs::create_dir_all(dir).unwrap();
+        write_series(&dir.join("series_modes100.csv"), &run).unwrap();
+        write_reference_series(&dir.join("series_reference.csv"), &reference).unwrap();
+    }
     println!(
         "100 modes, 5 s: {} steps, {:.0} s ({:.0} s on CPU); energy dev {:.2e}; drift {:.1e}; \
          z dev {:.1e}; acc max/rms {:.3}/{:.3}; ball y {dy:.3e}, tip y {dtip:.3e}, ball x {dx:.2e} m",
