@@ -1,7 +1,7 @@
 //! `sliding_balls` setup B (100 modes) over the seed's full 5 s against the geometrically
-//! nonlinear reference. Too slow for CI: the 100-mode run takes about 15 times the steps of the
-//! 0.5 s run (12 121 steps, 307 s on this 2-core machine when quiet), about 180 000 steps and
-//! 80 min; the reference (40 elements, h = 0.125 ms) about 2 min. Run with
+//! nonlinear reference. Not in CI: the 100-mode run takes 12.5 times the steps of the 0.5 s run
+//! (153 240 steps, 124 s on CPU in the dev build, 2026-11-25; 375 s wall on this loaded 2-core
+//! machine); the reference (40 elements, h = 0.125 ms) about 20 s on CPU. Run with
 //! `cargo test -p flexmbs-validate --test sliding_balls_full -- --ignored --nocapture`
 //! (`SLIDING_BALLS_SERIES_DIR=dir` also writes the series for `compare_series.py`).
 
@@ -16,9 +16,9 @@ use flexmbs_validate::sliding_balls_reference as reference;
 /// difference (hex20 solid vs Euler-Bernoulli line), not nonlinearity (rotations stay below
 /// 3.2e-4 rad), set from the 5 s runs of 10/20/40 modes (7.0e-2 / 7.5e-2, 7.3e-2 / 7.4e-2,
 /// 7.7e-2 / 7.8e-2) before this one was run; matching the reference's first frequency to the
-/// solid's does not reduce them (README).
+/// solid's does not reduce them (README). Measured (2026-11-25): 7.73e-2 / 7.76e-2.
 #[test]
-#[ignore = "setup B (100 modes) to 5 s: about 1.5-2 h of CPU, not run to completion yet"]
+#[ignore = "setup B (100 modes) to 5 s: about 2.5 min of CPU (dev build), not part of CI"]
 fn setup_b_to_five_seconds_against_the_reference() {
     let beam = reduce_beam().unwrap();
     let config = Config {
