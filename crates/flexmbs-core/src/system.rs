@@ -416,6 +416,31 @@ pub fn update_constraints(model: &Model, t: f64, sys: &mut SystemBuffers) {
     }
 }
 
+/// As [`update_constraints`], but the guides' rows only get their values `g`, not their `G`,
+/// `g_t`, bias rows (these keep the last full update's): for iterations that need `g` at a new
+/// state and keep an earlier `G` (the Moreau steppers' position projection). The values equal
+/// [`update_constraints`]' bit for bit.
+pub fn update_constraint_values(model: &Model, t: f64, sys: &mut SystemBuffers) {
+    assemble_constraints(
+        model,
+        t,
+        &sys.frames,
+        &mut sys.g,
+        sys.g_jac.as_mut(),
+        &mut sys.g_t,
+        &mut sys.g_bias,
+    );
+    if !model.guides.is_empty() {
+        crate::contact::guide::guide_values(
+            model,
+            &sys.frames,
+            &sys.eval,
+            &mut sys.guides,
+            &mut sys.g,
+        );
+    }
+}
+
 /// Constraint values `g`, Jacobian `G`, `g_t` and acceleration bias of all joints at `t`.
 /// `frames` must be up to date. The rows of `G` are written, not accumulated, over the columns
 /// of each joint's bodies only ([`write_joint_jacobian`]); `g_jac` must be zero elsewhere (as

@@ -53,7 +53,8 @@ fn pendulum(
 }
 
 /// Small-amplitude period `2 pi sqrt(I_hinge / (m g l)) (1 + theta0^2 / 16)` and joint drift at
-/// round-off (projection).
+/// round-off (projection). Joint rows only: every step's velocity problem is solved directly (one
+/// "sweep", residual at round-off).
 #[test]
 fn pendulum_period_and_drift() {
     let (model, mut s) = pendulum(0.1, None);
@@ -61,6 +62,7 @@ fn pendulum_period_and_drift() {
     let mut st = MoreauStepper::new(MoreauSettings::default());
     st.initialize(&model, &mut s, &mut ws).unwrap();
     let (mut crossings, mut last, mut g_max, mut e) = (Vec::new(), (0.0, 1.0), 0.0_f64, Vec::new());
+    let (mut sweeps, mut residual) = (0usize, 0.0_f64);
     let control = st.control(1e-4);
     drive(
         &mut st,
@@ -76,6 +78,8 @@ fn pendulum_period_and_drift() {
             }
             last = (s.t, x);
             g_max = g_max.max(stats.g_max);
+            sweeps = sweeps.max(stats.iterations);
+            residual = residual.max(stats.residual);
             e.push(stats.energy.total());
             ControlFlow::Continue(())
         },
@@ -86,6 +90,8 @@ fn pendulum_period_and_drift() {
     let period = crossings[1] - crossings[0];
     assert!((period - exact).abs() < 1e-4 * exact, "{period} vs {exact}");
     assert!(g_max <= 1e-12, "joint drift {g_max}");
+    assert_eq!(sweeps, 1, "joint rows only: one direct solve per step");
+    assert!(residual <= 1e-13, "direct solve residual {residual}");
     let e_scale = G * l * (1.0 - 0.1_f64.cos());
     let e_drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max) / e_scale;
     assert!(e_drift < 1e-3, "energy drift {e_drift} of the swing energy");

@@ -251,31 +251,61 @@ pub fn assemble_guides(
 ) {
     for ((guide, &r0), w) in model.guides.iter().zip(&model.guide_rows).zip(works) {
         let n = guide.num_rows();
-        evaluate_guide(model, guide, frames, eval, w);
+        evaluate_guide(model, guide, frames, eval, w, true);
         g[r0..r0 + n].copy_from_slice(&w.g[..n]);
         g_t[r0..r0 + n].fill(0.0);
         g_bias[r0..r0 + n].fill(0.0);
         let body = model.frame_cols(guide.curve.frame);
         for j in 0..body.len() {
-            let c = body.global(j);
-            for i in 0..n {
-                g_jac[(r0 + i, c)] = w.rows[(i, j)];
-            }
+            let rows = &w.rows.col_as_slice(j)[..n];
+            write_rows(g_jac.as_mut(), r0, n, body.global(j), |i| rows[i]);
         }
         let k = &frames[guide.frame.0];
         let cols = model.frame_cols(guide.frame);
         for j in 0..cols.len() {
             let (jt, jr) = (k.jac_t.col_as_slice(j), k.jac_r.col_as_slice(j));
-            let c = cols.global(j);
-            for i in 0..n {
+            write_rows(g_jac.as_mut(), r0, n, cols.global(j), |i| {
                 let (ts, rs) = &w.slider[i];
                 let mut s = 0.0;
                 for d in 0..3 {
                     s += ts[d] * jt[d] + rs[d] * jr[d];
                 }
-                g_jac[(r0 + i, c)] = s;
-            }
+                s
+            });
         }
+    }
+}
+
+/// The values `g` of every guide's rows (from row [`Model::guide_rows`] on) at the evaluated
+/// state, without `G`, `g_t`, `g_bias` (the Moreau steppers' position projection checks `g`
+/// with the midpoint's `G`): the same projection and values as [`assemble_guides`], bit for bit.
+/// Allocation-free.
+pub fn guide_values(
+    model: &Model,
+    frames: &[FrameKinematics],
+    eval: &[ElementScratch],
+    works: &mut [GuideWork],
+    g: &mut [f64],
+) {
+    for ((guide, &r0), w) in model.guides.iter().zip(&model.guide_rows).zip(works) {
+        let n = guide.num_rows();
+        evaluate_guide(model, guide, frames, eval, w, false);
+        g[r0..r0 + n].copy_from_slice(&w.g[..n]);
+    }
+}
+
+/// `G[r0 + i, c] = value(i)` for `i < n`: through the column's contiguous slice when `G` is
+/// column-major (no per-entry bounds-checked indexing).
+fn write_rows(g_jac: MatMut<'_, f64>, r0: usize, n: usize, c: usize, value: impl Fn(usize) -> f64) {
+    let mut col = g_jac.col_mut(c).subrows_mut(r0, n);
+    if let Some(contiguous) = col.as_mut().try_as_col_major_mut() {
+        for (i, x) in contiguous.as_slice_mut().iter_mut().enumerate() {
+            *x = value(i);
+        }
+        return;
+    }
+    for i in 0..n {
+        col[i] = value(i);
     }
 }
 
@@ -301,13 +331,15 @@ fn project(contour: &FfrCurveContour, w: &mut GuideWork, x: &Vector3<f64>) -> (f
     (eta, true)
 }
 
-/// One guide's rows at the evaluated state into its work buffers (module documentation).
+/// One guide's rows at the evaluated state into its work buffers (module documentation); with
+/// `jacobian` false only the values `g` (and the projection, frame and point), not `G`.
 fn evaluate_guide(
     model: &Model,
     guide: &CurveGuide,
     frames: &[FrameKinematics],
     eval: &[ElementScratch],
     w: &mut GuideWork,
+    jacobian: bool,
 ) {
     let contour = guide.curve.contour();
     let s = curve_body(model, guide, eval);
@@ -317,7 +349,9 @@ fn evaluate_guide(
         let (eta, beyond) = project(contour, w, &x);
         w.eta = eta;
         w.beyond_end = beyond;
-        contour.jacobian_translation(s, &mut w.state, eta, w.jac_c.as_mut())?;
+        if jacobian {
+            contour.jacobian_translation(s, &mut w.state, eta, w.jac_c.as_mut())?;
+        }
         contour.fields(&mut w.state, eta)
     });
     let Ok([u, u1, u2]) = fields else {
@@ -330,11 +364,25 @@ fn evaluate_guide(
     let p = guide.normal - guide.normal.dot(&tau) * tau;
     let (n1, pn) = (p / p.norm(), p.norm());
     let n2 = tau.cross(&n1);
-    let m = -guide.normal.dot(&tau) / pn * tau - n1;
     let c = [a * tau, a * n1, a * n2];
     w.frame = c;
     w.point = kc.position + a * u;
     let d = ks.position - w.point;
+    for (i, ni) in [c[1], c[2]].iter().enumerate() {
+        w.g[i] = ni.dot(&d);
+    }
+    let b = ks.rotation;
+    if guide.rotations {
+        for i in 0..3 {
+            let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+            let (bj, bk) = (b.column(j).into_owned(), b.column(k).into_owned());
+            w.g[2 + i] = 0.5 * (c[k].dot(&bj) - c[j].dot(&bk));
+        }
+    }
+    if !jacobian {
+        return;
+    }
+    let m = -guide.normal.dot(&tau) / pn * tau - n1;
     let db = a.transpose() * d;
     let t_full = a * u1;
     let den = len * len - u2.dot(&db);
@@ -344,13 +392,14 @@ fn evaluate_guide(
     let ah = a * s.h;
     let nb = w.jac_w.ncols();
     for j in 0..nb {
-        for i in 0..3 {
+        let col = w.jac_w.col_as_slice_mut(j);
+        for (i, x) in col.iter_mut().enumerate() {
             let rot = if (3..6).contains(&j) {
                 ah[(i, j - 3)]
             } else {
                 0.0
             };
-            w.jac_w[(i, j)] = rot + am[i] * w.rate[2][j] + an2[i] * w.rate[1][j];
+            *x = rot + am[i] * w.rate[2][j] + an2[i] * w.rate[1][j];
         }
     }
     // the slider's J_T coefficient of ω_C through η̇: A m σ_2ᵀ + A n_2 σ_1ᵀ, σ_i = (n̄_i·ū'')/(|ū'| den) t
@@ -359,30 +408,29 @@ fn evaluate_guide(
     let slider_w = |wv: &Vector3<f64>| sig2 * wv.dot(&am) + sig1 * wv.dot(&an2);
     // translation rows
     for (i, ni) in [c[1], c[2]].iter().enumerate() {
-        w.g[i] = ni.dot(&d);
         let arm = ni.cross(&d);
         for j in 0..nb {
+            let (jc, jw) = (w.jac_c.col_as_slice(j), w.jac_w.col_as_slice(j));
             let mut v = 0.0;
             for k in 0..3 {
-                v += -ni[k] * w.jac_c[(k, j)] + arm[k] * w.jac_w[(k, j)];
+                v += -ni[k] * jc[k] + arm[k] * jw[k];
             }
-            w.rows[(i, j)] = v;
+            w.rows.col_as_slice_mut(j)[i] = v;
         }
         w.slider[i] = (ni + slider_w(&arm), Vector3::zeros());
     }
     if guide.rotations {
-        let b = ks.rotation;
         for i in 0..3 {
             let (j, k) = ((i + 1) % 3, (i + 2) % 3);
             let (bj, bk) = (b.column(j).into_owned(), b.column(k).into_owned());
-            w.g[2 + i] = 0.5 * (c[k].dot(&bj) - c[j].dot(&bk));
             let r = 0.5 * (bj.cross(&c[k]) - bk.cross(&c[j]));
             for jj in 0..nb {
+                let jw = w.jac_w.col_as_slice(jj);
                 let mut v = 0.0;
                 for kk in 0..3 {
-                    v -= r[kk] * w.jac_w[(kk, jj)];
+                    v -= r[kk] * jw[kk];
                 }
-                w.rows[(2 + i, jj)] = v;
+                w.rows.col_as_slice_mut(jj)[2 + i] = v;
             }
             w.slider[2 + i] = (-slider_w(&r), r);
         }
@@ -408,24 +456,28 @@ fn rate_rows(
     // η̇ = [-tᵀ J_C - (d̄ × ū')ᵀ H (rotations) + Φ'_kᵀ d̄ (modes)] u / den (+ the slider's tᵀ v_c / den)
     let hrot = s.h.transpose() * db.cross(u1);
     for j in 0..nb {
+        let jc = w.jac_c.col_as_slice(j);
         let mut v = 0.0;
         for k in 0..3 {
-            v -= t_full[k] * w.jac_c[(k, j)];
+            v -= t_full[k] * jc[k];
         }
         if (3..6).contains(&j) {
             v -= hrot[j - 3];
         }
         w.rate[0][j] = v;
     }
-    let eta = w.eta;
-    for j in 6..nb {
-        let phi1 = match contour.mode_fields(&mut w.state, eta, j - 6) {
-            Ok(f) => f[1],
-            Err(_) => Vector3::repeat(f64::NAN),
-        };
-        w.rate[0][j] += phi1.dot(db);
-        w.rate[1][j] = n1.dot(&phi1) / len;
-        w.rate[2][j] = n2.dot(&phi1) / len;
+    // every mode's slope Φ_k' from one basis evaluation (that of `J_C` at the same `eta`)
+    let rate = &mut w.rate;
+    let mut mode_rates = |j: usize, phi1: &Vector3<f64>| {
+        rate[0][j] += phi1.dot(db);
+        rate[1][j] = n1.dot(phi1) / len;
+        rate[2][j] = n2.dot(phi1) / len;
+    };
+    match contour.mode_slopes(&mut w.state, w.eta) {
+        Ok(slopes) => (6..nb)
+            .zip(slopes)
+            .for_each(|(j, phi1)| mode_rates(j, phi1)),
+        Err(_) => (6..nb).for_each(|j| mode_rates(j, &Vector3::repeat(f64::NAN))),
     }
     let (c1, c2) = (n1.dot(u2) / len, n2.dot(u2) / len);
     for j in 0..nb {

@@ -490,6 +490,19 @@ impl FfrCurveContour {
             .field_derivatives(&self.nets.modes[k], eta, &mut state.scratch)?)
     }
 
+    /// Every mode's slope on the curve at `eta`, `[Φ_0', ..., Φ_{n_f-1}']` (body axes), from one
+    /// basis evaluation shared with [`Self::jacobian_translation`] at the same `eta`: bitwise
+    /// the `[1]` of [`Self::mode_fields`]. Allocation-free.
+    pub fn mode_slopes<'s>(
+        &self,
+        state: &'s mut CurveContourState,
+        eta: f64,
+    ) -> Result<&'s [Vector3<f64>], ContourError> {
+        self.nets
+            .curve_shapes(&self.interp, eta, &mut state.shapes)?;
+        Ok(&state.shapes.phi1)
+    }
+
     /// `J_T` (3 x n_u) of the curve point at `eta` into `jt`.
     pub fn jacobian_translation(
         &self,

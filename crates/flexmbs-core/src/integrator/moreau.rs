@@ -11,6 +11,10 @@
 //! 3. The impulses `Lambda` by projected Gauss-Seidel on the prox equations of
 //!    [`crate::contact::law`] (joint rows: `gamma_E = 0`), warm-started with the last step's
 //!    impulses, with `r_i = relaxation / D_ii` per row (friction: the larger tangent diagonal).
+//!    Without closed set-valued contacts (joint and guide rows only) the problem is linear,
+//!    `D Lambda = -(W^T u_F + w)`, and is solved directly by a Cholesky factorization of `D`
+//!    (which the joint projection reuses); Gauss-Seidel remains the fallback for a singular `D`
+//!    (redundant joints).
 //! 4. `u_E = u_F + M^-1 W Lambda`, `q_E = q_M ⊕ h/2 u_E`; joints drift on position level, so
 //!    `q_E` is projected onto `g = 0` by `dq = M^-1 G^T mu`, `(G M^-1 G^T) mu = -g(q_E)`.
 //!
@@ -110,6 +114,9 @@ struct Buffers {
     normal_force: Vec<f64>,
     projection: Mat<f64>,
     projection_rhs: Vec<f64>,
+    /// `projection` holds the Cholesky factor of this step's joint block (the prox problem had
+    /// joint rows only and was solved directly).
+    joints_factored: bool,
 }
 
 impl Buffers {
@@ -133,6 +140,7 @@ impl Buffers {
             normal_force: v(nk),
             projection: Mat::zeros(nc, nc),
             projection_rhs: v(nc),
+            joints_factored: false,
         }
     }
 }
@@ -146,6 +154,9 @@ pub struct MoreauStepper {
     buf: Buffers,
     /// Columns `m` of `W` in the current step (the stride of the Delassus matrix).
     m_last: usize,
+    /// [`Self::advance`] evaluates the end state's energy and drift ([`monitor`]); the
+    /// step-size control switches it off for the steps whose statistics it discards.
+    end_monitor: bool,
 }
 
 impl MoreauStepper {
@@ -156,6 +167,7 @@ impl MoreauStepper {
             stats: StepperStatistics::default(),
             buf: Buffers::new(0, 0, 0, 0),
             m_last: 0,
+            end_monitor: true,
         }
     }
 
@@ -239,7 +251,8 @@ impl Stepper for MoreauStepper {
 }
 
 impl MoreauStepper {
-    /// One step of size `h` (module documentation), the state advanced.
+    /// One step of size `h` (module documentation), the state advanced; without
+    /// [`Self::end_monitor`] the statistics hold no energy and drift.
     pub(super) fn advance(
         &mut self,
         model: &Model,
@@ -283,6 +296,15 @@ impl MoreauStepper {
                 t: s.t - h,
                 h,
                 residual,
+            });
+        }
+        if !self.end_monitor {
+            return Ok(StepStats {
+                t: s.t,
+                h,
+                iterations,
+                residual,
+                ..Default::default()
             });
         }
         let (mut energy, g_max, g_dot_max) = monitor(model, s, ws);
@@ -377,6 +399,13 @@ impl MoreauStepper {
                 }
             }
         }
+    }
+}
+
+impl MoreauStepper {
+    /// Whether [`Self::advance`] evaluates the end state's energy and drift (default: yes).
+    pub(super) fn set_end_monitor(&mut self, on: bool) {
+        self.end_monitor = on;
     }
 }
 

@@ -20,6 +20,9 @@ pub(super) struct ModeShapes {
     basis: [BasisScratch; 2],
     /// `Φ_k` at the last point, `k = 0 .. n_f` (body axes).
     pub(super) phi: Vec<Vector3<f64>>,
+    /// `Φ_k'` (the derivative by `eta`) at the last point of a **curve** contour, from the same
+    /// basis evaluation (a 1D guide's rates need it; unused, zero, for surfaces).
+    pub(super) phi1: Vec<Vector3<f64>>,
     /// The deformed net as `3 n_ctrl` numbers.
     net_flat: Vec<f64>,
     /// The point `(eta, xi)` (bits) that `phi` belongs to (`Φ` depends on the point only, not
@@ -34,6 +37,7 @@ impl ModeShapes {
         Self {
             basis: [BasisScratch::new(degrees[0]), BasisScratch::new(degrees[1])],
             phi: vec![Vector3::zeros(); nf],
+            phi1: vec![Vector3::zeros(); nf],
             net_flat: vec![0.0; 3 * n_ctrl],
             at: None,
         }
@@ -113,7 +117,8 @@ impl ModalNets {
         Ok(())
     }
 
-    /// `Φ(eta)` of a curve contour into `shapes.phi`.
+    /// `Φ(eta)` of a curve contour into `shapes.phi`, and `Φ'(eta)` into `shapes.phi1` (each
+    /// in the order of [`CurveInterpolator::field_derivatives`]: bitwise its values).
     pub(super) fn curve_shapes(
         &self,
         interp: &CurveInterpolator,
@@ -131,15 +136,14 @@ impl ModalNets {
         let (p, nf) = (kv.degree(), self.modes.len());
         let span = kv.basis_derivatives(eta, 2, false, be);
         shapes.phi.fill(Vector3::zeros());
+        shapes.phi1.fill(Vector3::zeros());
         for j in 0..=p {
             let c = span - p + j;
-            let w = be.der(0, j);
-            for (o, m) in shapes
-                .phi
-                .iter_mut()
-                .zip(&self.by_ctrl[c * nf..(c + 1) * nf])
-            {
+            let (w, w1) = (be.der(0, j), be.der(1, j));
+            let row = &self.by_ctrl[c * nf..(c + 1) * nf];
+            for ((o, o1), m) in shapes.phi.iter_mut().zip(&mut shapes.phi1).zip(row) {
                 *o += m * w;
+                *o1 += m * w1;
             }
         }
         shapes.at = at;
@@ -238,11 +242,16 @@ mod tests {
             for &eta in &[0.0, ic.params()[3], 0.77 * ic.params()[ne - 1]] {
                 n.curve_shapes(&ic, eta, &mut shapes).unwrap();
                 for (k, net) in n.modes.iter().enumerate() {
-                    let f = ic.field_derivatives(net, eta, &mut sc).unwrap()[0];
+                    let f = ic.field_derivatives(net, eta, &mut sc).unwrap();
                     assert_eq!(
-                        f.map(f64::to_bits),
+                        f[0].map(f64::to_bits),
                         shapes.phi[k].map(f64::to_bits),
                         "mode {k}"
+                    );
+                    assert_eq!(
+                        f[1].map(f64::to_bits),
+                        shapes.phi1[k].map(f64::to_bits),
+                        "slope of mode {k}"
                     );
                 }
             }

@@ -27,11 +27,13 @@ impl MoreauStepper {
         let (nu, sys, b) = (model.nu, &ws.sys, &mut self.buf);
         let gap_tol = self.settings.gap_tolerance;
         b.blocks.clear();
-        for r in 0..model.nc {
-            let col = &mut b.w[r * nu..(r + 1) * nu];
-            for (j, c) in col.iter_mut().enumerate() {
-                *c = sys.g_jac[(r, j)];
+        // W's joint columns are G's rows: read G column by column (contiguous)
+        for j in 0..nu {
+            for (r, g) in sys.g_jac.col_as_slice(j).iter().enumerate() {
+                b.w[r * nu + j] = *g;
             }
+        }
+        for r in 0..model.nc {
             b.b[r] = sys.g_t[r];
             b.lambda[r] = s.lambda[r] * h;
             b.blocks.push(Block::Joint { row: r });
@@ -119,8 +121,12 @@ impl MoreauStepper {
     /// [`crate::contact::law`]). `Ok((sweeps, relative change))`, or `Err` of the same when
     /// [`super::MoreauSettings::max_iterations`] sweeps do not reach the tolerance.
     pub(super) fn solve_prox(&mut self, m: usize) -> Result<(usize, f64), (usize, f64)> {
+        self.buf.joints_factored = false;
         if m == 0 {
             return Ok((0, 0.0));
+        }
+        if let Some(residual) = self.solve_joint_rows_directly(m) {
+            return Ok((1, residual));
         }
         let (omega, b) = (self.settings.relaxation, &mut self.buf);
         let d = |i: usize, j: usize| b.delassus[j * m + i];
@@ -170,6 +176,42 @@ impl MoreauStepper {
         }
         let lam_max = b.lambda[..m].iter().fold(0.0_f64, |a, x| a.max(x.abs()));
         Err((self.settings.max_iterations, change / lam_max.max(scale0)))
+    }
+
+    /// A problem of joint rows only (no closed set-valued contact) is linear: `D Lambda = -b`,
+    /// solved by a Cholesky factorization of `D` into the joint projection's buffer (which
+    /// [`Self::project`] then reuses). Returns the largest residual `|D Lambda + b|` relative to
+    /// the rows' velocity scale, or `None` (Gauss-Seidel then) when there are contact rows or
+    /// `D` is not numerically positive definite (redundant joints).
+    fn solve_joint_rows_directly(&mut self, m: usize) -> Option<f64> {
+        let b = &mut self.buf;
+        if m != b.projection.nrows() || b.blocks.iter().any(|k| !matches!(k, Block::Joint { .. })) {
+            return None;
+        }
+        for j in 0..m {
+            b.projection
+                .col_as_slice_mut(j)
+                .copy_from_slice(&b.delassus[j * m..(j + 1) * m]);
+        }
+        if !cholesky_in_place(&mut b.projection) {
+            return None;
+        }
+        b.joints_factored = true;
+        for (l, r) in b.lambda[..m].iter_mut().zip(&b.b[..m]) {
+            *l = -r;
+        }
+        cholesky_solve_in_place(&b.projection, &mut b.lambda[..m]);
+        let v_scale = (0..m).fold(0.0_f64, |a, i| a.max(b.b[i].abs()).max(b.gamma_s[i].abs()));
+        let mut residual: f64 = 0.0;
+        for i in 0..m {
+            let row = &b.delassus[i * m..(i + 1) * m];
+            residual = residual.max((b.b[i] + dot(row, &b.lambda[..m])).abs());
+        }
+        Some(if v_scale > 0.0 {
+            residual / v_scale
+        } else {
+            residual
+        })
     }
 
     /// `u_E = u_F + M^-1 W Lambda`, `q_E = q_M ⊕ h/2 u_E`, the contact states, the joint
@@ -272,7 +314,8 @@ impl MoreauStepper {
     }
 
     /// Newton iterations `dq = M^-1 G^T mu`, `(G M^-1 G^T) mu = -g(q_E)` with `G`, `M` of the
-    /// midpoint (the joint block of the Delassus matrix), on `ws.step.q_new`.
+    /// midpoint (the joint block of the Delassus matrix), on `ws.step.q_new`; the iterates need
+    /// only `g` ([`system::update_constraint_values`]: guides skip their `G`).
     fn project(
         &mut self,
         model: &Model,
@@ -283,13 +326,14 @@ impl MoreauStepper {
         let (nc, nu, mm) = (model.nc, model.nu, self.m_last);
         let b = &mut self.buf;
         let t_e = s.t + h;
-        let mut factored = false;
+        // factored by the direct solve of a joint-only prox problem (the same matrix)
+        let mut factored = b.joints_factored;
         for _ in 0..self.settings.projection_iterations {
             let sys = &mut ws.sys;
             let (q, u) = (&ws.step.q_new, &ws.step.u_new);
             system::evaluate_kinematics(model, q, u, &mut sys.eval).map_err(|e| e.at(s.t, h))?;
             system::update_frames(model, q, u, &mut sys.eval, &mut sys.frames);
-            system::update_constraints(model, t_e, sys);
+            system::update_constraint_values(model, t_e, sys);
             if sys
                 .g
                 .iter()

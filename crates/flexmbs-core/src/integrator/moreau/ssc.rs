@@ -160,8 +160,11 @@ impl Stepper for MoreauSscStepper {
     ) -> Result<StepAttempt, SolverError> {
         copy_state(&mut self.start, s);
         copy_state(&mut self.full, s);
+        // the full step's and the first half step's energy and drift are not used
+        self.inner.set_end_monitor(false);
         self.inner.advance(model, &mut self.full, ws, h)?;
         self.inner.advance(model, s, ws, 0.5 * h)?;
+        self.inner.set_end_monitor(true);
         let mut changed = self.contacts_changed(s);
         let first_gaps_penetration = self.penetration_now(model, s, 0.5 * h);
         let mut stats = self.inner.advance(model, s, ws, 0.5 * h)?;
