@@ -30,7 +30,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The FE body: the benchmark's mesh, SI units, modes clamped on the x = 0 face.
-const BEAM: &str = r#"
+pub const BEAM: &str = r#"
 [body]
 name = "beam"
 units = "SI"
@@ -129,6 +129,11 @@ pub struct Run {
     /// Time the integrating thread ran on a CPU (s; Linux `/proc/thread-self/schedstat`, NaN
     /// elsewhere): unlike the wall time, it does not grow with other jobs on the machine.
     pub cpu_thread: f64,
+    /// (first, last) end time of a step that changed the mass's velocity (in contact: the mass
+    /// feels no other force), NaN without contact.
+    pub contact_span: (f64, f64),
+    /// Total length of the steps that changed the mass's velocity (s).
+    pub contact_time: f64,
 }
 
 /// Time the calling thread has run on a CPU so far (s), NaN where the kernel does not say.
@@ -252,6 +257,8 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
     let start = Instant::now();
     let start_thread = thread_cpu_seconds();
     let mut next_out = 0.0;
+    let (mut v_prev, mut t_prev) = (-V0, 0.0);
+    run.contact_span = (f64::NAN, f64::NAN);
     drive(
         stepper.as_mut(),
         &model,
@@ -263,6 +270,15 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
             run.steps += 1;
             let y = model.body_q(m, &s.q)[1];
             run.y_min = run.y_min.min(y);
+            let v = model.body_u(m, &s.u)[1];
+            if (v - v_prev).abs() > 1e-12 {
+                if run.contact_span.0.is_nan() {
+                    run.contact_span.0 = s.t;
+                }
+                run.contact_span.1 = s.t;
+                run.contact_time += s.t - t_prev;
+            }
+            (v_prev, t_prev) = (v, s.t);
             if s.t >= next_out {
                 let de = (energy(s, &mut ws_out) - e0) / e0;
                 run.energy_gain = run.energy_gain.max(de);
