@@ -399,6 +399,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     regularized_runs(&beam, &base, &mut res, &log)?;
     std::fs::create_dir_all(out)?;
     mode_convergence(out, &beam, &base, &mut res, &log)?;
+    crate::point_mass_on_beam_convergence::full_fe_check(&beam, &base, &mut res, &log)?;
     contour_comparison(&beam, &base, &mut res, &log)?;
     std::fs::create_dir_all(out)?;
     let plot = LinePlot {

@@ -147,7 +147,16 @@ pub fn contact_weights(
             let (ex, ez) = ((x / dx).floor(), (z / dz).floor());
             let (xc, zc) = ((ex + 0.5) * dx, (ez + 0.5) * dz);
             let (r, s) = (2.0 * (x - xc) / dx, 2.0 * (z - zc) / dz);
-            for (ri, si) in [(-1, -1), (1, -1), (1, 1), (-1, 1), (0, -1), (1, 0), (0, 1), (-1, 0)] {
+            for (ri, si) in [
+                (-1, -1),
+                (1, -1),
+                (1, 1),
+                (-1, 1),
+                (0, -1),
+                (1, 0),
+                (0, 1),
+                (-1, 0),
+            ] {
                 let (ri, si) = (ri as f64, si as f64);
                 let w = serendipity8(r, s, ri, si);
                 let p = [xc + 0.5 * dx * ri, y_top, zc + 0.5 * dz * si];
@@ -200,7 +209,9 @@ fn interpolation_weights(k: usize, u: f64) -> Result<Vec<f64>> {
         data.fill(0.0);
         data[i] = 1.0;
         ip.control_points_into(&data, &mut ctrl)?;
-        *o = (0..=3).map(|j| scratch.der(0, j) * ctrl[span - 3 + j]).sum();
+        *o = (0..=3)
+            .map(|j| scratch.der(0, j) * ctrl[span - 3 + j])
+            .sum();
     }
     Ok(out)
 }
@@ -274,12 +285,8 @@ struct Factor {
 impl Factor {
     fn new(a: &SparseMatrix) -> Result<Self> {
         let params = CholeskySymbolicParams::default();
-        let symbolic = factorize_symbolic_cholesky(
-            a.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            params,
-        )?;
+        let symbolic =
+            factorize_symbolic_cholesky(a.symbolic(), Side::Lower, SymmetricOrdering::Amd, params)?;
         let mut values = vec![0.0; symbolic.len_val()];
         let spec = Spec::<LltParams, f64>::default();
         let req = symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, spec);
@@ -294,7 +301,7 @@ impl Factor {
                 MemStack::new(&mut mem),
                 spec,
             )
-            .map_err(|e| anyhow::anyhow!("K + 4/h^2 M is not positive definite: {e:?}"))?;
+            .map_err(|e| anyhow::anyhow!("the matrix is not positive definite: {e:?}"))?;
         let mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         Ok(Self {
             symbolic,
@@ -305,13 +312,18 @@ impl Factor {
 
     fn solve_in_place(&mut self, x: &mut Mat<f64>) {
         let llt = LltRef::new(&self.symbolic, &self.values);
-        llt.solve_in_place_with_conj(
-            Conj::No,
-            x.as_mut(),
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-        );
+        llt.solve_in_place_with_conj(Conj::No, x.as_mut(), Par::Seq, MemStack::new(&mut self.mem));
     }
+}
+
+/// The static response `K^-1 f` (the sparse Cholesky factorization of the reference).
+pub fn static_response(k: &SparseMatrix, f: &[f64]) -> Result<Vec<f64>> {
+    if f.len() != k.nrows() {
+        bail!("load of size {} for {} DOFs", f.len(), k.nrows());
+    }
+    let mut x = Mat::<f64>::from_fn(f.len(), 1, |i, _| f[i]);
+    Factor::new(k)?.solve_in_place(&mut x);
+    Ok((0..f.len()).map(|i| x[(i, 0)]).collect())
 }
 
 /// `a + c b` for sparse matrices of equal size.
@@ -326,7 +338,11 @@ fn sparse_sum(a: &SparseMatrix, b: &SparseMatrix, c: f64) -> Result<SparseMatrix
             }
         }
     }
-    Ok(SparseMatrix::try_new_from_triplets(a.nrows(), a.ncols(), &t)?)
+    Ok(SparseMatrix::try_new_from_triplets(
+        a.nrows(),
+        a.ncols(),
+        &t,
+    )?)
 }
 
 /// `out = A x`.
@@ -358,9 +374,22 @@ pub fn simulate_penalty_impact(
     probe: &[f64],
     p: &PenaltyImpact,
 ) -> Result<ReferenceRun> {
+    simulate_penalty_impact_from(k, m, w, probe, p, None)
+}
+
+/// [`simulate_penalty_impact`] with an initial velocity `v0` of the structure (undeformed: the
+/// initial acceleration is zero); `None`: at rest.
+pub fn simulate_penalty_impact_from(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    w: &[f64],
+    probe: &[f64],
+    p: &PenaltyImpact,
+    v0: Option<&[f64]>,
+) -> Result<ReferenceRun> {
     let n = k.nrows();
-    if m.nrows() != n || w.len() != n || probe.len() != n {
-        bail!("structure, weights and probe differ in size");
+    if m.nrows() != n || w.len() != n || probe.len() != n || v0.is_some_and(|v| v.len() != n) {
+        bail!("structure, weights, probe and initial velocity differ in size");
     }
     if !(p.h > 0.0 && p.t_end > 0.0 && p.mass > 0.0 && p.stiffness >= 0.0) {
         bail!("step, end time and mass must be positive, the stiffness non-negative");
@@ -377,7 +406,7 @@ pub fn simulate_penalty_impact(
     let dot = |a: &[f64], x: &Mat<f64>| (0..n).map(|i| a[i] * x[(i, 0)]).sum::<f64>();
     let (mut u, mut v, mut a) = (
         Mat::<f64>::zeros(n, 1),
-        Mat::<f64>::zeros(n, 1),
+        Mat::<f64>::from_fn(n, 1, |i, _| v0.map_or(0.0, |v| v[i])),
         Mat::<f64>::zeros(n, 1),
     );
     let (mut rhs, mut tmp) = (Mat::<f64>::zeros(n, 1), Mat::<f64>::zeros(n, 1));
@@ -403,7 +432,7 @@ pub fn simulate_penalty_impact(
         run.force.push(f);
     };
     record(&mut run, 0.0, y, &u, 0.0);
-    let mut resting = true;
+    let mut resting = v0.is_none();
     for step in 1..=steps {
         let t = step as f64 * p.h;
         // predictor: the beam and the mass without the contact force at t_{n+1}
