@@ -285,54 +285,69 @@ pub fn format_row(label: &str, r: &Row) -> String {
     )
 }
 
-/// The step study of the reference: NURBS weights at `h`, `h/2`, `h/4` and the hex20 face weights
-/// at `h`, each compared with the run at `h/4`; returns the table rows.
-pub fn step_study(h: f64, t_end: f64, log: &dyn Fn(&str)) -> Result<Vec<String>> {
-    let s = full_fe_setup()?;
-    let runs: Vec<(String, ReferenceRun)> = [
-        (Interpolation::Nurbs, h),
-        (Interpolation::Nurbs, h / 2.0),
-        (Interpolation::Nurbs, h / 4.0),
-        (Interpolation::Hex20Face, h),
-    ]
-    .into_iter()
-    .map(|(how, hh)| {
-        let r = run_reference(&s, how, hh, t_end)?;
-        log(&format!(
-            "{how:?} h {hh:e}: energy error {:.3e}",
-            r.energy_error
-        ));
-        Ok((format!("full FE, {how:?}, h = {hh:e} s"), r))
-    })
-    .collect::<Result<_>>()?;
-    let finest = &runs[2].1;
-    Ok(runs
-        .iter()
-        .map(|(label, r)| {
-            let row = format_row(label, &compare_reference(r, finest));
-            log(&row);
-            format!("{row} energy {:.2e}", r.energy_error)
-        })
-        .collect())
-}
-
-/// The mode study: the reference at `h` against the FFR body (S4, `h`) and the reference's
-/// integrator on the modal basis, for each mode count; writes `node_full_fe.png/svg` and
-/// `mass_full_fe.png/svg` into `out`; returns the table rows.
-pub fn mode_study(
+/// The studies behind the README's tables (one reference run serves both):
+/// - modes: the reference (NURBS weights, `h`, 0.1 s) against the FFR body (S4, `h`) and the
+///   reference's integrator on the modal basis, for each mode count; writes `node_full_fe` and
+///   `mass_full_fe` (png, svg) into `out`;
+/// - step: the reference at `h`, `h/2`, `h/4` and with the hex20 face weights at `h`, over
+///   `t_step` (the contact phase), each against the run at `h/4`.
+///
+/// Returns (mode rows, step rows).
+pub fn studies(
     beam: &Beam,
     counts: &[usize],
     h: f64,
-    t_end: f64,
+    t_step: f64,
+    out: &Path,
+    log: &dyn Fn(&str),
+) -> Result<(Vec<String>, Vec<String>)> {
+    let t_end = 0.1;
+    let s = full_fe_setup()?;
+    let r = run_reference(&s, Interpolation::Nurbs, h, t_end)?;
+    log(&format!("reference energy error {:.3e}", r.energy_error));
+    let modes = mode_rows(beam, &s, &r, counts, out, log)?;
+    let mut runs = vec![(format!("NURBS, h = {h:e} s"), r.truncated(t_step))];
+    for (how, hh) in [
+        (Interpolation::Nurbs, h / 2.0),
+        (Interpolation::Nurbs, h / 4.0),
+        (Interpolation::Hex20Face, h),
+    ] {
+        let label = match how {
+            Interpolation::Nurbs => format!("NURBS, h = {hh:e} s"),
+            Interpolation::Hex20Face => format!("hex20 face, h = {hh:e} s"),
+        };
+        runs.push((label, run_reference(&s, how, hh, t_step)?));
+        log(&format!(
+            "{}: energy error {:.3e}",
+            runs.last().map_or("", |r| &r.0),
+            runs.last().map_or(0.0, |r| r.1.energy_error)
+        ));
+    }
+    let finest = &runs[2].1;
+    let steps = runs
+        .iter()
+        .map(|(label, r)| {
+            let row = format_row(label, &compare_reference(r, finest));
+            let row = format!("{row} {:.2e} |", r.energy_error);
+            log(&row);
+            row
+        })
+        .collect();
+    Ok((modes, steps))
+}
+
+/// The mode rows of [`studies`] and its plots.
+fn mode_rows(
+    beam: &Beam,
+    s: &FullFeSetup,
+    r: &ReferenceRun,
+    counts: &[usize],
     out: &Path,
     log: &dyn Fn(&str),
 ) -> Result<Vec<String>> {
-    let s = full_fe_setup()?;
-    let r = run_reference(&s, Interpolation::Nurbs, h, t_end)?;
-    let mut rows = vec![format_row(
-        "full FE (9900 DOFs)",
-        &compare_reference(&r, &r),
-    )];
+    let h = r.t[1] - r.t[0];
+    let t_end = r.t[r.t.len() - 1];
+    let mut rows = vec![format_row("full FE (9900 DOFs)", &compare_reference(r, r))];
     log(&rows[0]);
     let every = ((2.5e-4 / h).round() as usize).max(1);
     let sampled = |v: &[f64]| -> Vec<(f64, f64)> {
@@ -363,13 +378,13 @@ pub fn mode_study(
         let run = simulate(beam, &Config { modes: n, ..base })?;
         rows.push(format_row(
             &format!("FFR, {n} modes"),
-            &compare_ffr(&run, &r),
+            &compare_ffr(&run, r),
         ));
         log(rows.last().map_or("", |s| s.as_str()));
-        let (k, m, w, p) = modal_system(beam, &s, n, &s.w_nurbs)?;
+        let (k, m, w, p) = modal_system(beam, s, n, &s.w_nurbs)?;
         let modal = simulate_penalty_impact(&k, &m, &w, &p, &penalty_setup(h, t_end))?;
         let label = format!("reference integrator, {n} modes");
-        rows.push(format_row(&label, &compare_reference(&modal, &r)));
+        rows.push(format_row(&label, &compare_reference(&modal, r)));
         log(rows.last().map_or("", |s| s.as_str()));
         if [10, 40, 100, 200].contains(&n) {
             let scale = |v: &[(f64, f64)]| v.iter().map(|&(t, y)| (t, 1e3 * y)).collect();

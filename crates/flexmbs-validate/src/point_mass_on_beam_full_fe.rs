@@ -246,6 +246,8 @@ pub struct ReferenceRun {
     pub probe: Vec<f64>,
     /// Contact force (N).
     pub force: Vec<f64>,
+    /// Vertical velocity of the mass (m/s).
+    pub v_y: Vec<f64>,
     /// Smallest height of the mass (m).
     pub y_min: f64,
     /// Final vertical velocity of the mass (m/s).
@@ -259,6 +261,26 @@ pub struct ReferenceRun {
 }
 
 impl ReferenceRun {
+    /// The run up to (and including) the step at `t_end` (energy error and times as the whole
+    /// run's).
+    pub fn truncated(&self, t_end: f64) -> ReferenceRun {
+        let n = self
+            .t
+            .iter()
+            .take_while(|&&t| t <= t_end * (1.0 + 1e-12))
+            .count();
+        ReferenceRun {
+            t: self.t[..n].to_vec(),
+            y: self.y[..n].to_vec(),
+            probe: self.probe[..n].to_vec(),
+            force: self.force[..n].to_vec(),
+            v_y: self.v_y[..n].to_vec(),
+            y_min: self.y[..n].iter().copied().fold(f64::INFINITY, f64::min),
+            v_y_final: self.v_y[n - 1],
+            ..*self
+        }
+    }
+
     /// (first, last) step time with a nonzero contact force and the total time in contact.
     pub fn contact(&self) -> (f64, f64, f64) {
         contact_times(&self.t, &self.force)
@@ -425,13 +447,14 @@ pub fn simulate_penalty_impact_from(
             + 0.5 * p.stiffness * pen * pen
     };
     let e0 = energy(&u, &v, y, vy, &mut tmp);
-    let record = |run: &mut ReferenceRun, t: f64, y: f64, u: &Mat<f64>, f: f64| {
+    let record = |run: &mut ReferenceRun, t: f64, (y, vy): (f64, f64), u: &Mat<f64>, f: f64| {
         run.t.push(t);
         run.y.push(y);
+        run.v_y.push(vy);
         run.probe.push(dot(probe, u));
         run.force.push(f);
     };
-    record(&mut run, 0.0, y, &u, 0.0);
+    record(&mut run, 0.0, (y, vy), &u, 0.0);
     let mut resting = v0.is_none();
     for step in 1..=steps {
         let t = step as f64 * p.h;
@@ -441,7 +464,7 @@ pub fn simulate_penalty_impact_from(
         if resting && g_free > 0.0 {
             // the beam is still undeformed and at rest: nothing to solve
             (y, vy) = (y_hat, vy + p.h * ay);
-            record(&mut run, t, y, &u, 0.0);
+            record(&mut run, t, (y, vy), &u, 0.0);
             continue;
         }
         resting = false;
@@ -468,7 +491,7 @@ pub fn simulate_penalty_impact_from(
         vy += 0.5 * p.h * (ay + ay_new);
         ay = ay_new;
         run.y_min = run.y_min.min(y);
-        record(&mut run, t, y, &u, f);
+        record(&mut run, t, (y, vy), &u, f);
         if step % 10 == 0 || step == steps {
             let de = (energy(&u, &v, y, vy, &mut tmp) - e0) / e0;
             run.energy_error = run.energy_error.max(de.abs());

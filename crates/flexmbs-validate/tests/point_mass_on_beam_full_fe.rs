@@ -2,7 +2,7 @@
 //! reference itself, and the step and mode studies behind the README's tables (ignored: minutes).
 
 use flexmbs_validate::point_mass_on_beam::{reduce_beam_with, BEAM};
-use flexmbs_validate::point_mass_on_beam_convergence::{mode_study, penalty_setup, step_study};
+use flexmbs_validate::point_mass_on_beam_convergence::{penalty_setup, studies};
 use flexmbs_validate::point_mass_on_beam_full_fe::{
     assemble_full_fe, contact_weights, simulate_penalty_impact, simulate_penalty_impact_from,
     static_response, y_dof_at, FullFeBeam, Interpolation,
@@ -157,29 +157,16 @@ fn log(s: &str) {
     println!("{s}");
 }
 
-/// The step study (h = 1e-5, 5e-6, 2.5e-6 s; hex20 face weights), 0.1 s. About 25 min.
-#[test]
-#[ignore]
-fn full_fe_step_study() {
-    let t_end = std::env::var("PMB_T_END")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0.1);
-    let rows = step_study(1e-5, t_end, &log).unwrap();
-    println!("{}", rows.join("\n"));
-}
-
 /// The mode study (10 ... 200 modes, FFR S4 and the reference's integrator on the modal basis,
-/// h = 1e-5 s, 0.1 s); writes `node_full_fe` and `mass_full_fe` plots into the case's folder.
+/// h = 1e-5 s, 0.1 s; writes the `node_full_fe` and `mass_full_fe` plots into the case's folder)
+/// and the step study of the reference (h = 1e-5, 5e-6, 2.5e-6 s and the hex20 face weights,
+/// 0.05 s). Tens of minutes on a busy 2-core machine.
 #[test]
 #[ignore]
-fn full_fe_mode_study() {
-    let t_end = std::env::var("PMB_T_END")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0.1);
+fn full_fe_studies() {
     let beam = reduce_beam_with(200).unwrap();
     let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation/point_mass_on_beam");
-    let rows = mode_study(&beam, &[10, 20, 40, 60, 100, 200], 1e-5, t_end, &out, &log).unwrap();
-    println!("{}", rows.join("\n"));
+    let counts = [10, 20, 40, 60, 100, 200];
+    let (modes, steps) = studies(&beam, &counts, 1e-5, 0.05, &out, &log).unwrap();
+    println!("{}\n\n{}", modes.join("\n"), steps.join("\n"));
 }
