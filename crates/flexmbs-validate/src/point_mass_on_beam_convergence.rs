@@ -435,23 +435,25 @@ fn mode_rows(
             });
         }
     }
-    for (series, file, what) in [
+    write_full_fe_plots(out, h, node, mass)?;
+    Ok(rows)
+}
+
+/// `node_full_fe` and `mass_full_fe` (png, svg).
+fn write_full_fe_plots(out: &Path, h: f64, node: Vec<Series>, mass: Vec<Series>) -> Result<()> {
+    for (series, file, what, unit) in [
         (
             node,
             "node_full_fe",
             "y displacement of node (250, 50, 25) mm",
+            "u_y [mm]",
         ),
-        (mass, "mass_full_fe", "height of the mass"),
+        (mass, "mass_full_fe", "height of the mass", "y [mm]"),
     ] {
         let plot = LinePlot {
             title: format!("Point mass on beam, setup A, S4 (h = {h:e} s): {what}, FFR vs full FE"),
             x_label: "t [s]".into(),
-            y_label: if file == "node_full_fe" {
-                "u_y [mm]"
-            } else {
-                "y [mm]"
-            }
-            .into(),
+            y_label: unit.into(),
             series,
             log_x: false,
             log_y: false,
@@ -459,5 +461,5 @@ fn mode_rows(
         plot.write(&out.join(format!("{file}.png")))?;
         plot.write(&out.join(format!("{file}.svg")))?;
     }
-    Ok(rows)
+    Ok(())
 }

@@ -399,6 +399,68 @@ pub fn simulate_penalty_impact(
     simulate_penalty_impact_from(k, m, w, probe, p, None)
 }
 
+/// The structure's Newmark state and work vectors.
+struct NewmarkStructure {
+    u: Mat<f64>,
+    v: Mat<f64>,
+    a: Mat<f64>,
+    /// The predictor `(K + a0 M)^-1 M (a0 u + a1 v + a)`, then free.
+    rhs: Mat<f64>,
+    tmp: Mat<f64>,
+}
+
+impl NewmarkStructure {
+    fn new(n: usize, v0: Option<&[f64]>) -> Self {
+        Self {
+            u: Mat::zeros(n, 1),
+            v: Mat::from_fn(n, 1, |i, _| v0.map_or(0.0, |v| v[i])),
+            a: Mat::zeros(n, 1),
+            rhs: Mat::zeros(n, 1),
+            tmp: Mat::zeros(n, 1),
+        }
+    }
+
+    /// The displacement at `t_{n+1}` without the contact force, into `rhs`.
+    fn predict(&mut self, m: &SparseMatrix, factor: &mut Factor, a0: f64, a1: f64) {
+        for i in 0..self.u.nrows() {
+            self.tmp[(i, 0)] = a0 * self.u[(i, 0)] + a1 * self.v[(i, 0)] + self.a[(i, 0)];
+        }
+        sparse_times_into(m, &self.tmp, &mut self.rhs);
+        factor.solve_in_place(&mut self.rhs);
+    }
+
+    /// `u_{n+1} = rhs - z f`, then the average-acceleration updates of `a` and `v`.
+    fn correct(&mut self, z: &Mat<f64>, f: f64, a0: f64, a1: f64, h: f64) {
+        for i in 0..self.u.nrows() {
+            let un = self.rhs[(i, 0)] - z[(i, 0)] * f;
+            let an = a0 * (un - self.u[(i, 0)]) - a1 * self.v[(i, 0)] - self.a[(i, 0)];
+            self.v[(i, 0)] += 0.5 * h * (self.a[(i, 0)] + an);
+            (self.u[(i, 0)], self.a[(i, 0)]) = (un, an);
+        }
+    }
+
+    /// Kinetic + elastic energy of the structure, kinetic of the mass and the penalty energy.
+    fn energy(
+        &mut self,
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        w: &[f64],
+        p: &PenaltyImpact,
+        (y, vy): (f64, f64),
+    ) -> f64 {
+        let pen = (p.y_top + dot(w, &self.u) - y).max(0.0);
+        0.5 * quadratic_form(m, &self.v, &mut self.tmp)
+            + 0.5 * quadratic_form(k, &self.u, &mut self.tmp)
+            + 0.5 * p.mass * vy * vy
+            + 0.5 * p.stiffness * pen * pen
+    }
+}
+
+/// `a^T x`.
+fn dot(a: &[f64], x: &Mat<f64>) -> f64 {
+    (0..a.len()).map(|i| a[i] * x[(i, 0)]).sum::<f64>()
+}
+
 /// [`simulate_penalty_impact`] with an initial velocity `v0` of the structure (undeformed: the
 /// initial acceleration is zero); `None`: at rest.
 pub fn simulate_penalty_impact_from(
@@ -423,15 +485,8 @@ pub fn simulate_penalty_impact_from(
     // z = (K + a0 M)^-1 w: the beam's response to a unit contact force
     let mut z = Mat::<f64>::from_fn(n, 1, |i, _| w[i]);
     factor.solve_in_place(&mut z);
-    let wz: f64 = (0..n).map(|i| w[i] * z[(i, 0)]).sum();
-    let c = p.h * p.h / (4.0 * p.mass) + wz;
-    let dot = |a: &[f64], x: &Mat<f64>| (0..n).map(|i| a[i] * x[(i, 0)]).sum::<f64>();
-    let (mut u, mut v, mut a) = (
-        Mat::<f64>::zeros(n, 1),
-        Mat::<f64>::from_fn(n, 1, |i, _| v0.map_or(0.0, |v| v[i])),
-        Mat::<f64>::zeros(n, 1),
-    );
-    let (mut rhs, mut tmp) = (Mat::<f64>::zeros(n, 1), Mat::<f64>::zeros(n, 1));
+    let c = p.h * p.h / (4.0 * p.mass) + dot(w, &z);
+    let mut s = NewmarkStructure::new(n, v0);
     let (mut y, mut vy, mut ay) = (p.y0, p.v0, 0.0);
     let steps = (p.t_end / p.h).round() as usize;
     let mut run = ReferenceRun {
@@ -439,14 +494,7 @@ pub fn simulate_penalty_impact_from(
         cpu_factor,
         ..ReferenceRun::default()
     };
-    let energy = |u: &Mat<f64>, v: &Mat<f64>, y: f64, vy: f64, tmp: &mut Mat<f64>| {
-        let pen = (p.y_top + dot(w, u) - y).max(0.0);
-        0.5 * quadratic_form(m, v, tmp)
-            + 0.5 * quadratic_form(k, u, tmp)
-            + 0.5 * p.mass * vy * vy
-            + 0.5 * p.stiffness * pen * pen
-    };
-    let e0 = energy(&u, &v, y, vy, &mut tmp);
+    let e0 = s.energy(k, m, w, p, (y, vy));
     let record = |run: &mut ReferenceRun, t: f64, (y, vy): (f64, f64), u: &Mat<f64>, f: f64| {
         run.t.push(t);
         run.y.push(y);
@@ -454,46 +502,36 @@ pub fn simulate_penalty_impact_from(
         run.probe.push(dot(probe, u));
         run.force.push(f);
     };
-    record(&mut run, 0.0, (y, vy), &u, 0.0);
+    record(&mut run, 0.0, (y, vy), &s.u, 0.0);
     let mut resting = v0.is_none();
     for step in 1..=steps {
         let t = step as f64 * p.h;
         // predictor: the beam and the mass without the contact force at t_{n+1}
         let y_hat = y + p.h * vy + 0.25 * p.h * p.h * ay;
-        let g_free = y_hat - p.y_top;
-        if resting && g_free > 0.0 {
+        if resting && y_hat > p.y_top {
             // the beam is still undeformed and at rest: nothing to solve
             (y, vy) = (y_hat, vy + p.h * ay);
-            record(&mut run, t, (y, vy), &u, 0.0);
+            record(&mut run, t, (y, vy), &s.u, 0.0);
             continue;
         }
         resting = false;
-        for i in 0..n {
-            tmp[(i, 0)] = a0 * u[(i, 0)] + a1 * v[(i, 0)] + a[(i, 0)];
-        }
-        sparse_times_into(m, &tmp, &mut rhs);
-        factor.solve_in_place(&mut rhs);
-        let g_hat = y_hat - p.y_top - dot(w, &rhs);
+        s.predict(m, &mut factor, a0, a1);
+        let g_hat = y_hat - p.y_top - dot(w, &s.rhs);
         // g = g_hat + c f, f = k max(0, -g): exact for the piecewise linear law
         let f = if g_hat < 0.0 {
             -p.stiffness * g_hat / (1.0 + p.stiffness * c)
         } else {
             0.0
         };
-        for i in 0..n {
-            let un = rhs[(i, 0)] - z[(i, 0)] * f;
-            let an = a0 * (un - u[(i, 0)]) - a1 * v[(i, 0)] - a[(i, 0)];
-            v[(i, 0)] += 0.5 * p.h * (a[(i, 0)] + an);
-            (u[(i, 0)], a[(i, 0)]) = (un, an);
-        }
+        s.correct(&z, f, a0, a1, p.h);
         let ay_new = f / p.mass;
         y = y_hat + 0.25 * p.h * p.h * ay_new;
         vy += 0.5 * p.h * (ay + ay_new);
         ay = ay_new;
         run.y_min = run.y_min.min(y);
-        record(&mut run, t, (y, vy), &u, f);
+        record(&mut run, t, (y, vy), &s.u, f);
         if step % 10 == 0 || step == steps {
-            let de = (energy(&u, &v, y, vy, &mut tmp) - e0) / e0;
+            let de = (s.energy(k, m, w, p, (y, vy)) - e0) / e0;
             run.energy_error = run.energy_error.max(de.abs());
         }
     }
