@@ -9,7 +9,8 @@
 //! with set-valued laws (`C_R <= 1`), the penalty's artificial energy shrinking with the step
 //! size, convergence with the number of modes, and the first impact and the contact phase against
 //! a one-degree-of-freedom beam estimate (Euler-Bernoulli, stated as a plausibility check, not a
-//! pass/fail reference).
+//! pass/fail reference). For the penalty law the 100-mode body is checked against the unreduced
+//! FE model ([`crate::point_mass_on_beam_convergence`], [`crate::point_mass_on_beam_full_fe`]).
 
 use crate::ValidationResult;
 use anyhow::{bail, Context, Result};

@@ -2,8 +2,8 @@
 //!
 //! The beam is the benchmark's mesh (25 x 5 x 5 hex20, full integration, consistent mass,
 //! clamped on x = 0; 9900 free DOFs) with **all** its DOFs: the stiffness `K` and mass `M` come
-//! from the `flexmbs-fe` assembly (validated against CalculiX in `complex_beam_ccx` and
-//! `fe_cantilever_modes`), the clamped DOFs removed. Nothing else is shared with the code under
+//! from the `flexmbs-fe` assembly (checked elsewhere: `tests/calculix_beam.rs` against CalculiX,
+//! `fe_cantilever_modes` against beam theory), the clamped DOFs removed. Nothing else is shared with the code under
 //! test (no FFR body, no modal reduction, no contour or contact code, no integrator of
 //! `flexmbs-core`):
 //!
