@@ -309,6 +309,7 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
                 _ => bail!("give a case name or --all (list them with --list)"),
             };
             let mut failed = Vec::new();
+            let mut known = Vec::new();
             for c in selected {
                 let out = dir.join(c.name);
                 std::fs::create_dir_all(&out)?;
@@ -317,9 +318,18 @@ fn run_other(command: Command, quiet: bool) -> Result<()> {
                     (c.run)(&out, quiet).with_context(|| format!("validation case {}", c.name))?;
                 r.write(&out.join("result.json"))?;
                 println!("{}", r.summary());
-                if !r.pass {
-                    failed.push(c.name);
+                let unexpected = r.unexpected_failures();
+                if !unexpected.is_empty() {
+                    failed.push(format!("{} ({})", c.name, unexpected.join(", ")));
+                } else if !r.pass {
+                    known.push(format!("{} ({})", c.name, r.failed_checks.join(", ")));
                 }
+            }
+            if !known.is_empty() {
+                println!(
+                    "known disagreements with the reference (reported as FAIL; the case README has the analysis): {}",
+                    known.join(", ")
+                );
             }
             if !failed.is_empty() {
                 bail!("validation failed: {}", failed.join(", "));

@@ -252,6 +252,25 @@ impl ConstraintMap {
         (t, r)
     }
 
+    /// The load vector over the independent DOFs (`T^T f`) of the force `force` shared equally by
+    /// the translations of `nodes` (fixed DOFs take their share without effect).
+    pub fn nodal_load(&self, nodes: &[NodeIdx], force: [f64; 3]) -> Vec<f64> {
+        let mut f = vec![0.0; self.num_independent()];
+        let share = 1.0 / nodes.len().max(1) as f64;
+        for &node in nodes {
+            if node >= self.dofs.count.len() {
+                continue;
+            }
+            for (dir, fd) in force.iter().enumerate().take(self.dofs.count[node].min(3)) {
+                let eq = self.dofs.first[node] + dir;
+                for &(p, c) in &self.rows[eq] {
+                    f[p] += c * share * fd;
+                }
+            }
+        }
+        f
+    }
+
     /// Independent DOF indices of a node (empty if fixed or slave).
     pub fn independent_of_node(&self, node: NodeIdx) -> Vec<usize> {
         let mut out = Vec::new();

@@ -24,6 +24,7 @@ pub mod memory;
 pub mod mesh;
 pub mod modes;
 pub mod reduction;
+pub mod static_modes;
 pub mod stress;
 #[cfg(test)]
 mod stress_tests;

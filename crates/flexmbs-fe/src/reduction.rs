@@ -41,6 +41,9 @@ pub struct Provenance {
     pub notes: String,
 }
 
+/// Start of the label of a static load response ([`ModeLabel::dominant`]).
+pub const STATIC_LOAD_LABEL: &str = "static load";
+
 /// Label of one mode (mode bookkeeping).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModeLabel {
@@ -50,7 +53,9 @@ pub struct ModeLabel {
     /// 0 for rigid-body modes, NaN for static constraint modes.
     pub frequency_hz: f64,
     /// Dominant motion: `ux`, `uy`, `uz` (translation), `rx`, `ry`, `rz` (rotation about the centre of mass),
-    /// or `static` for constraint modes.
+    /// `static node ...` for Craig-Bampton constraint modes, or `static load <name>` for the
+    /// static response to a load pattern ([`crate::static_modes`]; its frequency is that of the
+    /// augmentation block).
     pub dominant: String,
     /// Effective modal mass fraction in x, y, z (translation participation, sums to <= 1 over all modes).
     pub effective_mass_fraction: [f64; 3],
@@ -232,6 +237,21 @@ pub fn reduce_modal(
     name: &str,
     provenance: Provenance,
 ) -> Result<ReducedBody, FeError> {
+    reduce_modal_augmented(mesh, sys, modal, n_modes, &[], name, provenance)
+}
+
+/// [`reduce_modal`] with the static responses to `loads` appended to the modes
+/// ([`crate::static_modes`]): one basis vector per load, labelled `static load <name>`, with the
+/// frequency of the augmentation block.
+pub fn reduce_modal_augmented(
+    mesh: &Mesh,
+    sys: &FeSystem,
+    modal: &ModalResult,
+    n_modes: usize,
+    loads: &[crate::static_modes::StaticLoad],
+    name: &str,
+    provenance: Provenance,
+) -> Result<ReducedBody, FeError> {
     let keep: Vec<usize> = (0..modal.labels.len())
         .filter(|&k| !modal.labels[k].dominant.starts_with("rigid"))
         .take(n_modes)
@@ -247,7 +267,31 @@ pub fn reduce_modal(
     for (i, l) in labels.iter_mut().enumerate() {
         l.index = i + 1;
     }
-    let omega2: Vec<f64> = keep.iter().map(|&k| modal.omega2[k]).collect();
+    let mut omega2: Vec<f64> = keep.iter().map(|&k| modal.omega2[k]).collect();
+    if !loads.is_empty() {
+        if modal.n_rigid > 0 {
+            return Err(FeError::Invalid(
+                "static load responses need a supported body: the stiffness of a free-free body \
+                 is singular (give the body supports, or use a Craig-Bampton basis)"
+                    .into(),
+            ));
+        }
+        let (x, w2) = crate::static_modes::static_responses(sys, v.as_ref(), loads)?;
+        let nm = v.ncols();
+        let mut vx = Mat::<f64>::zeros(sys.len(), nm + x.ncols());
+        vx.as_mut().subcols_mut(0, nm).copy_from(&v);
+        vx.as_mut().subcols_mut(nm, x.ncols()).copy_from(&x);
+        v = vx;
+        for (j, (load, w)) in loads.iter().zip(&w2).enumerate() {
+            labels.push(ModeLabel {
+                index: nm + j + 1,
+                frequency_hz: w.max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
+                dominant: format!("{STATIC_LOAD_LABEL} {}", load.name),
+                effective_mass_fraction: [0.0; 3],
+            });
+            omega2.push(*w);
+        }
+    }
     let kind = if modal.n_rigid > 0 {
         ReductionKind::FreeFree
     } else {

@@ -602,6 +602,22 @@ pub struct ReductionSpec {
     /// Relative residual tolerance of the eigen solver (default 1e-9).
     #[serde(default = "default_tol")]
     pub tol: f64,
+    /// Static load patterns whose static responses `K^-1 f` enrich a modal basis (modal
+    /// truncation augmentation; default none): one more basis vector per load, for the local
+    /// deformation under a contact or a point load that the lowest modes lack.
+    #[serde(default)]
+    pub static_loads: Vec<StaticLoadSpec>,
+}
+
+/// A static load pattern of [`ReductionSpec::static_loads`]: a total force of unit size along
+/// `direction`, shared equally by the selected nodes.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StaticLoadSpec {
+    /// The loaded nodes.
+    pub nodes: NodeSelector,
+    /// Direction of the force (body axes; normalised).
+    pub direction: [f64; 3],
 }
 
 fn default_tol() -> f64 {
@@ -622,6 +638,7 @@ impl Default for ReductionSpec {
             solver: SolverName::Auto,
             shift: None,
             tol: default_tol(),
+            static_loads: Vec::new(),
         }
     }
 }

@@ -293,6 +293,23 @@ pub(crate) fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelErro
             format!("must be in (0, 1e-2), got {}", r.tol),
         ));
     }
+    if r.method != ReductionMethod::Modal && !r.static_loads.is_empty() {
+        return Err(err(
+            "body.reduction.static_loads",
+            "static load responses enrich a modal basis (method = \"modal\"); a Craig-Bampton \
+             basis holds the static responses of its interface nodes already"
+                .into(),
+        ));
+    }
+    for (i, l) in r.static_loads.iter().enumerate() {
+        let n = l.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if !(n.is_finite() && n > 0.0) {
+            return Err(err(
+                &format!("body.reduction.static_loads[{i}].direction"),
+                format!("must be a finite nonzero vector, got {:?}", l.direction),
+            ));
+        }
+    }
     if r.method != ReductionMethod::Modal && r.interface.is_empty() {
         return Err(err(
             "body.reduction.interface",

@@ -8,9 +8,10 @@ use flexmbs_fe::element::MassKind;
 use flexmbs_fe::mesh::generate;
 use flexmbs_fe::mesh::profile::Profile;
 use flexmbs_fe::reduction::{
-    craig_bampton, modal_analysis, reduce_modal, CraigBamptonOptions, ModalResult, Provenance,
-    ReducedBody,
+    craig_bampton, modal_analysis, reduce_modal_augmented, CraigBamptonOptions, ModalResult,
+    Provenance, ReducedBody,
 };
+use flexmbs_fe::static_modes::StaticLoad;
 use flexmbs_fe::system::FeSystem;
 use flexmbs_fe::{ElementKind, FeError, Material, Mesh, NodeIdx};
 use flexmbs_io::model::{
@@ -95,6 +96,8 @@ pub struct PreparedBody {
     pub system: FeSystem,
     /// Interface nodes for Craig-Bampton (indices in the constrained system's node list).
     pub interface: Vec<NodeIdx>,
+    /// Static load patterns whose responses enrich a modal basis (`reduction.static_loads`).
+    pub static_loads: Vec<StaticLoad>,
     /// Human-readable source description.
     pub source: String,
 }
@@ -434,6 +437,7 @@ pub(crate) fn prepare_keeping_mass(
     if spec.reduction.method == ReductionMethod::Modal {
         check_mode_count(&system, spec.reduction.modes)?;
     }
+    let static_loads = static_load_patterns(spec, &mesh, &system)?;
     let source = describe_source(spec, base);
     Ok((
         PreparedBody {
@@ -441,10 +445,43 @@ pub(crate) fn prepare_keeping_mass(
             bc,
             system,
             interface,
+            static_loads,
             source,
         },
         assembled.m,
     ))
+}
+
+/// The load patterns of `reduction.static_loads` over the independent DOFs, named by their index
+/// (1-based); a selection without nodes or on fixed nodes only is a located error.
+fn static_load_patterns(
+    spec: &FeBodySpec,
+    mesh: &Mesh,
+    system: &FeSystem,
+) -> Result<Vec<StaticLoad>, PipelineError> {
+    let mut out = Vec::new();
+    for (i, l) in spec.reduction.static_loads.iter().enumerate() {
+        let key = format!("body.reduction.static_loads[{i}]");
+        let nodes = select_nodes(mesh, &l.nodes, &format!("{key}.nodes"))?;
+        let norm = l.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let dir = l.direction.map(|c| c / norm);
+        let force = system.map.nodal_load(&nodes, dir);
+        if nodes.is_empty() || force.iter().all(|f| *f == 0.0) {
+            return Err(PipelineError::Model {
+                path: format!("{key}.nodes"),
+                message: format!(
+                    "selects {} nodes, none of them free to move along {dir:?}: the load has no \
+                     effect",
+                    nodes.len()
+                ),
+            });
+        }
+        out.push(StaticLoad {
+            name: (i + 1).to_string(),
+            force,
+        });
+    }
+    Ok(out)
 }
 
 fn describe_source(spec: &FeBodySpec, base: &Path) -> String {
@@ -601,15 +638,27 @@ pub fn run_reduction(
     match r.method {
         ReductionMethod::Modal => {
             let modal = run_modal(spec, body, r.modes, progress)?;
-            reduce_modal(
+            if !body.static_loads.is_empty() {
+                progress(Stage::Started("static load responses".into()));
+            }
+            reduce_modal_augmented(
                 &body.mesh,
                 &body.system,
                 &modal,
                 r.modes,
+                &body.static_loads,
                 &spec.name,
                 provenance,
             )
-            .map_err(fe("reduction"))
+            .map_err(|e| match e {
+                FeError::Invalid(message) if !body.static_loads.is_empty() => {
+                    PipelineError::Model {
+                        path: "body.reduction.static_loads".into(),
+                        message,
+                    }
+                }
+                e => fe("reduction")(e),
+            })
         }
         ReductionMethod::CraigBampton | ReductionMethod::Guyan => {
             let k = if r.method == ReductionMethod::Guyan {

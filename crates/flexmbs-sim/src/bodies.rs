@@ -1,7 +1,7 @@
 //! Bodies of a model file: rigid bodies (mass, inertia) and FFR bodies from an FE model file, a
 //! reduced-body file or a seed folder (mode selection, damping, SI conversion).
 
-use crate::body_loading::{load_body_source, mode_columns, select_modes};
+use crate::body_loading::{load_body_source, mode_columns, select_modes, static_load_columns};
 pub use crate::body_loading::{load_fe_body, load_reduced, load_reduced_with_fe, LoadedBody};
 use crate::compile::Ctx;
 use crate::error::SimError;
@@ -430,8 +430,9 @@ fn ffr_body(
     let rotary = node_rotary_inertias(ctx, p, b, kind, &loaded)?;
     let geometric = geometric_stiffness(ctx, p, b, kind, &loaded)?;
     let interfaces = loaded.fe.as_ref().map(named_interfaces).unwrap_or_default();
+    let n_static = static_load_columns(&loaded.reduced);
     let stress = crate::stress::selected_stress(&mut loaded, |nf| match &b.modes {
-        Some(sel) => mode_columns(ctx, p, nf, sel),
+        Some(sel) => mode_columns(ctx, p, nf, n_static, sel),
         None => Ok((0..nf).collect()),
     })?;
     let LoadedBody {
@@ -447,7 +448,7 @@ fn ffr_body(
             let cols = b
                 .modes
                 .as_ref()
-                .map(|sel| mode_columns(ctx, p, reduced.num_modes(), sel))
+                .map(|sel| mode_columns(ctx, p, reduced.num_modes(), n_static, sel))
                 .transpose()?;
             let g =
                 stored_consistent_inertia(g, reduced.num_modes(), cols.as_deref(), reduced.units);
@@ -619,10 +620,15 @@ fn set_damping(ctx: &Ctx, dk: &str, d: &DampingSpec, body: &mut FfrBody) -> Resu
                 return Err(ctx.err(&format!("{dk}.modal"), "damping ratios must be >= 0"));
             }
             body.set_modal_damping(&zeta).map_err(|e| {
-                ctx.err(
-                    &format!("{dk}.modal"),
-                    format!("{e} (give one ratio per selected mode, or one for all)"),
-                )
+                let hint = match e {
+                    flexmbs_core::ffr::FfrError::NotDiagonal { .. } => {
+                        "modal damping ratios need a basis of modes; this body's reduced \
+                         matrices couple its basis vectors (static load responses, or a \
+                         non-modal basis): use `rayleigh = [alpha, beta]`"
+                    }
+                    _ => "give one ratio per selected mode, or one for all",
+                };
+                ctx.err(&format!("{dk}.modal"), format!("{e} ({hint})"))
             })?;
         }
         _ => {

@@ -156,6 +156,19 @@ fn load_fe_model_file(path: &Path, full_mass: bool) -> Result<LoadedBody, String
     })
 }
 
+/// The number of trailing basis vectors of `reduced` that are static load responses.
+pub(crate) fn static_load_columns(reduced: &ReducedBody) -> usize {
+    reduced
+        .labels
+        .iter()
+        .rev()
+        .take_while(|l| {
+            l.dominant
+                .starts_with(flexmbs_fe::reduction::STATIC_LOAD_LABEL)
+        })
+        .count()
+}
+
 /// The body and its `K_G` restricted to the modes selected by `modes` (all if absent).
 pub(crate) fn select_modes(
     ctx: &Ctx,
@@ -167,7 +180,13 @@ pub(crate) fn select_modes(
     let Some(sel) = &b.modes else {
         return Ok((reduced, geometric));
     };
-    let cols = mode_columns(ctx, p, reduced.num_modes(), sel)?;
+    let cols = mode_columns(
+        ctx,
+        p,
+        reduced.num_modes(),
+        static_load_columns(&reduced),
+        sel,
+    )?;
     Ok((
         reduced.restricted_to(&cols),
         geometric.map(|g| select_geometric_modes(&g, &cols)),
@@ -175,22 +194,31 @@ pub(crate) fn select_modes(
 }
 
 /// The 0-based columns of the selected basis vectors (1-based numbers in the file) of a body
-/// with `nf` of them.
+/// with `nf` of them, the last `n_static` of which are static load responses: a count selects
+/// the first modes and keeps every static load response (they belong to the basis the reduction
+/// was asked for); a list selects exactly the listed columns.
 pub(crate) fn mode_columns(
     ctx: &Ctx,
     p: &str,
     nf: usize,
+    n_static: usize,
     sel: &ModeSelection,
 ) -> Result<Vec<usize>, SimError> {
     let cols: Vec<usize> = match sel {
         ModeSelection::Count(n) => {
-            if *n > nf {
+            let n_modes = nf - n_static.min(nf);
+            if *n > n_modes {
+                let extra = if n_static > 0 {
+                    format!(" (and {n_static} static load responses, kept with any count)")
+                } else {
+                    String::new()
+                };
                 return Err(ctx.err(
                     &format!("{p}.modes"),
-                    format!("{n} modes requested but the body has {nf}"),
+                    format!("{n} modes requested but the body has {n_modes}{extra}"),
                 ));
             }
-            (0..*n).collect()
+            (0..*n).chain(n_modes..nf).collect()
         }
         ModeSelection::List(list) => {
             let mut cols = Vec::with_capacity(list.len());

@@ -68,11 +68,30 @@ pub fn reduce_beam() -> Result<Beam> {
     reduce_beam_with(100)
 }
 
+/// The static load pattern of the contact region added by [`reduce_beam_augmented`]: a unit
+/// force along -y shared by the top-face nodes within 10 mm of the impact point of setup A,
+/// (235, 50, 25) mm in x and z (eight hex20 corner and mid-edge nodes).
+pub const CONTACT_REGION_LOAD: &str = "static_loads = [{ nodes = { within = { min = [0.2249, \
+0.0499, 0.0149], max = [0.2451, 0.0501, 0.0351] } }, direction = [0.0, -1.0, 0.0] }]";
+
 /// Meshes and reduces the benchmark's beam with `modes` modes.
 pub fn reduce_beam_with(modes: usize) -> Result<Beam> {
+    reduce_beam_text(&BEAM.replace("modes = 100", &format!("modes = {modes}")))
+}
+
+/// Meshes and reduces the benchmark's beam with `modes` modes and the static response to a load
+/// on the contact region of setup A ([`CONTACT_REGION_LOAD`]) as one more basis vector.
+pub fn reduce_beam_augmented(modes: usize) -> Result<Beam> {
+    let text = BEAM.replace(
+        "modes = 100",
+        &format!("modes = {modes}\n{CONTACT_REGION_LOAD}"),
+    );
+    reduce_beam_text(&text)
+}
+
+fn reduce_beam_text(text: &str) -> Result<Beam> {
     let path = Path::new("point_mass_on_beam.toml");
-    let text = BEAM.replace("modes = 100", &format!("modes = {modes}"));
-    let spec = flexmbs_io::model::parse_fe_model(&text, path)?.body;
+    let spec = flexmbs_io::model::parse_fe_model(text, path)?.body;
     let (prepared, mass) =
         flexmbs_reduce::full_mass::prepare_with_mass(&spec, Path::new("."), &mut |_| {})?;
     let reduced = flexmbs_reduce::pipeline::run_reduction(&spec, &prepared, &mut |_| {})?;
@@ -145,8 +164,25 @@ fn thread_cpu_seconds() -> f64 {
         .map_or(f64::NAN, |ns| 1e-9 * ns)
 }
 
+/// The basis columns of `beam` a run with `c.modes` modes uses: the first `c.modes` modes and
+/// every static load response (the trailing columns labelled so).
+fn basis_columns(beam: &Beam, c: &Config) -> Vec<usize> {
+    let nf = beam.reduced.num_modes();
+    let n_static = beam
+        .reduced
+        .labels
+        .iter()
+        .rev()
+        .take_while(|l| {
+            l.dominant
+                .starts_with(flexmbs_fe::reduction::STATIC_LOAD_LABEL)
+        })
+        .count();
+    (0..c.modes).chain(nf - n_static..nf).collect()
+}
+
 fn model(beam: &Beam, c: &Config) -> Result<(Model, usize)> {
-    let cols: Vec<usize> = (0..c.modes).collect();
+    let cols = basis_columns(beam, c);
     let reduced = beam.reduced.restricted_to(&cols);
     let ffr = FfrBody::from_reduced_consistent(&reduced, &beam.mass, RotationParam::Cardan)?;
     let nodes = &reduced.nodes;
@@ -242,12 +278,13 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
             )
     };
     let e0 = energy(&s, &mut ws_out);
-    let nf = c.modes;
+    let cols = basis_columns(beam, c);
+    let nf = cols.len();
     let node_y = |s: &State| {
         let qf = &model.body_q(b, &s.q)[6..6 + nf];
-        let col = 3 * probe + 1;
+        let row = 3 * probe + 1;
         (0..nf)
-            .map(|k| beam.reduced.modes_t[(col, k)] * qf[k])
+            .map(|k| beam.reduced.modes_t[(row, cols[k])] * qf[k])
             .sum::<f64>()
     };
     let mut run = Run {
@@ -395,7 +432,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     // the benchmark: energy_gain <= 0 up to round-off; the issue: at most 0.1 %
     res.quantities.insert("energy_gain".into(), gain);
     if gain.is_nan() || gain > 1e-3 {
-        res.pass = false;
+        res.fail("energy_gain");
     }
     regularized_runs(&beam, &base, &mut res, &log)?;
     std::fs::create_dir_all(out)?;
@@ -452,7 +489,7 @@ fn regularized_runs(
         res.record(&format!("penalty_energy_change_h{h:e}"), r.energy_end);
         res.record(&format!("penalty_energy_gain_h{h:e}"), r.energy_gain);
         if artificial > previous * 1.05 {
-            res.pass = false;
+            res.fail("penalty_energy_shrinks_with_step");
         }
         previous = artificial;
     }
