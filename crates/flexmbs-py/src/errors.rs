@@ -130,7 +130,35 @@ pub fn results_error(py: Python<'_>, e: &ResultsError) -> PyErr {
                 ("close", Attr::Str(close.join(", "))),
             ],
         ),
-        _ => raise(py, "IoError", e.to_string(), &[]),
+        _ => {
+            let path = path_attr(results_path(e));
+            raise(py, "IoError", e.to_string(), &[("path", path)])
+        }
+    }
+}
+
+/// The file a results-file error is about (every variant names one).
+fn results_path(e: &ResultsError) -> &Path {
+    use flexmbs_io::plot::PlotError;
+    use flexmbs_io::vtk::VtkError;
+    match e {
+        ResultsError::UnsafeTarget { path, .. }
+        | ResultsError::Io { path, .. }
+        | ResultsError::Hdf5 { path, .. }
+        | ResultsError::NotAResultsFile { path, .. }
+        | ResultsError::UnsupportedVersion { path, .. }
+        | ResultsError::MissingDataset { path, .. }
+        | ResultsError::BadAttribute { path, .. }
+        | ResultsError::WrongShape { path, .. }
+        | ResultsError::InvalidLayout { path, .. }
+        | ResultsError::BadUserAttribute { path, .. }
+        | ResultsError::RowLength { path, .. }
+        | ResultsError::UnknownSeries { path, .. }
+        | ResultsError::NoSeries { path }
+        | ResultsError::UnsupportedPlotFormat { path, .. }
+        | ResultsError::InvalidAnimation { path, .. }
+        | ResultsError::Vtk(VtkError::Io { path, .. } | VtkError::Invalid { path, .. }) => path,
+        ResultsError::Plot(PlotError::Draw { file, .. } | PlotError::Empty { file }) => file,
     }
 }
 

@@ -8,7 +8,7 @@ use flexmbs_io::model_check::{ErrorAtKey, FeModelSource};
 use flexmbs_reduce::pipeline::{prepare, run_modal, run_reduction, PreparedBody, Stage};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString};
 use std::path::{Path, PathBuf};
 
 /// An FE-model error as `ModelError`; for a model changed in Python without file and line.
@@ -74,6 +74,19 @@ fn matrix<'py>(py: Python<'py>, m: faer::MatRef<'_, f64>) -> PyResult<Bound<'py,
     Ok(PyArray1::from_vec(py, data).reshape([r, c])?.into_any())
 }
 
+/// Strings as a 1-D numpy array of `str` objects (dtype `object`, as the text columns of
+/// `sweep`).
+fn strings<'py, S: AsRef<str>>(
+    py: Python<'py>,
+    items: impl IntoIterator<Item = S>,
+) -> Bound<'py, PyArray1<Py<PyAny>>> {
+    let objects: Vec<Py<PyAny>> = items
+        .into_iter()
+        .map(|s| PyString::new(py, s.as_ref()).into_any().unbind())
+        .collect();
+    PyArray1::from_vec(py, objects)
+}
+
 /// Node coordinates `(N, 3)`.
 fn points<'py>(py: Python<'py>, nodes: &[[f64; 3]]) -> PyResult<Bound<'py, PyAny>> {
     let data: Vec<f64> = nodes.iter().flatten().copied().collect();
@@ -106,8 +119,7 @@ pub fn modal<'py>(
     let f: Vec<f64> = rows.iter().map(|r| r.frequency_hz).collect();
     d.set_item("frequencies_hz", PyArray1::from_vec(py, f))?;
     d.set_item("omega2", PyArray1::from_slice(py, &modal.omega2))?;
-    let labels: Vec<&str> = rows.iter().map(|r| r.dominant.as_str()).collect();
-    d.set_item("labels", labels)?;
+    d.set_item("labels", strings(py, rows.iter().map(|r| &r.dominant)))?;
     let eff: Vec<f64> = rows
         .iter()
         .flat_map(|r| r.effective_mass_fraction)
@@ -218,8 +230,7 @@ pub fn read_body<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyD
         "frequencies_hz",
         PyArray1::from_slice(py, &b.frequencies_hz),
     )?;
-    let labels: Vec<&str> = b.labels.iter().map(|l| l.dominant.as_str()).collect();
-    d.set_item("labels", labels)?;
+    d.set_item("labels", strings(py, b.labels.iter().map(|l| &l.dominant)))?;
     d.set_item("interface_nodes", b.interface_nodes.clone())?;
     d.set_item("fixed_nodes", b.fixed_nodes.clone())?;
     d.set_item(

@@ -50,9 +50,16 @@ def test_exception_in_progress_callback_stops_the_run(spring: flexmbs.Model, tmp
     assert r.status == "interrupted" and 1.0 < r.status_time < 1.1
 
 
+class _Enough(Exception):
+    pass
+
+
 def test_run_releases_the_gil(spring: flexmbs.Model, tmp_path: Path) -> None:
-    """Another Python thread keeps running while the model integrates."""
-    spring["solver.t_end"] = "20 s"
+    """A Python thread counting in a loop keeps its pace while the integration is inside Rust
+    (measured between the first and the last progress callback, i.e. only while `run` is in its
+    time loop), compared with its pace while the main thread sleeps. A C loop that holds the GIL
+    (`sum(range(n))`) stops it: the control shows the measurement tells the two apart (with the
+    GIL held between the callbacks, the thread could only count during the callbacks)."""
     count = [0]
     done = threading.Event()
 
@@ -60,17 +67,36 @@ def test_run_releases_the_gil(spring: flexmbs.Model, tmp_path: Path) -> None:
         while not done.is_set():
             count[0] += 1
 
-    worker = threading.Thread(target=spin)
+    def pace(block) -> float:
+        """Counts per second of wall time while `block()` runs in the main thread."""
+        c0, t0 = count[0], time.perf_counter()
+        block()
+        return (count[0] - c0) / (time.perf_counter() - t0)
+
+    marks: list[tuple[float, int]] = []
+
+    def progress(p: flexmbs.Progress) -> None:
+        marks.append((time.perf_counter(), count[0]))
+        if marks[-1][0] - marks[0][0] > 1.5:
+            raise _Enough
+
+    worker = threading.Thread(target=spin, daemon=True)
     worker.start()
     try:
-        before = count[0]
-        r = flexmbs.run(spring, out_dir=tmp_path)
-        during = count[0] - before
+        free = pace(lambda: time.sleep(0.5))
+        held = pace(lambda: sum(range(15_000_000)))
+        with pytest.raises(_Enough):
+            flexmbs.run(long_run(spring), out_dir=tmp_path, progress=progress, progress_interval=0.25)
     finally:
         done.set()
         worker.join()
-    assert r.status == "completed"
-    assert during > 10_000
+    (t0, c0), (t1, c1) = marks[0], marks[-1]
+    during_run = (c1 - c0) / (t1 - t0)
+    assert len(marks) >= 6 and free > 0.0
+    assert held < 0.1 * free, (held, free)
+    print(f"pace: free {free:.3g}/s, GIL held {held:.3g}/s, during the run {during_run:.3g}/s")
+    assert during_run > 0.2 * free, (during_run, free, held)
+    assert flexmbs.read_results(tmp_path / "results.h5").status == "interrupted"
 
 
 def test_ctrl_c_stops_a_sweep(spring: flexmbs.Model, tmp_path: Path) -> None:

@@ -65,6 +65,50 @@ def test_python_model_is_bitwise_equal_to_the_file(tmp_path: Path) -> None:
     assert_same_results(from_file, from_python)
 
 
+def test_numpy_values_are_bitwise_equal_to_lists(tmp_path: Path) -> None:
+    """numpy arrays, numpy floats and integers in a model (converted through ``tolist()``) give
+    the run of the same values as Python lists and floats, bit for bit."""
+    def pendulum(vec, num, count) -> flexmbs.Model:
+        m = double_pendulum_in_python()
+        m["model.gravity"] = vec([0.0, -9.81, 0.0])
+        m["solver.h"] = num(0.001)
+        m["solver.t_end"] = num(0.2)
+        m["solver.rho_inf"] = num(1.0)
+        for k, x in enumerate([0.5, 1.5]):
+            m[f"body[{k}].mass"] = num(1.0)
+            m[f"body[{k}].position"] = vec([x, 0.0, 0.0])
+            m[f"body[{k}].inertia"] = vec([1e-4, 0.0834, 0.0834])
+        m["frame[link1_tip].position"] = vec([0.5, 0.0, 0.0])
+        m["output.every"] = count(10)
+        return m
+
+    lists = pendulum(list, float, int)
+    arrays = pendulum(np.array, np.float64, np.int64)
+    assert isinstance(arrays["body[0].inertia"], np.ndarray) and type(arrays["solver.h"]) is np.float64
+    assert arrays.to_toml() == lists.to_toml()
+    a = flexmbs.run(lists, out_dir=tmp_path / "lists")
+    b = flexmbs.run(arrays, out_dir=tmp_path / "arrays")
+    assert a.status == b.status == "completed" and a.rows == 21
+    assert_same_results(a, b)
+
+
+def test_numpy_sweep_values_are_bitwise_equal_to_lists(spring: flexmbs.Model) -> None:
+    outputs = ["max(mass.position.x)", "mass.position.x", "mean(energy/total)"]
+    values = [50.0, 100.0, 400.0]
+    lists = flexmbs.sweep(spring, {"load[spring].stiffness": values, "body[mass].mass": [1.0] * 3}, outputs, workers=2)
+    arrays = flexmbs.sweep(
+        spring,
+        {"load[spring].stiffness": np.array(values), "body[mass].mass": np.ones(3, dtype=np.float64)},
+        outputs,
+        workers=2,
+    )
+    assert list(arrays["status"]) == ["completed"] * 3
+    for key in ["load[spring].stiffness", "body[mass].mass", *outputs]:
+        assert arrays[key].dtype == np.float64
+        assert np.array_equal(arrays[key], lists[key]), key
+    assert lists["mass.position.x"][0] != lists["mass.position.x"][2]  # the values took effect
+
+
 def test_units_are_converted_by_the_model_compiler(tmp_path: Path) -> None:
     """`"1 ms"` and `0.001` (SI) give the same run, bit for bit; so do "2 s" and 2.0."""
     m = double_pendulum_in_python()
@@ -178,16 +222,62 @@ def test_solver_error_keeps_a_failed_results_file(pendulum: flexmbs.Model, tmp_p
     assert r.time[-1] <= err.t + 1e-12
 
 
+def cardan_spin() -> flexmbs.Model:
+    """A rigid body with Cardan angles spinning about y at pi/2 rad / 0.1 s: beta reaches 90 deg,
+    where Cardan angles are singular, after 100 steps (crates/flexmbs-sim/tests/run.rs)."""
+    return flexmbs.Model.from_dict(
+        {
+            "model": {"name": "cardan_spin"},
+            "solver": {"type": "generalized-alpha", "h": "1 ms", "t_end": "0.2 s"},
+            "body": [
+                {
+                    "name": "block",
+                    "type": "rigid",
+                    "mass": "2 kg",
+                    "inertia": [0.01, 0.02, 0.03],
+                    "angular_velocity": [0, "15.707963267948966 rad/s", 0],
+                }
+            ],
+            "output": {"signals": ["block.orientation"]},
+        }
+    )
+
+
+def test_solver_error_at_a_cardan_singularity(tmp_path: Path) -> None:
+    """The run fails at t = 0.099 s (the step that would reach beta = 90 deg), naming the body,
+    the Cardan singularity and quaternions; the results file keeps the 100 rows before."""
+    with pytest.raises(flexmbs.SolverError) as e:
+        flexmbs.run(cardan_spin(), out_dir=tmp_path)
+    err = e.value
+    assert isinstance(err, flexmbs.Error)
+    assert err.t == pytest.approx(0.099, abs=1e-9) and err.h == pytest.approx(0.001, rel=1e-12)
+    assert isinstance(err.residual, float)
+    for part in ["block", "Cardan", "quaternion"]:
+        assert part in str(err), str(err)
+    assert err.results == str(tmp_path / "results.h5")
+    assert isinstance(err.hint, str) and "`h`" in err.hint, err.hint  # the general hint
+    r = flexmbs.read_results(err.results)
+    assert r.status == "failed" and r.status_time == pytest.approx(err.t)
+    assert "Cardan" in r.status_message and r.rows == 100
+    beta = r.series("block.orientation.y")
+    assert beta[-1] == pytest.approx(0.099 * 15.707963267948966, abs=1e-12)
+
+
 def test_io_errors(tmp_path: Path) -> None:
-    with pytest.raises(flexmbs.IoError):
-        flexmbs.read_results(tmp_path / "missing.h5")
+    missing = tmp_path / "missing.h5"
+    with pytest.raises(flexmbs.IoError) as e:
+        flexmbs.read_results(missing)
+    assert e.value.path == str(missing)
     not_h5 = tmp_path / "results.h5"
     not_h5.write_text("not hdf5")
-    with pytest.raises(flexmbs.IoError):
+    with pytest.raises(flexmbs.IoError) as e:
         flexmbs.read_results(not_h5)
-    with pytest.raises(flexmbs.IoError):
+    assert e.value.path == str(not_h5)
+    with pytest.raises(flexmbs.IoError) as e:
         flexmbs.load(tmp_path / "missing.toml")
+    assert e.value.path == str(tmp_path / "missing.toml")
     blocker = tmp_path / "file"
     blocker.write_text("")
-    with pytest.raises(flexmbs.IoError):
+    with pytest.raises(flexmbs.IoError) as e:
         flexmbs.run(EXAMPLES / "spring_damper.toml", out_dir=blocker / "sub")
+    assert e.value.path is not None and e.value.path.startswith(str(blocker))

@@ -71,3 +71,20 @@ def test_examples_run(script: str, tmp_path: Path) -> None:
     path = ROOT / "examples" / "python" / script
     done = subprocess.run([sys.executable, str(path), str(tmp_path)], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_sweep_as_pandas(spring: flexmbs.Model) -> None:
+    """`as_pandas=True`: a DataFrame with the columns and values of the dict form."""
+    pd = pytest.importorskip("pandas")
+    parameters = {"load[spring].stiffness": ["50 N/m", "100 N/m", "-1 N/m"]}
+    outputs = ["max(mass.position.x)", "mass.position.x"]
+    df = flexmbs.sweep(spring, parameters, outputs, workers=2, as_pandas=True)
+    table = flexmbs.sweep(spring, parameters, outputs, workers=2)
+    assert isinstance(df, pd.DataFrame) and len(df) == 3
+    assert list(df.columns) == ["load[spring].stiffness", *outputs, "status", "message"]
+    assert list(df["status"]) == list(table["status"])
+    assert df["status"].iloc[2] == "invalid" and np.isnan(df["mass.position.x"].iloc[2])
+    for spec in outputs:
+        assert df[spec].dtype == np.float64
+        assert np.array_equal(df[spec].to_numpy(), table[spec], equal_nan=True)
+    assert list(df["load[spring].stiffness"]) == parameters["load[spring].stiffness"]

@@ -17,7 +17,8 @@ def modal(body: Model | Mapping[str, Any] | PathLike, modes: int | None = None) 
     file), as ``flexmbs modal``. ``modes``: elastic modes (default ``body.reduction.modes``).
 
     Returns a dict: ``frequencies_hz`` ``(k,)`` (0 for rigid-body modes), ``omega2`` ``(k,)`` in
-    (rad/s)^2, ``labels`` (dominant motion per mode: ``ux`` ... ``rz``), ``effective_mass_fraction``
+    (rad/s)^2, ``labels`` ``(k,)`` (numpy array of ``str``, dtype object: dominant motion per mode,
+    ``ux`` ... ``rz``), ``effective_mass_fraction``
     ``(k, 3)``, ``n_rigid``, ``nodes`` ``(N, 3)`` and ``modes`` ``(k, N, 3)`` (mass-normalised
     translations; ``rotations`` likewise, zero for solid nodes), in the body's units.
     """
@@ -35,6 +36,7 @@ def reduce(body: Model | Mapping[str, Any] | PathLike, output: PathLike, *, geom
 
 def read_body(path: PathLike) -> dict[str, Any]:
     """Reads a reduced-body file: ``nodes`` ``(N, 3)``, ``modes`` ``(k, N, 3)``, ``k_red`` and
-    ``m_red`` ``(k, k)``, ``frequencies_hz``, ``labels``, ``interface_nodes``, ``fixed_nodes``,
-    ``units``, ``kind``."""
+    ``m_red`` ``(k, k)``, ``frequencies_hz`` (of the reduced model), ``labels`` ``(k,)`` (numpy
+    array of ``str``, dtype object; ``static node <id> <direction>`` for a Craig-Bampton constraint
+    mode), ``interface_nodes`` and ``fixed_nodes`` (indices into ``nodes``), ``units``, ``kind``."""
     return _native.read_body(str(Path(path)))

@@ -1,7 +1,7 @@
 """Type stubs of the native module ``flexmbs._native`` (Rust, PyO3). Users call the functions of
 ``flexmbs``; these are its building blocks."""
 
-from typing import Any, Callable, Optional
+from typing import Any, Callable, Optional, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -55,6 +55,66 @@ def read(path: str) -> NativeResults: ...
 def sweep(
     texts: list[str], file: str, out_root: str, outputs: list[tuple[str, str]], workers: int
 ) -> tuple[npt.NDArray[np.float64], list[str], list[str]]: ...
-def modal(text: str, file: str, from_file: bool, modes: Optional[int] = None) -> dict[str, Any]: ...
-def reduce(text: str, file: str, from_file: bool, output: str, geometric: bool = True) -> dict[str, Any]: ...
-def read_body(path: str) -> dict[str, Any]: ...
+
+class ModalResult(TypedDict):
+    """What :func:`modal` returns (``k`` modes, ``N`` nodes, the body's units)."""
+
+    name: str
+    frequencies_hz: npt.NDArray[np.float64]
+    """``(k,)``, 0 for rigid-body modes."""
+    omega2: npt.NDArray[np.float64]
+    """``(k,)`` in (rad/s)^2."""
+    labels: npt.NDArray[np.object_]
+    """``(k,)`` ``str`` objects: the dominant motion of each mode (``ux`` ... ``rz``)."""
+    effective_mass_fraction: npt.NDArray[np.float64]
+    """``(k, 3)``."""
+    n_rigid: int
+    nodes: npt.NDArray[np.float64]
+    """``(N, 3)``."""
+    modes: npt.NDArray[np.float64]
+    """``(k, N, 3)`` mass-normalised translations."""
+    rotations: npt.NDArray[np.float64]
+    """``(k, N, 3)``, zero for nodes without rotations."""
+    elements: int
+    independent_dofs: int
+
+class ReduceResult(TypedDict):
+    """What :func:`reduce` returns: what was written."""
+
+    path: str
+    nodes: int
+    modes: int
+    geometric_load_patterns: int
+    rotary_inertia: bool
+
+class BodyFileData(TypedDict):
+    """What :func:`read_body` returns (``k`` basis vectors, ``N`` nodes, the body's units)."""
+
+    name: str
+    units: str
+    kind: str
+    nodes: npt.NDArray[np.float64]
+    """``(N, 3)``."""
+    node_ids: list[int]
+    modes: npt.NDArray[np.float64]
+    """``(k, N, 3)``."""
+    rotations: Optional[npt.NDArray[np.float64]]
+    """``(k, N, 3)``, ``None`` for a body without rotations."""
+    k_red: npt.NDArray[np.float64]
+    """``(k, k)``."""
+    m_red: npt.NDArray[np.float64]
+    """``(k, k)``."""
+    frequencies_hz: npt.NDArray[np.float64]
+    """``(k,)``, the frequencies of the reduced model."""
+    labels: npt.NDArray[np.object_]
+    """``(k,)`` ``str`` objects: the dominant motion per mode, or ``static node <id> <dir>`` for
+    a Craig-Bampton constraint mode."""
+    interface_nodes: list[int]
+    """Indices into ``nodes``."""
+    fixed_nodes: list[int]
+    """Indices into ``nodes``."""
+    geometric_load_patterns: int
+
+def modal(text: str, file: str, from_file: bool, modes: Optional[int] = None) -> ModalResult: ...
+def reduce(text: str, file: str, from_file: bool, output: str, geometric: bool = True) -> ReduceResult: ...
+def read_body(path: str) -> BodyFileData: ...
