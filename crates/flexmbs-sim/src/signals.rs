@@ -222,9 +222,16 @@ pub fn parse_signals(
                         )));
                     };
                     let kind = [&k.contour_a, &k.contour_b][side].kind();
-                    let two = kind != flexmbs_core::contact::ContourKind::NeutralCurve;
+                    use flexmbs_core::contact::ContourKind;
+                    let two = kind != ContourKind::NeutralCurve;
+                    // a band's second coordinate is a distance across it
+                    let unit = if kind == ContourKind::FlexibleBand {
+                        "1 | m"
+                    } else {
+                        "1"
+                    };
                     (
-                        "1 | m".to_string(),
+                        unit.to_string(),
                         vec!["eta".to_string(), "xi".to_string()],
                         SignalKind::ContactCoordinates {
                             contact: c,

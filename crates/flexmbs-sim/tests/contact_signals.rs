@@ -292,6 +292,8 @@ animation = false
     let interp = surf.contour().interpolator();
     let range = |p: &[f64]| (p[0], p[p.len() - 1]);
     let (eta_range, xi_range) = (range(interp.eta().params()), range(interp.xi().params()));
+    let coords = cm.signals.iter().find(|s| s.name == "press.coordinates");
+    assert_eq!(coords.map(|s| s.unit.as_str()), Some("1"));
     let res = run(&dir, "press", text, &[]);
     let pos = vector(&res, "mass.position");
     let (pa, pb) = (vector(&res, "press.point_a"), vector(&res, "press.point_b"));
