@@ -708,6 +708,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         .map(|(j, &r)| (j.name.clone(), r))
         .chain(fixed_joint_names)
         .collect();
+    let swapped = crate::contacts::swapped_contacts(&mf.contact, &model);
     let signals = parse_signals(
         &ctx,
         &mf.output.signals,
@@ -715,6 +716,7 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
         &frames,
         &bodies,
         &joint_names,
+        &swapped,
     )?;
     let output = output_config(&ctx, &mf, &model, &bodies, &signals)?;
     let row_values = 10 + model.nq + model.nu + model.nc + crate::signals::signal_width(&signals);

@@ -188,6 +188,28 @@ pub(crate) fn add_contacts(
     Ok(())
 }
 
+/// Per contact of the compiled `model` (the file's contacts without the guides, in order):
+/// whether the model swapped its contours into the engine's pair order (`a` of the engine is the
+/// file's `b`).
+pub(crate) fn swapped_contacts(contacts: &[ContactSpec], model: &flexmbs_core::Model) -> Vec<bool> {
+    use flexmbs_core::contact::ContourKind as K;
+    let kind = |c: &ContourSpec| match c.kind {
+        ContourName::Point => K::Point,
+        ContourName::Sphere => K::Sphere,
+        ContourName::Plane => K::Plane,
+        ContourName::Circle => K::Circle,
+        ContourName::Surface => K::NeutralSurface,
+        ContourName::Curve => K::NeutralCurve,
+        ContourName::Band => K::FlexibleBand,
+    };
+    contacts
+        .iter()
+        .filter(|c| !crate::guides::is_guide(c))
+        .zip(&model.contacts)
+        .map(|(c, m)| kind(&c.a) != m.contour_a.kind())
+        .collect()
+}
+
 fn any_contour(
     ctx: &Ctx,
     c: &ContourSpec,

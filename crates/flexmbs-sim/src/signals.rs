@@ -63,6 +63,30 @@ pub enum SignalKind {
     /// Impulses of a contact in the last step, normal and two tangents (N s; regularized laws:
     /// force times step).
     ContactImpulse(usize),
+    /// Forces of a contact in the last step in the contact frame, normal and two tangents (N;
+    /// set-valued laws: impulse over the step; [`flexmbs_core::contact::ContactState::force`]).
+    ContactForce(usize),
+    /// Contact point (global, m) on the contour `side` (0: the engine's `a`, 1: `b`) at the
+    /// evaluation of the gap; NaN without a contact point.
+    ContactPoint {
+        /// The contact.
+        contact: usize,
+        /// The engine's side.
+        side: usize,
+    },
+    /// Unit normal of the contact frame (global): outward of the engine's contour `a`, towards
+    /// `b`; NaN without a contact point.
+    ContactNormal(usize),
+    /// Contour coordinates `(eta, xi)` of the contact point on the flexible contour on the
+    /// engine's side `side`; NaN without a contact point (`xi` NaN on a curve).
+    ContactCoordinates {
+        /// The contact.
+        contact: usize,
+        /// The engine's side of the flexible contour.
+        side: usize,
+        /// Whether the contour has a second coordinate (surface: `xi`, band: across the band).
+        two: bool,
+    },
     /// Stress at an FE node of an ffr body (Pa): equivalent (von Mises) stress and the node's six
     /// stress values, recovered linearly from the modal stress fields ([`crate::stress`];
     /// written by [`crate::stress::fill_stress_signals`], left NaN by [`evaluate_signals`]).
@@ -101,7 +125,8 @@ const XYZ: [&str; 3] = ["x", "y", "z"];
 /// Parses `output.signals`: `<frame>.position|velocity|angular_velocity|orientation|deformation|stress`
 /// and `acceleration|angular_acceleration` (every body has a frame named like the body),
 /// `<joint>.force|torque|reaction|coordinates|rates`,
-/// `<contact>.gap|impulse` and `<force>.output`.
+/// `<contact>.gap|impulse|force|point_a|point_b|normal|coordinates` (`swapped`: per contact,
+/// whether the engine's `a` is the file's `b`, [`crate::contacts`]) and `<force>.output`.
 pub fn parse_signals(
     ctx: &Ctx,
     list: &[String],
@@ -109,6 +134,7 @@ pub fn parse_signals(
     frames: &HashMap<String, FrameId>,
     bodies: &[BodyInfo],
     joints: &[(String, usize)],
+    swapped: &[bool],
 ) -> Result<Vec<Signal>, SimError> {
     let mut out: Vec<Signal> = Vec::new();
     for (k, s) in list.iter().enumerate() {
@@ -168,9 +194,56 @@ pub fn parse_signals(
                     ["n", "t1", "t2"].iter().map(|c| c.to_string()).collect(),
                     SignalKind::ContactImpulse(c),
                 ),
+                "force" => (
+                    "N".to_string(),
+                    ["n", "t1", "t2"].iter().map(|c| c.to_string()).collect(),
+                    SignalKind::ContactForce(c),
+                ),
+                "point_a" | "point_b" => {
+                    // the file's a or b: the engine's other side if it swapped the pair
+                    let file_side = usize::from(what == "point_b");
+                    let side = file_side ^ usize::from(swapped.get(c).copied().unwrap_or(false));
+                    (
+                        "m".to_string(),
+                        xyz(),
+                        SignalKind::ContactPoint { contact: c, side },
+                    )
+                }
+                "normal" => ("1".to_string(), xyz(), SignalKind::ContactNormal(c)),
+                "coordinates" => {
+                    let k = &model.contacts[c];
+                    let Some(side) = [&k.contour_a, &k.contour_b]
+                        .iter()
+                        .position(|x| x.is_flexible())
+                    else {
+                        return Err(err(format!(
+                            "contact `{item}` has no flexible contour (surface, curve, band): \
+                             no contour coordinates"
+                        )));
+                    };
+                    let kind = [&k.contour_a, &k.contour_b][side].kind();
+                    use flexmbs_core::contact::ContourKind;
+                    let two = kind != ContourKind::NeutralCurve;
+                    // a band's second coordinate is a distance across it
+                    let unit = if kind == ContourKind::FlexibleBand {
+                        "1 | m"
+                    } else {
+                        "1"
+                    };
+                    (
+                        unit.to_string(),
+                        vec!["eta".to_string(), "xi".to_string()],
+                        SignalKind::ContactCoordinates {
+                            contact: c,
+                            side,
+                            two,
+                        },
+                    )
+                }
                 _ => {
                     return Err(err(format!(
-                        "unknown quantity `{what}` of contact `{item}` (gap, impulse)"
+                        "unknown quantity `{what}` of contact `{item}` (gap, impulse, force, \
+                         point_a, point_b, normal, coordinates)"
                     )))
                 }
             }
@@ -272,6 +345,17 @@ pub fn signal_width(signals: &[Signal]) -> usize {
     signals.iter().map(|s| s.components.len()).sum()
 }
 
+/// The geometry of contact `c`'s last evaluation, if it has a contact point.
+fn contact_geometry(
+    contacts: &[flexmbs_core::contact::ContactState],
+    c: usize,
+) -> Option<flexmbs_core::contact::ContactGeometry> {
+    contacts
+        .get(c)
+        .and_then(|s| s.geometry)
+        .filter(|g| g.has_contact_point())
+}
+
 /// Evaluates all signals at time `t` into `out` (cleared first); `frames` must be up to date.
 pub fn evaluate_signals(
     signals: &[Signal],
@@ -293,6 +377,7 @@ pub fn evaluate_signals(
             &lambda[r0..r0 + joint.num_rows()],
         )
     };
+    let nan3 = Vector3::repeat(f64::NAN);
     out.clear();
     for s in signals {
         match &s.kind {
@@ -323,6 +408,34 @@ pub fn evaluate_signals(
             SignalKind::ContactGap(c) => out.push(contacts.get(*c).map_or(f64::NAN, |c| c.gap)),
             SignalKind::ContactImpulse(c) => {
                 out.extend(contacts.get(*c).map_or([f64::NAN; 3], |c| c.impulse))
+            }
+            SignalKind::ContactForce(c) => {
+                out.extend(contacts.get(*c).map_or([f64::NAN; 3], |c| c.force))
+            }
+            SignalKind::ContactPoint { contact, side } => {
+                let p = contact_geometry(contacts, *contact).map_or(nan3, |g| {
+                    if *side == 0 {
+                        g.point_a
+                    } else {
+                        g.point_b
+                    }
+                });
+                out.extend(p.iter());
+            }
+            SignalKind::ContactNormal(c) => {
+                let n = contact_geometry(contacts, *c).map_or(nan3, |g| g.normal);
+                out.extend(n.iter());
+            }
+            SignalKind::ContactCoordinates { contact, side, two } => {
+                let x = contact_geometry(contacts, *contact).map_or([f64::NAN; 2], |g| {
+                    let x = [g.coordinates[2 * side], g.coordinates[2 * side + 1]];
+                    if *two {
+                        x
+                    } else {
+                        [x[0], f64::NAN]
+                    }
+                });
+                out.extend(x);
             }
             SignalKind::Stress { .. } => out.extend([f64::NAN; 7]),
             SignalKind::Acceleration(_)

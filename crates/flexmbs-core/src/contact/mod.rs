@@ -191,6 +191,14 @@ pub struct ContactState {
     /// Contour coordinates `(eta, xi)` of contour `a` and `b` (warm start of a contact search on
     /// flexible contours; unused by rigid contours).
     pub coordinates: [f64; 4],
+    /// Forces of the last step in the contact frame: normal, tangent 1, tangent 2 (N; `F_N > 0`
+    /// pushes `b` along the normal). Regularized laws: the law's forces at the evaluation of
+    /// [`Self::gap`]; set-valued laws (Moreau): the impulses over the step, `impulse / h`.
+    pub force: [f64; 3],
+    /// The contact geometry at the evaluation of [`Self::gap`] (contact points, contact frame,
+    /// contour coordinates; the step's midpoint for the Moreau stepper, the step's end for the
+    /// implicit integrators); `None` before the first evaluation.
+    pub geometry: Option<ContactGeometry>,
 }
 
 /// Checks the contacts against the frames and puts each pair into the dispatch table's order.

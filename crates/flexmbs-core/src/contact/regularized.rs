@@ -95,7 +95,7 @@ pub fn add_regularized_forces(
 
 /// The contact states of the regularized contacts at the evaluated state (`frames`, `eval`)
 /// after a step of size `h`: gap, gap rate, activity (a positive normal force), impulses
-/// `F h` (normal, tangents) and contour coordinates. Set-valued contacts are left alone.
+/// `F h` (normal, tangents), forces `F`, contour coordinates and geometry. Set-valued contacts are left alone.
 pub fn update_regularized_states(
     model: &Model,
     frames: &[FrameKinematics],
@@ -125,6 +125,8 @@ pub fn update_regularized_states(
             },
             impulse: [f[0] * h, f[1] * h, f[2] * h],
             coordinates: geo.coordinates,
+            force: f,
+            geometry: Some(geo),
         };
     }
 }

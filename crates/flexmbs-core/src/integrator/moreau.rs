@@ -112,6 +112,8 @@ struct Buffers {
     geometry: Vec<ContactGeometry>,
     /// Regularized normal force per contact.
     normal_force: Vec<f64>,
+    /// Regularized friction forces per contact (tangent 1, 2).
+    friction_force: Vec<[f64; 2]>,
     projection: Mat<f64>,
     projection_rhs: Vec<f64>,
     /// `projection` holds the Cholesky factor of this step's joint block (the prox problem had
@@ -138,6 +140,7 @@ impl Buffers {
             blocks: Vec::with_capacity(nc + nk),
             geometry: vec![ContactGeometry::ZERO; nk],
             normal_force: v(nk),
+            friction_force: vec![[0.0; 2]; nk],
             projection: Mat::zeros(nc, nc),
             projection_rhs: v(nc),
             joints_factored: false,
@@ -368,6 +371,7 @@ impl MoreauStepper {
         let sys = &mut ws.sys;
         for (i, c) in model.contacts.iter().enumerate() {
             self.buf.normal_force[i] = 0.0;
+            self.buf.friction_force[i] = [0.0; 2];
             let NormalLaw::Regularized { stiffness, damping } = c.law.normal else {
                 continue;
             };
@@ -397,6 +401,7 @@ impl MoreauStepper {
                 for (k, f) in f_t.iter().enumerate().take(n) {
                     c.add_direction(model, &sys.frames, work, geo, 1 + k, *f, &mut sys.h);
                 }
+                self.buf.friction_force[i] = f_t;
             }
         }
     }

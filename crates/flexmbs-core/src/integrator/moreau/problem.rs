@@ -262,7 +262,8 @@ impl MoreauStepper {
         Ok(())
     }
 
-    /// Activity, gap (at `q_M`), gap rate at `u_E` and impulses of every contact.
+    /// Activity, gap (at `q_M`), gap rate at `u_E`, impulses, forces (impulses over `h`) and
+    /// geometry of every contact.
     fn update_contact_states(&self, model: &Model, s: &mut State, ws: &mut Workspace, h: f64) {
         let b = &self.buf;
         for (i, (c, st)) in model.contacts.iter().zip(&mut s.contacts).enumerate() {
@@ -282,12 +283,16 @@ impl MoreauStepper {
                 );
                 rate = dot(col, &ws.step.u_new);
             }
+            let [f1, f2] = b.friction_force[i];
+            let f = [b.normal_force[i], f1, f2];
             *st = ContactState {
                 active: false,
                 gap: geo.gap,
                 gap_velocity: rate,
-                impulse: [b.normal_force[i] * h, 0.0, 0.0],
+                impulse: [f[0] * h, f[1] * h, f[2] * h],
                 coordinates: geo.coordinates,
+                force: f,
+                geometry: Some(*geo),
             };
         }
         for blk in &b.blocks {
@@ -304,10 +309,12 @@ impl MoreauStepper {
                 let mut r = row;
                 if normal.is_some() {
                     st.impulse[0] = b.lambda[r];
+                    st.force[0] = b.lambda[r] / h;
                     r += 1;
                 }
                 for k in 0..tangents {
                     st.impulse[1 + k] = b.lambda[r + k];
+                    st.force[1 + k] = b.lambda[r + k] / h;
                 }
             }
         }
