@@ -69,8 +69,8 @@ pub fn reduce_beam() -> Result<Beam> {
 }
 
 /// The static load pattern of the contact region added by [`reduce_beam_augmented`]: a unit
-/// force along -y shared by the top-face nodes within 10 mm of the impact point of setup A,
-/// (235, 50, 25) mm in x and z (eight hex20 corner and mid-edge nodes).
+/// force along -y shared equally by the top-face nodes within 10 mm of the impact point of setup
+/// A, (235, 50, 25) mm, in x and z (16 hex20 corner and mid-edge nodes).
 pub const CONTACT_REGION_LOAD: &str = "static_loads = [{ nodes = { within = { min = [0.2249, \
 0.0499, 0.0149], max = [0.2451, 0.0501, 0.0351] } }, direction = [0.0, -1.0, 0.0] }]";
 

@@ -39,6 +39,13 @@ const NODE_CHECK: &str = "full_fe_node_rms_diff_modes100";
 /// The node-trajectory check of the basis with the static response of the contact region.
 const NODE_CHECK_STATIC: &str = "full_fe_node_rms_diff_modes100_static";
 
+/// Why [`NODE_CHECK_STATIC`] fails (declared after its first run, 2026-11-29: 17.2 % against the
+/// 5 % fixed before it; the README has the numbers).
+const NODE_CHECK_STATIC_DISAGREEMENT: &str = "the static response to a uniform load on the 16 \
+nodes around the impact point brings the deflection closer (-1.65 % instead of -2.87 %) but not \
+the node trajectory (17.2 % RMS): the impact train on the surface stays sensitive to the basis; \
+see validation/point_mass_on_beam/README.md";
+
 /// Why [`NODE_CHECK`] fails (measured 10.2 % with the tolerance of 5 % fixed before the first
 /// comparison; the README's section "Full-FE reference" has the mode and step studies).
 const NODE_CHECK_DISAGREEMENT: &str = "a lowest-mode basis (10 to 200 modes) lacks the local \
@@ -307,6 +314,7 @@ pub fn full_fe_check(
     res.limit(NODE_CHECK, ffr.node_rms_rel, TOL_NODE_RMS);
     // the same 100 modes and the static response to a load on the contact region (the
     // benchmark's "basis that contains the static response"), same tolerances
+    res.declare_known_disagreement(NODE_CHECK_STATIC, NODE_CHECK_STATIC_DISAGREEMENT);
     let augmented = crate::point_mass_on_beam::reduce_beam_augmented(100)?;
     let aug = compare_ffr(&simulate(&augmented, &c)?, &r);
     log(&format!(

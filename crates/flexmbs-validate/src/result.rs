@@ -148,9 +148,18 @@ impl ValidationResult {
             );
         }
         for n in &self.failed_checks {
-            if !self.reference.contains_key(n) {
-                s += &format!("  {n:24} FAIL\n");
+            if self.reference.contains_key(n) {
+                continue;
             }
+            let value = self.quantities.get(n);
+            let limit = self
+                .quantities
+                .get(&format!("{n}_limit"))
+                .or(self.tolerance.get(n));
+            s += &match (value, limit) {
+                (Some(v), Some(l)) => format!("  {n:24} {v:14.6} limit {l:14.6}  FAIL\n"),
+                _ => format!("  {n:24} FAIL\n"),
+            };
         }
         for (n, why) in &self.known_disagreements {
             let state = if self.failed_checks.contains(n) {
