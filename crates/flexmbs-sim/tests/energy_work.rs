@@ -75,10 +75,10 @@ fn drive_work_closes_the_energy_balance() {
 }
 
 /// The rotating-beam example (hub drive at a constant 100 rad/s, tip force pulse, geometric
-/// stiffening on): the balance error `|E - W - E0|` stays below 1e-5 of the energy. Earlier
-/// (a spin-up torque pulse on the hub) it was 1.4e-3 J of 269 J, and 1.99 J without the
-/// stiffening power in `W`. By part (2026-11-29): loads (the hammer) 53.02 J, drive 3.53 J,
-/// stiffening -5.7e-3 J, dampers 0.
+/// stiffening on): the balance error `|E - W - E0|` stays below 1e-5 of the energy. (This
+/// comment earlier named a spin-up torque pulse on the hub and a balance error of 1.4e-3 J of
+/// 269 J, 1.99 J without the stiffening power in `W`; not rechecked.) By part (2026-11-29):
+/// loads (the hammer) 53.02 J, drive 3.53 J, stiffening -5.7e-3 J, dampers 0.
 #[test]
 fn rotating_beam_balance_includes_stiffening_work() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/mbs");
