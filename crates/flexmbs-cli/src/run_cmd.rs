@@ -167,9 +167,15 @@ fn print_summary(s: &RunSummary, statics: bool, work: &str, contacts: bool) {
         s.steps as f64 / s.wall_time.as_secs_f64().max(1e-9)
     );
     println!(
-        "  energy: initial {:.6e} J, work W of loads, dampers, drives and geometric stiffening {:.6e} J, largest balance error |E - W - E0| {:.3e} J{}; constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
+        "  energy: initial {:.6e} J, work W {:.6e} J (loads {:.6e} J, dampers {:.6e} J, drives {:.6e} J{}), largest balance error |E - W - E0| {:.3e} J{}; constraint drift: max |g| {:.3e}, max |g_dot| {:.3e}",
         s.energy_initial,
         s.external_work,
+        s.work.loads,
+        s.work.dampers,
+        s.work.drives,
+        s.work
+            .stiffening
+            .map_or(String::new(), |w| format!(", geometric stiffening {w:.6e} J")),
         s.energy_drift,
         if contacts {
             " (includes the energy the contacts dissipate: impacts with restitution < 1, friction, contact damping)"

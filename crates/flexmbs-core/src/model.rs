@@ -738,6 +738,57 @@ impl Model {
         &mut u[ou..ou + b.element.nu()]
     }
 
+    /// Position coordinates of one node in a global vector: for a `Pose` node the position of
+    /// its origin then its unit quaternion (scalar first), for `PoseCardan` the position then the
+    /// Cardan angles, for `Vector(n)` its `n` values. A node's coordinates are always contiguous,
+    /// also when a body on it is scattered; for post-processing that works node by node (code
+    /// outside this crate reads no raw coordinate offsets).
+    ///
+    /// # Panics
+    /// If `node` belongs to another model or `q` is shorter than this model's `nq`.
+    pub fn node_q<'a>(&self, node: NodeId, q: &'a [f64]) -> &'a [f64] {
+        &q[self.nodes[node.0].q.clone()]
+    }
+
+    /// Velocity coordinates of one node in a global vector (`Pose`: origin velocity then the
+    /// body-frame angular velocity; `PoseCardan`: origin velocity then the Cardan angle rates;
+    /// `Vector(n)`: its `n` rates).
+    ///
+    /// # Panics
+    /// As [`Self::node_q`], for `u` and `nu`.
+    pub fn node_u<'a>(&self, node: NodeId, u: &'a [f64]) -> &'a [f64] {
+        &u[self.nodes[node.0].u.clone()]
+    }
+
+    /// [`Self::node_u`], mutable.
+    ///
+    /// # Panics
+    /// As [`Self::node_u`].
+    pub fn node_u_mut<'a>(&self, node: NodeId, u: &'a mut [f64]) -> &'a mut [f64] {
+        &mut u[self.nodes[node.0].u.clone()]
+    }
+
+    /// Ids of all nodes, in the order of the global vectors.
+    pub fn node_ids(&self) -> impl Iterator<Item = NodeId> + '_ {
+        (0..self.nodes.len()).map(NodeId)
+    }
+
+    /// The node that owns global position coordinate `g`, and `g`'s index within
+    /// [`Self::node_q`] of that node; `None` if `g >= nq`.
+    pub fn q_owner(&self, g: usize) -> Option<(NodeId, usize)> {
+        let i = self.nodes.partition_point(|n| n.q.end <= g);
+        let n = self.nodes.get(i)?;
+        n.q.contains(&g).then(|| (NodeId(i), g - n.q.start))
+    }
+
+    /// The node that owns global velocity coordinate `g`, and `g`'s index within
+    /// [`Self::node_u`] of that node; `None` if `g >= nu`.
+    pub fn u_owner(&self, g: usize) -> Option<(NodeId, usize)> {
+        let i = self.nodes.partition_point(|n| n.u.end <= g);
+        let n = self.nodes.get(i)?;
+        n.u.contains(&g).then(|| (NodeId(i), g - n.u.start))
+    }
+
     /// One zeroed [`FrameKinematics`] per frame, sized for its owner (the buffers
     /// [`crate::system::update_frames`] writes).
     pub fn frame_buffers(&self) -> Vec<FrameKinematics> {
@@ -807,5 +858,54 @@ impl FrameKinematics {
     /// If `body` belongs to another model.
     pub fn for_body(model: &Model, body: BodyId) -> Self {
         Self::new(model.body_dofs(body).u.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::point_mass::PointMass;
+    use crate::rigid::RigidBody;
+    use crate::RotationParam;
+
+    /// `node_q`/`node_u` are each node's block of the global vectors (Cardan rigid body: 6 + 6,
+    /// quaternion rigid body: 7 + 6, point mass: 3 + 3) and `q_owner`/`u_owner` invert them for
+    /// every global coordinate.
+    #[test]
+    fn node_coordinates_and_owners() {
+        let mut spec = ModelSpec::new();
+        let i = Matrix3::identity();
+        spec.add_body("cardan", RigidBody::new(1.0, i));
+        let p = spec.add_node("p", NodeKind::Vector(3));
+        spec.add_body(
+            "quat",
+            RigidBody::new(1.0, i).with_rotation(RotationParam::Quaternion),
+        );
+        spec.add_body_on("mass", PointMass::new(1.0), &[p]);
+        let model = spec.compile().unwrap();
+        assert_eq!((model.nq, model.nu), (16, 15));
+        let q: Vec<f64> = (0..model.nq).map(|k| k as f64).collect();
+        let mut u: Vec<f64> = (0..model.nu).map(|k| 100.0 + k as f64).collect();
+        let ids: Vec<NodeId> = model.node_ids().collect();
+        assert_eq!(ids, [NodeId(0), NodeId(1), NodeId(2)]);
+        assert_eq!(model.node_q(ids[0], &q), &q[0..6]);
+        assert_eq!(model.node_q(ids[1], &q), &q[6..9]);
+        assert_eq!(model.node_q(ids[2], &q), &q[9..16]);
+        assert_eq!(model.node_u(ids[0], &u), &u[0..6]);
+        assert_eq!(model.node_u(ids[1], &u), &u[6..9]);
+        assert_eq!(model.node_u(ids[2], &u), &u[9..15]);
+        model.node_u_mut(ids[1], &mut u).fill(-1.0);
+        assert_eq!(&u[5..10], &[105.0, -1.0, -1.0, -1.0, 109.0]);
+        for id in model.node_ids() {
+            for (k, &x) in model.node_q(id, &q).iter().enumerate() {
+                assert_eq!(model.q_owner(x as usize), Some((id, k)));
+            }
+            let u0: Vec<f64> = (0..model.nu).map(|k| k as f64).collect();
+            for (k, &x) in model.node_u(id, &u0).iter().enumerate() {
+                assert_eq!(model.u_owner(x as usize), Some((id, k)));
+            }
+        }
+        assert_eq!(model.q_owner(16), None);
+        assert_eq!(model.u_owner(15), None);
     }
 }

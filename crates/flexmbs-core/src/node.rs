@@ -59,7 +59,7 @@ impl DofMap {
     }
 }
 
-use crate::rotation::{cardan_g, cardan_g_dot_theta_dot};
+use crate::rotation::{cardan_from_matrix, cardan_g, cardan_g_dot_theta_dot};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// The kind of a node: how its coordinates are parametrized and updated.
@@ -155,10 +155,14 @@ impl NodeKind {
             NodeKind::Vector(_) => {}
             NodeKind::PoseCardan => {
                 q[..3].copy_from_slice(position.as_slice());
-                let r = rotation;
-                q[3] = (-r[(1, 2)]).atan2(r[(2, 2)]);
-                q[4] = r[(0, 2)].clamp(-1.0, 1.0).asin();
-                q[5] = (-r[(0, 1)]).atan2(r[(0, 0)]);
+                // Tolerance 0: any finite rotation gets angles, also at or near the singularity
+                // beta = +-90 deg, where alpha and gamma come from entries of order cos(beta)
+                // (only alpha +- gamma is determined). The element refuses such a pose at its
+                // first evaluation (`rotation::CARDAN_SINGULARITY_TOLERANCE`), naming the body.
+                // Only a non-finite matrix errs: its angles are NaN.
+                let theta = cardan_from_matrix(rotation, 0.0)
+                    .unwrap_or_else(|_| Vector3::from_element(f64::NAN));
+                q[3..6].copy_from_slice(theta.as_slice());
             }
             NodeKind::Pose => {
                 q[..3].copy_from_slice(position.as_slice());
@@ -299,4 +303,87 @@ pub struct Node {
     pub q: Range<usize>,
     /// Its velocity coordinates in the global `u`.
     pub u: Range<usize>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::cardan_matrix;
+
+    /// The Cardan extraction `set_pose` inlined before it used [`cardan_from_matrix`] (the
+    /// reference of the bitwise comparison).
+    fn old_set_pose_cardan(r: &Matrix3<f64>) -> [f64; 3] {
+        [
+            (-r[(1, 2)]).atan2(r[(2, 2)]),
+            r[(0, 2)].clamp(-1.0, 1.0).asin(),
+            (-r[(0, 1)]).atan2(r[(0, 0)]),
+        ]
+    }
+
+    /// `PoseCardan::set_pose` gives bitwise the angles of the old inlined formula: random
+    /// rotations, the axes' quarter turns, and rotations at and near beta = +-90 deg (also
+    /// matrices with round-off beyond |r_13| = 1, which the clamp maps to +-90 deg).
+    #[test]
+    fn pose_cardan_set_pose_is_bitwise_the_old_extraction() {
+        let mut rotations = Vec::new();
+        // Deterministic pseudo-random angles (LCG), beta over the whole range.
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..500 {
+            let a = (2.0 * next() - 1.0) * std::f64::consts::PI;
+            let b = (2.0 * next() - 1.0) * std::f64::consts::FRAC_PI_2;
+            let g = (2.0 * next() - 1.0) * std::f64::consts::PI;
+            rotations.push(cardan_matrix(&Vector3::new(a, b, g)));
+            rotations.push(
+                (UnitQuaternion::from_scaled_axis(Vector3::new(a, b, g) * 0.7))
+                    .to_rotation_matrix()
+                    .into_inner(),
+            );
+        }
+        let h = std::f64::consts::FRAC_PI_2;
+        for s in [-1.0, 1.0] {
+            for d in [0.0, 1e-16, 1e-12, 1e-9, 1e-8, 1e-6, -1e-9] {
+                for (a, g) in [(0.0, 0.0), (0.3, -1.1), (-2.0, 2.5)] {
+                    rotations.push(cardan_matrix(&Vector3::new(a, s * (h - d), g)));
+                }
+            }
+            let mut r = cardan_matrix(&Vector3::new(0.2, s * h, 0.4));
+            r[(0, 2)] = s * (1.0 + 1e-15);
+            rotations.push(r);
+        }
+        for k in 0..4 {
+            let t = k as f64 * h;
+            for axis in [Vector3::x(), Vector3::y(), Vector3::z()] {
+                rotations.push(
+                    UnitQuaternion::from_scaled_axis(axis * t)
+                        .to_rotation_matrix()
+                        .into_inner(),
+                );
+            }
+        }
+        let p = Vector3::new(0.1, -0.2, 0.3);
+        for r in &rotations {
+            let mut q = [0.0; 6];
+            NodeKind::PoseCardan.set_pose(&mut q, &p, r);
+            let old = old_set_pose_cardan(r);
+            for i in 0..3 {
+                assert_eq!(q[3 + i].to_bits(), old[i].to_bits(), "{r} angle {i}");
+            }
+            assert_eq!(&q[..3], p.as_slice());
+        }
+        assert!(rotations.len() > 1000);
+    }
+
+    /// A non-finite matrix gives NaN angles (before: NaN in the angles that read a NaN entry).
+    #[test]
+    fn pose_cardan_set_pose_of_a_nan_matrix_is_nan() {
+        let mut r = Matrix3::identity();
+        r[(0, 2)] = f64::NAN;
+        let mut q = [0.0; 6];
+        NodeKind::PoseCardan.set_pose(&mut q, &Vector3::zeros(), &r);
+        assert!(q[3..].iter().all(|x| x.is_nan()));
+    }
 }

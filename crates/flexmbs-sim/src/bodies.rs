@@ -250,7 +250,11 @@ fn rigid_inertia(ctx: &Ctx, p: &str, b: &BodySpec) -> Result<Matrix3<f64>, SimEr
     } else {
         "inertia_matrix"
     };
-    if !inertia.iter().all(|x| x.is_finite()) || inertia.cholesky().is_none() {
+    // positive definite: the engine's one small dense Cholesky factors it (`flexmbs_core::linsolve`)
+    let mut factor = faer::Mat::from_fn(3, 3, |r, c| inertia[(r, c)]);
+    if !inertia.iter().all(|x| x.is_finite())
+        || flexmbs_core::linsolve::cholesky_factor(factor.as_mut(), 0.0).is_err()
+    {
         return Err(ctx.err(
             &format!("{p}.{key}"),
             format!(

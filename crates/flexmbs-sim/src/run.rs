@@ -89,8 +89,11 @@ pub struct RunSummary {
     pub energy_drift: f64,
     /// Work `W` done on the model by point loads, dampers, prescribed motions (drives) and the
     /// geometric stiffening forces up to the end, accumulated over the accepted steps
-    /// (trapezoidal rule on the power of `flexmbs_core::power`); 0 for statics.
+    /// (trapezoidal rule on the power of `flexmbs_core::power`); 0 for statics. The sum of
+    /// [`RunSummary::work`].
     pub external_work: f64,
+    /// [`RunSummary::external_work`] by source.
+    pub work: WorkParts,
     /// Largest position constraint violation `max |g|`.
     pub position_drift: f64,
     /// Largest velocity constraint violation `max |G u + g_t|`.
@@ -102,6 +105,48 @@ pub struct RunSummary {
     pub rows: usize,
     /// Files written.
     pub files: Vec<PathBuf>,
+}
+
+/// The work of the sources the energy does not contain, by part (J; each the trapezoidal rule on
+/// its power over the accepted steps, `flexmbs_core::power`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WorkParts {
+    /// Point forces and torques, and the non-conservative part of force elements.
+    pub loads: f64,
+    /// Dampers of spring-dampers (never positive).
+    pub dampers: f64,
+    /// Prescribed motions (drives): `lambda g_t` of their joint rows.
+    pub drives: f64,
+    /// Geometric stiffening forces of FFR bodies (centrifugal patterns and node loads); `None`
+    /// when the model has no stiffening (nothing accounted).
+    pub stiffening: Option<f64>,
+}
+
+impl WorkParts {
+    /// Sum of the parts.
+    pub fn total(&self) -> f64 {
+        self.loads + self.dampers + self.drives + self.stiffening.unwrap_or(0.0)
+    }
+}
+
+/// One [`WorkMeter`] per part of [`WorkParts`].
+#[derive(Debug, Default)]
+struct WorkMeters {
+    loads: WorkMeter,
+    dampers: WorkMeter,
+    drives: WorkMeter,
+    stiffening: Option<WorkMeter>,
+}
+
+impl WorkMeters {
+    fn parts(&self) -> WorkParts {
+        WorkParts {
+            loads: self.loads.work(),
+            dampers: self.dampers.work(),
+            drives: self.drives.work(),
+            stiffening: self.stiffening.as_ref().map(WorkMeter::work),
+        }
+    }
 }
 
 /// A run that could not be completed.
@@ -225,7 +270,7 @@ struct Recorder<'a> {
     energy_drift: f64,
     /// Work of loads, dampers, drives and geometric stiffening (time-stepping solvers with any
     /// of them).
-    work: Option<WorkMeter>,
+    work: Option<WorkMeters>,
     /// Scratch and force buffer of each stiffened body (`CompiledModel::stiffened`).
     stiffening: Vec<(FfrScratch, Vec<f64>)>,
     /// The frames the external power reads (`power::power_frames`).
@@ -296,7 +341,7 @@ impl<'a> Recorder<'a> {
             self.meter_work(s);
         }
         let e0 = *self.energy0.get_or_insert(total);
-        let work = self.work.as_ref().map_or(0.0, WorkMeter::work);
+        let work = self.work.as_ref().map_or(0.0, |w| w.parts().total());
         self.energy_drift = self.energy_drift.max((total - work - e0).abs());
         let row = ResultsRow {
             t,
@@ -371,17 +416,28 @@ impl<'a> Recorder<'a> {
         let m = &self.cm.model;
         // only frames: the kinematics-only evaluation (O(n_f) per FFR body)
         if system::evaluate_kinematics(m, &s.q, &s.u, &mut self.eval).is_err() {
-            meter.advance(s.t, f64::NAN);
+            for w in [&mut meter.loads, &mut meter.dampers, &mut meter.drives] {
+                w.advance(s.t, f64::NAN);
+            }
+            if let Some(w) = meter.stiffening.as_mut() {
+                w.advance(s.t, f64::NAN);
+            }
             return;
         }
         let (ids, eval) = (&self.power_frames, &mut self.eval);
         system::update_selected_frames(m, &s.q, &s.u, eval, ids, &mut self.frames);
-        let mut power = external_power(m, s.t, &self.frames, &s.lambda).total() + load_stiffening;
-        for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
-            let (q, u) = (m.body_q(*id, &s.q), m.body_u(*id, &s.u));
-            power += stiffening_power(body, q, u, scratch, buf);
+        let p = external_power(m, s.t, &self.frames, &s.lambda);
+        meter.loads.advance(s.t, p.loads);
+        meter.dampers.advance(s.t, p.dampers);
+        meter.drives.advance(s.t, p.drives);
+        if let Some(w) = meter.stiffening.as_mut() {
+            let mut power = load_stiffening;
+            for ((id, body), (scratch, buf)) in self.cm.stiffened.iter().zip(&mut self.stiffening) {
+                let (q, u) = (m.body_q(*id, &s.q), m.body_u(*id, &s.u));
+                power += stiffening_power(body, q, u, scratch, buf);
+            }
+            w.advance(s.t, power);
         }
-        meter.advance(s.t, power);
     }
 
     /// Observes the tracked joint angles at the accepted state `s` (row time `t`), through the
@@ -567,7 +623,11 @@ pub fn run_model(
         energy_drift: 0.0,
         work: ((has_external_work(m) || !cm.stiffened.is_empty() || has_load_stiffening(m))
             && !matches!(cm.solver, SolverConfig::Statics { .. }))
-        .then(WorkMeter::default),
+        .then(|| WorkMeters {
+            stiffening: (!cm.stiffened.is_empty() || has_load_stiffening(m))
+                .then(WorkMeter::default),
+            ..WorkMeters::default()
+        }),
         stiffening: cm
             .stiffened
             .iter()
@@ -668,7 +728,11 @@ pub fn run_model(
         wall_time: start.elapsed(),
         energy_initial: rec.energy0.unwrap_or(0.0),
         energy_drift: rec.energy_drift,
-        external_work: rec.work.as_ref().map_or(0.0, WorkMeter::work),
+        external_work: rec.work.as_ref().map_or(0.0, |w| w.parts().total()),
+        work: rec
+            .work
+            .as_ref()
+            .map_or(WorkParts::default(), WorkMeters::parts),
         position_drift: rec.g_max,
         velocity_drift: rec.g_dot_max,
         rows,

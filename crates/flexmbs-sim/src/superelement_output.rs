@@ -161,18 +161,12 @@ pub(crate) fn node_coordinate_names(
     }
     let dofs = model.body_dofs(body);
     let name = |g: usize, q: bool| {
-        let node = model.nodes.iter().find(|n| {
-            if q {
-                n.q.contains(&g)
-            } else {
-                n.u.contains(&g)
-            }
-        })?;
-        let k = if q {
-            g - node.q.start
+        let (id, k) = if q {
+            model.q_owner(g)
         } else {
-            g - node.u.start
-        };
+            model.u_owner(g)
+        }?;
+        let node = &model.nodes[id.index()];
         let pose_q = ["x", "y", "z", "p0", "p1", "p2", "p3"];
         let pose_u = ["v_x", "v_y", "v_z", "w_x", "w_y", "w_z"];
         let local = match (node.kind, q) {

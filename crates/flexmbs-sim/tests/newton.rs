@@ -143,6 +143,44 @@ fn rotating_beam_modified_newton_reactions_equal_full_newton() {
     }
 }
 
+/// The acceptance rule before issue 8 (`NewtonSettings::legacy_acceptance`, test only: the
+/// acceleration increment and `g` alone, the reuse counter reset every step) fails this test:
+/// with modified Newton on the rotating-beam example its hub reactions leave the full-Newton
+/// ones by far more than 1e-6 relative (or the run fails), while the current rule stays within
+/// 1e-6 (the test above). The run is cut to the first 30 ms (the hammer pulse and after).
+/// Measured: old rule 3.5e4 (a hub reaction component that full Newton keeps small, compared
+/// against 1e-6 of the largest reaction, 901 N: about 32 N off), new rule 4.1e-11.
+#[test]
+fn rotating_beam_old_acceptance_rule_is_far_from_full_newton() {
+    let cm = |modified: &str| {
+        compile_edited(&example("rotating_beam.toml"), &|s| {
+            s.replace("t_end = \"0.3 s\"", "t_end = \"30 ms\"")
+                .replace("modified = true", modified)
+        })
+    };
+    let full = integrate(&cm("modified = false"), false);
+    let new = integrate(&cm("modified = true"), true);
+    let (d_new, _, _, _) = relative_difference(&new.lambda, &full.lambda);
+    let mut old_cm = cm("modified = true");
+    let SolverConfig::GenAlpha { settings, .. } = &mut old_cm.solver else {
+        panic!("generalized-alpha expected")
+    };
+    settings.newton.legacy_acceptance = true;
+    let old = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| integrate(&old_cm, true)));
+    match old {
+        Ok(old) => {
+            let (d_old, k, m_max, f_max) = relative_difference(&old.lambda, &full.lambda);
+            eprintln!(
+                "old rule: hub reactions max |modified| {m_max:.3e} vs |full| {f_max:.3e}, \
+                 worst relative difference {d_old:.2e} (component {k}); new rule {d_new:.2e}"
+            );
+            assert!(d_old > 1.0, "the old rule agrees to {d_old:e}");
+        }
+        Err(_) => eprintln!("old rule: the run failed; new rule {d_new:.2e}"),
+    }
+    assert!(d_new < 1e-6, "new rule differs by {d_new:e}");
+}
+
 /// Issue 8, defect 2: the single flexible pendulum of `tests/data/pendulum_modified_newton.toml`
 /// overflowed at t = 0.495 s with modified Newton. Now it runs to 0.6 s and matches full Newton to
 /// 1e-6 relative per coordinate, velocity and multiplier; the iteration matrix is rebuilt after at

@@ -332,6 +332,19 @@ fn superelement_options_equal_rust_chain() {
     let (cm, _, _) = file_vs_rust_vibration(&text, options);
     // 3 pose nodes and 3 mode nodes: 4 x 7 + 3 x 2 position coordinates
     assert_eq!(cm.model.nq, 4 * 7 + 3 * 2);
+    // coordinate names from the nodes (`Model::q_owner`/`u_owner`): every coordinate named once
+    let (q, u, _) = flexmbs_sim::signals::coordinate_names(&cm.model, &cm.bodies);
+    let ends = |v: &[String], s: &str| v.iter().filter(|n| n.ends_with(s)).count();
+    assert_eq!(
+        (ends(&q, ".x"), ends(&q, ".p3"), ends(&q, ".2")),
+        (4, 4, 3),
+        "{q:?}"
+    );
+    assert_eq!((ends(&u, ".w_z"), ends(&u, ".d2")), (4, 3), "{u:?}");
+    for v in [&q, &u] {
+        let set: std::collections::HashSet<_> = v.iter().collect();
+        assert_eq!(set.len(), v.len(), "{v:?}");
+    }
 }
 
 /// The tip of a static model-file run (runner), at every load increment.

@@ -140,11 +140,12 @@ fn build(bodies: usize) -> Result<(Model, State, [FrameId; 2])> {
 fn angular_momentum_z(model: &Model, s: &State, ws: &mut Workspace) -> f64 {
     let mut r = s.clone();
     r.u.iter_mut().for_each(|x| *x = 0.0);
-    for n in &model.nodes {
-        let x = Vector3::from_column_slice(&s.q[n.q.start..n.q.start + 3]);
-        n.kind.set_velocity(
-            &s.q[n.q.clone()],
-            &mut r.u[n.u.clone()],
+    for n in model.node_ids() {
+        let q = model.node_q(n, &s.q);
+        let x = Vector3::from_column_slice(&q[..3]);
+        model.nodes[n.index()].kind.set_velocity(
+            q,
+            model.node_u_mut(n, &mut r.u),
             &Vector3::z().cross(&x),
             &Vector3::z(),
         );

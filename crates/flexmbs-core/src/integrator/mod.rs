@@ -104,6 +104,14 @@ pub struct NewtonSettings {
     /// Newton to the Newton tolerances. Default `false` (full Newton: a fresh matrix every
     /// iteration).
     pub modified: bool,
+    /// Test only, not a setting: `true` restores the acceptance rule before issue 8, so that a
+    /// test can show it fails (`flexmbs-sim/tests/newton.rs`). That rule accepted an iterate on
+    /// the acceleration increment (`max |du_dot| <= atol + rtol max |u_dot|`, or at the
+    /// positions' round-off floor) and the constraint error alone, never looking at the
+    /// multiplier increment or the force residual; modified Newton judged contraction on the
+    /// acceleration increment only, and the reuse counter was reset every step. Default `false`.
+    #[doc(hidden)]
+    pub legacy_acceptance: bool,
 }
 
 /// A stale iteration matrix is rebuilt when `|increment_k| > this * |increment_(k-1)|`.
@@ -119,6 +127,7 @@ impl Default for NewtonSettings {
             atol: 1e-10,
             constraint_tol: 1e-12,
             modified: false,
+            legacy_acceptance: false,
         }
     }
 }
