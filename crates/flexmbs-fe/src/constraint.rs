@@ -255,16 +255,24 @@ impl ConstraintMap {
     /// The load vector over the independent DOFs (`T^T f`) of the force `force` shared equally by
     /// the translations of `nodes` (fixed DOFs take their share without effect).
     pub fn nodal_load(&self, nodes: &[NodeIdx], force: [f64; 3]) -> Vec<f64> {
-        let mut f = vec![0.0; self.num_independent()];
         let share = 1.0 / nodes.len().max(1) as f64;
-        for &node in nodes {
+        let weighted: Vec<(NodeIdx, f64)> = nodes.iter().map(|&n| (n, share)).collect();
+        self.weighted_nodal_load(&weighted, force)
+    }
+
+    /// The load vector over the independent DOFs (`T^T f`) of the force `force` distributed on
+    /// the translations of the nodes by the weights (node, weight), e.g. the shape-function
+    /// values of a point ([`crate::point_load::point_weights`]).
+    pub fn weighted_nodal_load(&self, weights: &[(NodeIdx, f64)], force: [f64; 3]) -> Vec<f64> {
+        let mut f = vec![0.0; self.num_independent()];
+        for &(node, w) in weights {
             if node >= self.dofs.count.len() {
                 continue;
             }
             for (dir, fd) in force.iter().enumerate().take(self.dofs.count[node].min(3)) {
                 let eq = self.dofs.first[node] + dir;
                 for &(p, c) in &self.rows[eq] {
-                    f[p] += c * share * fd;
+                    f[p] += c * w * fd;
                 }
             }
         }

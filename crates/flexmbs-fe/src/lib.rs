@@ -23,6 +23,7 @@ pub mod mechanism;
 pub mod memory;
 pub mod mesh;
 pub mod modes;
+pub mod point_load;
 pub mod reduction;
 pub mod static_modes;
 pub mod stress;

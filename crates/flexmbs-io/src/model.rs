@@ -610,12 +610,17 @@ pub struct ReductionSpec {
 }
 
 /// A static load pattern of [`ReductionSpec::static_loads`]: a total force of unit size along
-/// `direction`, shared equally by the selected nodes.
+/// `direction`, shared equally by the selected nodes (`nodes`), or acting at a point of a solid
+/// mesh as its consistent nodal loads (`point`); exactly one of the two.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StaticLoadSpec {
     /// The loaded nodes.
-    pub nodes: NodeSelector,
+    #[serde(default)]
+    pub nodes: Option<NodeSelector>,
+    /// The loaded point (body coordinates, length units of the file).
+    #[serde(default, deserialize_with = "crate::fe_quantity::opt_length3")]
+    pub point: Option<[f64; 3]>,
     /// Direction of the force (body axes; normalised).
     pub direction: [f64; 3],
 }

@@ -302,6 +302,14 @@ pub(crate) fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelErro
         ));
     }
     for (i, l) in r.static_loads.iter().enumerate() {
+        if l.nodes.is_some() == l.point.is_some() {
+            return Err(err(
+                &format!("body.reduction.static_loads[{i}]"),
+                "give exactly one of `nodes` (a node selection sharing the force) and `point` \
+                 ([x, y, z], a force at a point of a solid mesh)"
+                    .into(),
+            ));
+        }
         let n = l.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
         if !(n.is_finite() && n > 0.0) {
             return Err(err(

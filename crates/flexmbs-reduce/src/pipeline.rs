@@ -462,17 +462,39 @@ fn static_load_patterns(
     let mut out = Vec::new();
     for (i, l) in spec.reduction.static_loads.iter().enumerate() {
         let key = format!("body.reduction.static_loads[{i}]");
-        let nodes = select_nodes(mesh, &l.nodes, &format!("{key}.nodes"))?;
         let norm = l.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
         let dir = l.direction.map(|c| c / norm);
-        let force = system.map.nodal_load(&nodes, dir);
-        if nodes.is_empty() || force.iter().all(|f| *f == 0.0) {
+        let (weights, what) = match (&l.nodes, l.point) {
+            (Some(sel), _) => {
+                let nodes = select_nodes(mesh, sel, &format!("{key}.nodes"))?;
+                let share = 1.0 / nodes.len().max(1) as f64;
+                let w: Vec<(NodeIdx, f64)> = nodes.iter().map(|&n| (n, share)).collect();
+                (w, "nodes")
+            }
+            (None, Some(p)) => {
+                let w = flexmbs_fe::point_load::point_weights(mesh, p).map_err(|e| {
+                    PipelineError::Model {
+                        path: format!("{key}.point"),
+                        message: e.to_string(),
+                    }
+                })?;
+                (w, "point")
+            }
+            (None, None) => {
+                return Err(PipelineError::Model {
+                    path: key,
+                    message: "give `nodes` or `point`".into(),
+                })
+            }
+        };
+        let force = system.map.weighted_nodal_load(&weights, dir);
+        if force.iter().all(|f| *f == 0.0) {
             return Err(PipelineError::Model {
-                path: format!("{key}.nodes"),
+                path: format!("{key}.{what}"),
                 message: format!(
-                    "selects {} nodes, none of them free to move along {dir:?}: the load has no \
+                    "loads {} nodes, none of them free to move along {dir:?}: the load has no \
                      effect",
-                    nodes.len()
+                    weights.len()
                 ),
             });
         }

@@ -173,6 +173,21 @@ fn refusals_are_located() {
             "static_loads",
             "adds nothing",
         ),
+        (
+            "static_loads = [{ point = [0.5, 0.0, 0.0], direction = [0.0, 0.0, 1.0] }]\n",
+            "static_loads[0].point",
+            "solid elements",
+        ),
+        (
+            "static_loads = [{ direction = [0.0, 0.0, 1.0] }]\n",
+            "static_loads[0]",
+            "exactly one",
+        ),
+        (
+            "static_loads = [{ nodes = \"end\", point = [1.0, 0.0, 0.0], direction = [0.0, 0.0, 1.0] }]\n",
+            "static_loads[0]",
+            "exactly one",
+        ),
     ] {
         std::fs::write(dir.join("body.toml"), format!("{BODY}{load}")).unwrap();
         let msg = match compile_model(&model("modes = 1"), &path) {
@@ -181,4 +196,59 @@ fn refusals_are_located() {
         };
         assert!(msg.contains(key) && msg.contains(words), "{load}: {msg}");
     }
+}
+
+/// A point load at a node of a solid mesh is the same pattern as a load on that node alone: the
+/// same basis vector (to round-off); a point between nodes loads the element's nodes.
+#[test]
+fn point_load_at_a_node_equals_the_node_load() {
+    let solid = |load: &str| {
+        format!(
+            r#"
+[body]
+name = "block"
+[body.mesh]
+type = "box"
+size = [0.2, 0.04, 0.04]
+divisions = [5, 1, 1]
+element = "hex20"
+material = {{ e = 210e9, nu = 0.3, rho = 7850.0 }}
+[body.boundary]
+fixed = ["xmin"]
+[body.reduction]
+modes = 3
+mass = "consistent"
+static_loads = [{load}]
+"#
+        )
+    };
+    let reduce = |text: &str| {
+        let spec = flexmbs_io::model::parse_fe_model(text, std::path::Path::new("b.toml"))
+            .unwrap()
+            .body;
+        let prepared =
+            flexmbs_reduce::pipeline::prepare(&spec, std::path::Path::new("."), &mut |_| {})
+                .unwrap();
+        flexmbs_reduce::pipeline::run_reduction(&spec, &prepared, &mut |_| {}).unwrap()
+    };
+    let at_point = reduce(&solid(
+        "{ point = [0.2, 0.04, 0.02], direction = [0.0, -1.0, 0.0] }",
+    ));
+    let at_node = reduce(&solid(
+        "{ nodes = { nearest = [0.2, 0.04, 0.02] }, direction = [0.0, -1.0, 0.0] }",
+    ));
+    assert_eq!(at_point.num_modes(), 4);
+    let d = (0..at_point.modes_t.nrows())
+        .map(|i| (at_point.modes_t[(i, 3)] - at_node.modes_t[(i, 3)]).abs())
+        .fold(0.0, f64::max);
+    let scale = (0..at_node.modes_t.nrows())
+        .map(|i| at_node.modes_t[(i, 3)].abs())
+        .fold(0.0, f64::max);
+    assert!(d < 1e-9 * scale, "point vs node load: {d:e} of {scale:e}");
+    // between nodes: a different vector, still a valid basis
+    let between = reduce(&solid(
+        "{ point = [0.19, 0.04, 0.013], direction = [0.0, -1.0, 0.0] }",
+    ));
+    assert_eq!(between.num_modes(), 4);
+    assert!(between.frequencies_hz[3] > between.frequencies_hz[2]);
 }

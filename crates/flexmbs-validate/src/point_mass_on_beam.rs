@@ -82,10 +82,18 @@ pub fn reduce_beam_with(modes: usize) -> Result<Beam> {
 /// Meshes and reduces the benchmark's beam with `modes` modes and the static response to a load
 /// on the contact region of setup A ([`CONTACT_REGION_LOAD`]) as one more basis vector.
 pub fn reduce_beam_augmented(modes: usize) -> Result<Beam> {
-    let text = BEAM.replace(
-        "modes = 100",
-        &format!("modes = {modes}\n{CONTACT_REGION_LOAD}"),
-    );
+    reduce_beam_with_load(modes, CONTACT_REGION_LOAD)
+}
+
+/// The static load pattern of a -y unit force at the impact point of setup A, (235, 50, 25) mm,
+/// as the consistent nodal loads of the hex20 element there.
+pub const CONTACT_POINT_LOAD: &str =
+    "static_loads = [{ point = [0.235, 0.05, 0.025], direction = [0.0, -1.0, 0.0] }]";
+
+/// Meshes and reduces the benchmark's beam with `modes` modes and the static responses of the
+/// `static_loads` line `load` (e.g. [`CONTACT_REGION_LOAD`], [`CONTACT_POINT_LOAD`]).
+pub fn reduce_beam_with_load(modes: usize, load: &str) -> Result<Beam> {
+    let text = BEAM.replace("modes = 100", &format!("modes = {modes}\n{load}"));
     reduce_beam_text(&text)
 }
 

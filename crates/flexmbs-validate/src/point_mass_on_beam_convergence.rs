@@ -333,6 +333,25 @@ pub fn full_fe_check(
     );
     res.tolerance.insert(NODE_CHECK_STATIC.into(), TOL_NODE_RMS);
     res.limit(NODE_CHECK_STATIC, aug.node_rms_rel, TOL_NODE_RMS);
+    // recorded, not checked (added after the two checks above had run): the static response to
+    // a force at the impact point itself (consistent nodal loads of its element)
+    let at_point = crate::point_mass_on_beam::reduce_beam_with_load(
+        100,
+        crate::point_mass_on_beam::CONTACT_POINT_LOAD,
+    )?;
+    let pt = compare_ffr(&simulate(&at_point, &c)?, &r);
+    log(&format!(
+        "FFR 100 modes + static response at the point (S4): y_min {:.6} m, node RMS difference {:.2} %, {:.1} s",
+        pt.y_min,
+        100.0 * pt.node_rms_rel,
+        pt.cpu
+    ));
+    res.record("full_fe_y_min_modes100_point", pt.y_min);
+    res.record(
+        "full_fe_deflection_error_modes100_point",
+        (r.y_min - pt.y_min) / (0.05 - r.y_min),
+    );
+    res.record("full_fe_node_rms_diff_modes100_point", pt.node_rms_rel);
     Ok(())
 }
 
