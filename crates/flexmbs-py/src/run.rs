@@ -122,6 +122,12 @@ fn summary_dict<'py>(py: Python<'py>, s: &RunSummary) -> PyResult<Bound<'py, PyD
     d.set_item("energy_initial", s.energy_initial)?;
     d.set_item("energy_drift", s.energy_drift)?;
     d.set_item("external_work", s.external_work)?;
+    let work = PyDict::new(py);
+    work.set_item("loads", s.work.loads)?;
+    work.set_item("dampers", s.work.dampers)?;
+    work.set_item("drives", s.work.drives)?;
+    work.set_item("stiffening", s.work.stiffening)?;
+    d.set_item("work", work)?;
     d.set_item("position_drift", s.position_drift)?;
     d.set_item("velocity_drift", s.velocity_drift)?;
     d.set_item("warnings", s.warnings.clone())?;

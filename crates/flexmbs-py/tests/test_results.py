@@ -24,6 +24,15 @@ def test_shapes_units_and_analytic_solution(spring: flexmbs.Model, tmp_path: Pat
     r = flexmbs.run(spring, out_dir=tmp_path)
     n = r.rows
     assert r.status == "completed" and r.summary["status"] == "completed"
+    # the external work by part: only the damper works here, and it is what the energy lost
+    work = r.summary["work"]
+    assert work["loads"] == 0.0 and work["drives"] == 0.0 and work["stiffening"] is None
+    assert work["dampers"] < 0.0
+    assert sum(v for v in work.values() if v is not None) == pytest.approx(
+        r.summary["external_work"], rel=1e-12
+    )
+    e_total = r.series("energy").sum(axis=1)
+    assert e_total[-1] - e_total[0] == pytest.approx(work["dampers"], abs=1e-3 * e_total[0])
     assert n == 501  # 5 s every 10 ms, and t = 0
     assert r.time.shape == (n,) and r.time.dtype == np.float64
     assert r.time[0] == 0.0 and r.time[-1] == pytest.approx(5.0, abs=1e-12)  # "5 s" -> s

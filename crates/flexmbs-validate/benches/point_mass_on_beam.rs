@@ -8,6 +8,8 @@
 //! asserted. Environment:
 //! - `PMB_BENCH_MODES=10,100`: restrict the mode counts of the S2 sweep;
 //! - `PMB_BENCH_ONLY_S2=1`: skip the S1/S3 and contour runs;
+//! - `PMB_BENCH_LAWS=1`: also S1 (C_R = 0), S3 and S4 for every mode count of the sweep (seed
+//!   Table 5.4), with the average step of the step-size-controlled runs;
 //! - `PMB_BENCH_T_END=0.02`: a shorter end time (e.g. under callgrind: `valgrind
 //!   --tool=callgrind --collect-atstart=no --toggle-collect='*MoreauStepper*advance*'`);
 //! - `PMB_BENCH_REPEAT=3`: run every configuration this many times and report the run with the
@@ -136,6 +138,9 @@ fn main() {
             dump(d, &format!("s2_{n}"), &r);
         }
     }
+    if std::env::var("PMB_BENCH_LAWS").is_ok() {
+        laws_by_modes(&base, &best);
+    }
     if std::env::var("PMB_BENCH_ONLY_S2").is_ok() {
         return;
     }
@@ -170,5 +175,34 @@ fn main() {
             "contour {what} (S2, 0.05 s, 20 modes): {:.3} s (on CPU {:.3} s)",
             r.cpu, r.cpu_thread
         );
+    }
+}
+
+/// S1 (C_R = 0), S3 and S4 for every mode count of the sweep: time on CPU and, for the
+/// step-size-controlled runs, the number of steps and the average step.
+fn laws_by_modes(base: &Config, best: &dyn Fn(&Config) -> Run) {
+    for n in env_list("PMB_BENCH_MODES", &[10, 20, 30, 40, 60, 80, 100]) {
+        for (name, restitution, step) in [
+            ("S1", Some(0.0), None),
+            ("S3", None, None),
+            ("S4", None, Some(1e-5)),
+        ] {
+            let c = Config {
+                modes: n,
+                restitution,
+                step,
+                ..*base
+            };
+            let r = best(&c);
+            println!(
+                "{name} modes {n:3}: {:.3} s (on CPU {:.3} s), {} steps, average step {:.3e} s, v_y_final {:.6}, y_min {:.7}",
+                r.cpu,
+                r.cpu_thread,
+                r.steps,
+                c.t_end / r.steps as f64,
+                r.v_y_final,
+                r.y_min
+            );
+        }
     }
 }
