@@ -252,14 +252,6 @@ impl ConstraintMap {
         (t, r)
     }
 
-    /// The load vector over the independent DOFs (`T^T f`) of the force `force` shared equally by
-    /// the translations of `nodes` (fixed DOFs take their share without effect).
-    pub fn nodal_load(&self, nodes: &[NodeIdx], force: [f64; 3]) -> Vec<f64> {
-        let share = 1.0 / nodes.len().max(1) as f64;
-        let weighted: Vec<(NodeIdx, f64)> = nodes.iter().map(|&n| (n, share)).collect();
-        self.weighted_nodal_load(&weighted, force)
-    }
-
     /// The load vector over the independent DOFs (`T^T f`) of the force `force` distributed on
     /// the translations of the nodes by the weights (node, weight), e.g. the shape-function
     /// values of a point ([`crate::point_load::point_weights`]).

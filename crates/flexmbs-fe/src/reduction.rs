@@ -135,6 +135,16 @@ impl ReducedBody {
     pub fn num_modes(&self) -> usize {
         self.modes_t.ncols()
     }
+
+    /// Number of trailing basis vectors that are static load responses (labelled
+    /// [`STATIC_LOAD_LABEL`], appended after the modes by [`reduce_modal_augmented`]).
+    pub fn num_static_load_responses(&self) -> usize {
+        self.labels
+            .iter()
+            .rev()
+            .take_while(|l| l.dominant.starts_with(STATIC_LOAD_LABEL))
+            .count()
+    }
 }
 
 use crate::assembly::{entries, sparse_from_triplets};

@@ -1,7 +1,7 @@
 //! Bodies of a model file: rigid bodies (mass, inertia) and FFR bodies from an FE model file, a
 //! reduced-body file or a seed folder (mode selection, damping, SI conversion).
 
-use crate::body_loading::{load_body_source, mode_columns, select_modes, static_load_columns};
+use crate::body_loading::{load_body_source, mode_columns, select_modes};
 pub use crate::body_loading::{load_fe_body, load_reduced, load_reduced_with_fe, LoadedBody};
 use crate::compile::Ctx;
 use crate::error::SimError;
@@ -434,7 +434,7 @@ fn ffr_body(
     let rotary = node_rotary_inertias(ctx, p, b, kind, &loaded)?;
     let geometric = geometric_stiffness(ctx, p, b, kind, &loaded)?;
     let interfaces = loaded.fe.as_ref().map(named_interfaces).unwrap_or_default();
-    let n_static = static_load_columns(&loaded.reduced);
+    let n_static = loaded.reduced.num_static_load_responses();
     let stress = crate::stress::selected_stress(&mut loaded, |nf| match &b.modes {
         Some(sel) => mode_columns(ctx, p, nf, n_static, sel),
         None => Ok((0..nf).collect()),

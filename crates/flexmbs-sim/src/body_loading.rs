@@ -156,19 +156,6 @@ fn load_fe_model_file(path: &Path, full_mass: bool) -> Result<LoadedBody, String
     })
 }
 
-/// The number of trailing basis vectors of `reduced` that are static load responses.
-pub(crate) fn static_load_columns(reduced: &ReducedBody) -> usize {
-    reduced
-        .labels
-        .iter()
-        .rev()
-        .take_while(|l| {
-            l.dominant
-                .starts_with(flexmbs_fe::reduction::STATIC_LOAD_LABEL)
-        })
-        .count()
-}
-
 /// The body and its `K_G` restricted to the modes selected by `modes` (all if absent).
 pub(crate) fn select_modes(
     ctx: &Ctx,
@@ -184,7 +171,7 @@ pub(crate) fn select_modes(
         ctx,
         p,
         reduced.num_modes(),
-        static_load_columns(&reduced),
+        reduced.num_static_load_responses(),
         sel,
     )?;
     Ok((

@@ -176,16 +176,7 @@ fn thread_cpu_seconds() -> f64 {
 /// every static load response (the trailing columns labelled so).
 fn basis_columns(beam: &Beam, c: &Config) -> Vec<usize> {
     let nf = beam.reduced.num_modes();
-    let n_static = beam
-        .reduced
-        .labels
-        .iter()
-        .rev()
-        .take_while(|l| {
-            l.dominant
-                .starts_with(flexmbs_fe::reduction::STATIC_LOAD_LABEL)
-        })
-        .count();
+    let n_static = beam.reduced.num_static_load_responses();
     (0..c.modes).chain(nf - n_static..nf).collect()
 }
 
