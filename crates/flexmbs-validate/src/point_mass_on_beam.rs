@@ -252,15 +252,19 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
     // the energy of the output rows, evaluated in a workspace of its own
     let mut ws_out = Workspace::new(&model);
     let (mut stepper, control): (Box<dyn Stepper>, StepControl) = match c.step {
-        Some(h) => (
-            Box::new(MoreauStepper::new(MoreauSettings::default())),
-            StepControl::Fixed { h },
-        ),
+        // the energy of the output rows is evaluated below (`ws_out`): the steppers' own
+        // end-of-step monitor is not needed
+        Some(h) => {
+            let mut fixed = MoreauStepper::new(MoreauSettings::default());
+            fixed.set_end_monitor(false);
+            (Box::new(fixed), StepControl::Fixed { h })
+        }
         None => {
-            let ssc = MoreauSscStepper::new(MoreauSscSettings {
+            let mut ssc = MoreauSscStepper::new(MoreauSscSettings {
                 h_max: 1e-4,
                 ..MoreauSscSettings::default()
             });
+            ssc.set_end_monitor(false);
             let control = ssc.control();
             (Box::new(ssc), control)
         }

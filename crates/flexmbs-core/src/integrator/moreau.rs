@@ -408,8 +408,12 @@ impl MoreauStepper {
 }
 
 impl MoreauStepper {
-    /// Whether [`Self::advance`] evaluates the end state's energy and drift (default: yes).
-    pub(super) fn set_end_monitor(&mut self, on: bool) {
+    /// Whether every step evaluates the end state's energy and constraint drift into its
+    /// [`super::StepStats`] (default: yes). The evaluation costs about as much as the step's own
+    /// element evaluation (one more [`crate::system::evaluate`] and the energies); a driver that
+    /// evaluates what it needs itself at its output times switches it off, and the statistics then
+    /// carry zero energy and drift.
+    pub fn set_end_monitor(&mut self, on: bool) {
         self.end_monitor = on;
     }
 }

@@ -58,6 +58,8 @@ pub struct MoreauSscStepper {
     /// Settings.
     pub settings: MoreauSscSettings,
     inner: MoreauStepper,
+    /// The accepted steps' end monitor ([`MoreauStepper::set_end_monitor`]).
+    end_monitor: bool,
     start: State,
     full: State,
     stats: StepperStatistics,
@@ -80,10 +82,18 @@ impl MoreauSscStepper {
         Self {
             settings,
             inner: MoreauStepper::new(settings.moreau),
+            end_monitor: true,
             start: State::zeros(0, 0, 0),
             full: State::zeros(0, 0, 0),
             stats: StepperStatistics::default(),
         }
+    }
+
+    /// Whether accepted steps evaluate the end state's energy and constraint drift
+    /// ([`MoreauStepper::set_end_monitor`]; default: yes).
+    pub fn set_end_monitor(&mut self, on: bool) {
+        self.end_monitor = on;
+        self.inner.set_end_monitor(on);
     }
 
     /// The driver's control from the settings.
@@ -145,6 +155,7 @@ impl Stepper for MoreauSscStepper {
     ) -> Result<(), SolverError> {
         self.check()?;
         self.inner = MoreauStepper::new(self.settings.moreau);
+        self.inner.set_end_monitor(self.end_monitor);
         self.inner.initialize(model, s, ws)?;
         self.start = s.clone();
         self.full = s.clone();
@@ -164,7 +175,7 @@ impl Stepper for MoreauSscStepper {
         self.inner.set_end_monitor(false);
         self.inner.advance(model, &mut self.full, ws, h)?;
         self.inner.advance(model, s, ws, 0.5 * h)?;
-        self.inner.set_end_monitor(true);
+        self.inner.set_end_monitor(self.end_monitor);
         let mut changed = self.contacts_changed(s);
         let first_gaps_penetration = self.penetration_now(model, s, 0.5 * h);
         let mut stats = self.inner.advance(model, s, ws, 0.5 * h)?;
