@@ -25,6 +25,7 @@ pub mod slider_crank_3d_reference;
 pub mod slider_crank_reference;
 pub mod slider_crank_superelement;
 pub mod sliding_balls;
+pub mod sliding_balls_arc;
 pub mod sliding_balls_reference;
 pub mod spinning_beam;
 

@@ -395,9 +395,15 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
         r.x_end, r.energy_deviation, r.acc_max, r.acc_rms, r.dv_max, r.steps, r.cpu
     ));
     ok &= record_run(&mut res, "traverse", &r);
+    // the C^2 check on a curved contour (the straight beam cannot show it)
+    let ring_dir = std::env::temp_dir().join(format!("flexmbs_ring_{}", std::process::id()));
+    let arc = crate::sliding_balls_arc::check_arc(&mut res, &ring_dir, &log);
+    let _ = std::fs::remove_dir_all(&ring_dir);
+    let arc = arc?;
     res.pass = res.pass && ok;
     std::fs::create_dir_all(out)?;
     plots(out, &runs, &reference.1, &r)?;
+    arc_plot(out, &arc)?;
     Ok(res)
 }
 
@@ -551,6 +557,30 @@ pub fn write_reference_series(
         }
     }
     std::fs::write(path, text)?;
+    Ok(())
+}
+
+/// The ring's acceleration along the contour for the quadratic and the cubic contour.
+fn arc_plot(out: &Path, runs: &[crate::sliding_balls_arc::ArcRun]) -> Result<()> {
+    let series = runs
+        .iter()
+        .filter(|r| r.degree > 1)
+        .map(|r| Series {
+            name: format!("contour degree {} (C^{})", r.degree, r.degree - 1),
+            points: r.acceleration.clone(),
+            style: Style::Line,
+        })
+        .collect();
+    let plot = LinePlot {
+        title: "Ball guided on a quarter ring: |a| / (v0^2 / R) (degree 1: spikes of 490)".into(),
+        x_label: "angle along the ring [deg]".into(),
+        y_label: "|a| / (v0^2 / R)".into(),
+        series,
+        log_x: false,
+        log_y: false,
+    };
+    plot.write(&out.join("ring_acceleration.png"))?;
+    plot.write(&out.join("ring_acceleration.svg"))?;
     Ok(())
 }
 
