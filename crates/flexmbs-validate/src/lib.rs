@@ -13,6 +13,7 @@ pub mod elastica;
 pub mod fe_cantilever_modes;
 pub mod point_mass_on_beam;
 pub mod point_mass_on_beam_convergence;
+pub mod point_mass_on_beam_figures;
 pub mod point_mass_on_beam_full_fe;
 pub mod result;
 pub mod rotating_beam;

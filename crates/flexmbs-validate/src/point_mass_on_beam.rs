@@ -398,6 +398,7 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     // energy laws: every set-valued run, setups A and B, S1 and S2, C_R = 0, 0.7, 1
     let mut gain = f64::NEG_INFINITY;
     let (mut series, mut energy_series) = (vec![], vec![]);
+    let (mut velocity_a, mut velocity_b) = (vec![], vec![]);
     for (setup, z0) in [("A", 0.025), ("B", 0.040)] {
         for cr in [0.0, 0.7, 1.0] {
             for (name, step) in [("S1", None), ("S2", Some(1e-5))] {
@@ -417,6 +418,12 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
                 res.record(&format!("v_y_final_{key}"), r.v_y_final);
                 res.record(&format!("energy_end_{key}"), r.energy_end);
                 res.record(&format!("cpu_s_{key}"), r.cpu);
+                if setup == "A" && name == "S2" {
+                    velocity_a.push((format!("setup A, S2, C_R = {cr}"), r.clone()));
+                }
+                if setup == "B" && name == "S1" {
+                    velocity_b.push((format!("setup B, S1, C_R = {cr}"), r.clone()));
+                }
                 if setup == "A" && name == "S2" {
                     energy_series.push(Series {
                         name: format!("setup A, S2, C_R = {cr}"),
@@ -441,8 +448,24 @@ pub fn run(out: &Path, quiet: bool) -> Result<ValidationResult> {
     std::fs::create_dir_all(out)?;
     mode_convergence(out, &beam, &base, &mut res, &log)?;
     crate::point_mass_on_beam_convergence::full_fe_check(&beam, &base, &mut res, &log)?;
-    contour_comparison(&beam, &base, &mut res, &log)?;
+    let contours = contour_comparison(&beam, &base, &mut res, &log)?;
     std::fs::create_dir_all(out)?;
+    // the seed's figures (Figs. 5.6-5.12)
+    use crate::point_mass_on_beam_figures as figures;
+    figures::contour_figures(out, &contours)?;
+    figures::restitution_figure(
+        out,
+        "mass_v",
+        "Point mass on beam, setup A, S2, 20 modes: velocity of the mass (seed Fig. 5.12)",
+        &velocity_a,
+    )?;
+    figures::restitution_figure(
+        out,
+        "B_restitution_v",
+        "Point mass on beam, setup B, S1, 20 modes: velocity of the mass vs C_R (seed Fig. 5.8)",
+        &velocity_b,
+    )?;
+    figures::setup_b_sweep(out, &beam, &base, &mut res, &log)?;
     let plot = LinePlot {
         title: "Point mass on beam, setup A, S2 (h = 1e-5 s), 20 modes: height of the mass".into(),
         x_label: "t [s]".into(),
@@ -562,13 +585,15 @@ fn mode_convergence(
     Ok(())
 }
 
-/// The 2D neutral contour vs the FlexibleBand (setup A and B, S2, 0.05 s, 20 modes).
+/// The 2D neutral contour vs the FlexibleBand (setup A and B, S2, 0.05 s, 20 modes); returns
+/// the runs with their labels.
 fn contour_comparison(
     beam: &Beam,
     base: &Config,
     res: &mut ValidationResult,
     log: &dyn Fn(&str),
-) -> Result<()> {
+) -> Result<Vec<(String, Run)>> {
+    let mut runs = Vec::new();
     for (setup, z0) in [("A", 0.025), ("B", 0.040)] {
         for band in [false, true] {
             let c = Config {
@@ -586,7 +611,13 @@ fn contour_comparison(
             ));
             res.record(&format!("contour_{setup}_{what}_y_min"), r.y_min);
             res.record(&format!("contour_{setup}_{what}_cpu_s"), r.cpu);
+            let label = if band {
+                "FlexibleBand"
+            } else {
+                "2D neutral contour"
+            };
+            runs.push((format!("setup {setup}, {label}"), r));
         }
     }
-    Ok(())
+    Ok(runs)
 }
