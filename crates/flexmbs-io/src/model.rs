@@ -611,7 +611,10 @@ pub struct ReductionSpec {
 
 /// A static load pattern of [`ReductionSpec::static_loads`]: a total force of unit size along
 /// `direction`, shared equally by the selected nodes (`nodes`), or acting at a point of a solid
-/// mesh as its consistent nodal loads (`point`); exactly one of the two.
+/// mesh as its consistent nodal loads (`point`); exactly one of the two. With `face` (and
+/// `point`), the force acts at the point of the cubic NURBS surface through the face's nodes
+/// nearest to `point`, shared by those nodes with the surface's interpolation weights: what a
+/// `surface` contour on that face transmits there.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StaticLoadSpec {
@@ -621,6 +624,9 @@ pub struct StaticLoadSpec {
     /// The loaded point (body coordinates, length units of the file).
     #[serde(default, deserialize_with = "crate::fe_quantity::opt_length3")]
     pub point: Option<[f64; 3]>,
+    /// A bounding-box face (`xmin` ... `zmax`) whose NURBS surface carries the `point`.
+    #[serde(default)]
+    pub face: Option<String>,
     /// Direction of the force (body axes; normalised).
     pub direction: [f64; 3],
 }

@@ -302,6 +302,21 @@ pub(crate) fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelErro
         ));
     }
     for (i, l) in r.static_loads.iter().enumerate() {
+        if let Some(face) = &l.face {
+            const FACES: [&str; 6] = ["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"];
+            if !FACES.contains(&face.as_str()) {
+                return Err(err(
+                    &format!("body.reduction.static_loads[{i}].face"),
+                    format!("unknown face `{face}` (xmin, xmax, ymin, ymax, zmin, zmax)"),
+                ));
+            }
+            if l.point.is_none() {
+                return Err(err(
+                    &format!("body.reduction.static_loads[{i}]"),
+                    "`face` needs `point` (where on the face's surface the force acts)".into(),
+                ));
+            }
+        }
         if l.nodes.is_some() == l.point.is_some() {
             return Err(err(
                 &format!("body.reduction.static_loads[{i}]"),

@@ -113,6 +113,27 @@ impl CurveInterpolator {
         Ok(())
     }
 
+    /// The weights `w_i` of the data points in the interpolated curve's value at `u`:
+    /// `C(u) = Σ_i w_i Q_i` for every data set `Q` (interpolation is linear in the data, so a
+    /// load at `C(u)` acts on the data points with these shares; they sum to 1). `O(k^2)`,
+    /// allocates: set-up time.
+    pub fn data_weights(&self, u: f64) -> Result<Vec<f64>, NurbsError> {
+        let (k, p) = (self.n_points(), self.knots.degree());
+        let mut scratch = BasisScratch::new(p);
+        let span = self.knots.basis_derivatives(u, 0, false, &mut scratch);
+        let (mut data, mut ctrl) = (vec![0.0; k], vec![0.0; self.n_ctrl()]);
+        let mut w = vec![0.0; k];
+        for (i, wi) in w.iter_mut().enumerate() {
+            data.fill(0.0);
+            data[i] = 1.0;
+            self.control_points_into(&data, &mut ctrl)?;
+            *wi = (0..=p)
+                .map(|j| scratch.der(0, j) * ctrl[span - p + j])
+                .sum();
+        }
+        Ok(w)
+    }
+
     #[cfg(test)]
     pub(crate) fn lu(&self) -> &BandedLu {
         &self.lu
@@ -236,6 +257,18 @@ impl SurfaceInterpolator {
         for i in 0..self.eta.n_ctrl() {
             self.xi.solve_line(ctrl, i * ncx, 1);
         }
+    }
+
+    /// The weights of the grid points (row-major `n_eta x n_xi`) in the interpolated surface's
+    /// value at `(eta, xi)`: `S(eta, xi) = Σ_ij w_ij Q_ij` for every grid `Q`. The two passes
+    /// are separable, so `w_ij = w_i(eta) w_j(xi)` ([`CurveInterpolator::data_weights`]).
+    /// Allocates: set-up time.
+    pub fn data_weights(&self, eta: f64, xi: f64) -> Result<Vec<f64>, NurbsError> {
+        let (we, wx) = (self.eta.data_weights(eta)?, self.xi.data_weights(xi)?);
+        Ok(we
+            .iter()
+            .flat_map(|a| wx.iter().map(move |b| a * b))
+            .collect())
     }
 
     /// A new (non-rational) surface through the grid (allocates; set-up time).

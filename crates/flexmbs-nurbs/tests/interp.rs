@@ -437,3 +437,60 @@ fn torus_closed_in_both_directions() {
         "tube radius errors {errs:?}, order {order}"
     );
 }
+
+/// The data weights reproduce the interpolated curve and surface (`Σ w_i Q_i = C(u)` to 1e-12
+/// for data they were not built from), sum to 1, and are the unit vector at a data parameter
+/// (open and closed).
+#[test]
+fn data_weights_reproduce_the_interpolants() {
+    let mut rng = Rng::new(71);
+    for closed in [false, true] {
+        let pts = if closed {
+            loop_points(9, &mut rng)
+        } else {
+            wavy(9, &mut rng)
+        };
+        let ip = CurveInterpolator::from_points(&pts, ParamMethod::ChordLength, 3, closed).unwrap();
+        let curve = ip.interpolate(&pts).unwrap();
+        let mut s = curve.scratch();
+        for u in [0.0, 0.137, 0.5, 0.731, 0.999] {
+            let w = ip.data_weights(u).unwrap();
+            let c: Vector3<f64> = w.iter().zip(&pts).map(|(wi, p)| *wi * p).sum();
+            assert!(
+                close(&c, &curve.point(u, &mut s), 1e-12),
+                "closed {closed}, u {u}"
+            );
+            assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        }
+        let u3 = ip.params()[3];
+        let w = ip.data_weights(u3).unwrap();
+        for (i, wi) in w.iter().enumerate() {
+            assert!(
+                (wi - f64::from(u8::from(i == 3))).abs() < 1e-12,
+                "{i}: {wi}"
+            );
+        }
+    }
+    let (ne, nx) = (11, 7);
+    let grid = cylinder_grid(ne, nx, false, &mut rng);
+    let ip = SurfaceInterpolator::from_grid(
+        &grid,
+        ne,
+        nx,
+        ParamMethod::ChordLength,
+        [3, 3],
+        [false, false],
+    )
+    .unwrap();
+    let surf = ip.interpolate(&grid).unwrap();
+    let mut s = surf.scratch();
+    for (eta, xi) in [(0.2, 0.3), (0.55, 0.91), (0.0, 1.0)] {
+        let w = ip.data_weights(eta, xi).unwrap();
+        let p: Vector3<f64> = w.iter().zip(&grid).map(|(wi, q)| *wi * q).sum();
+        assert!(
+            close(&p, &surf.point(eta, xi, &mut s), 1e-12),
+            "({eta}, {xi})"
+        );
+        assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    }
+}

@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod body_file;
+pub mod face_load;
 pub mod full_mass;
 pub mod geometric;
 pub mod pipeline;

@@ -465,6 +465,16 @@ fn static_load_patterns(
         let norm = l.direction.iter().map(|c| c * c).sum::<f64>().sqrt();
         let dir = l.direction.map(|c| c / norm);
         let (weights, what) = match (&l.nodes, l.point) {
+            (None, Some(p)) if l.face.is_some() => {
+                let face = l.face.as_deref().unwrap_or_default();
+                let w = crate::face_load::face_point_weights(mesh, face, p).map_err(|message| {
+                    PipelineError::Model {
+                        path: format!("{key}.point"),
+                        message,
+                    }
+                })?;
+                (w, "point")
+            }
             (Some(sel), _) => {
                 let nodes = select_nodes(mesh, sel, &format!("{key}.nodes"))?;
                 let share = 1.0 / nodes.len().max(1) as f64;

@@ -188,6 +188,16 @@ fn refusals_are_located() {
             "static_loads[0]",
             "exactly one",
         ),
+        (
+            "static_loads = [{ face = \"top\", point = [1.0, 0.0, 0.0], direction = [0.0, 0.0, 1.0] }]\n",
+            "static_loads[0].face",
+            "unknown face",
+        ),
+        (
+            "static_loads = [{ face = \"ymax\", nodes = \"end\", direction = [0.0, 0.0, 1.0] }]\n",
+            "static_loads[0]",
+            "needs `point`",
+        ),
     ] {
         std::fs::write(dir.join("body.toml"), format!("{BODY}{load}")).unwrap();
         let msg = match compile_model(&model("modes = 1"), &path) {
@@ -210,7 +220,7 @@ name = "block"
 [body.mesh]
 type = "box"
 size = [0.2, 0.04, 0.04]
-divisions = [5, 1, 1]
+divisions = [5, 2, 2]
 element = "hex20"
 material = {{ e = 210e9, nu = 0.3, rho = 7850.0 }}
 [body.boundary]
@@ -245,6 +255,24 @@ static_loads = [{load}]
         .map(|i| at_node.modes_t[(i, 3)].abs())
         .fold(0.0, f64::max);
     assert!(d < 1e-9 * scale, "point vs node load: {d:e} of {scale:e}");
+    // the same point on the top face's NURBS surface: at a grid node its weights load that
+    // node alone (interpolation), so the vector is again the node load's
+    let at_face = reduce(&solid(
+        "{ face = \"ymax\", point = [0.2, 0.04, 0.02], direction = [0.0, -1.0, 0.0] }",
+    ));
+    let d = (0..at_face.modes_t.nrows())
+        .map(|i| (at_face.modes_t[(i, 3)] - at_node.modes_t[(i, 3)]).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        d < 1e-9 * scale,
+        "face point vs node load: {d:e} of {scale:e}"
+    );
+    // between nodes the face weights spread over the whole top face (a global interpolation):
+    // another vector than the element's shape functions give
+    let face_between = reduce(&solid(
+        "{ face = \"ymax\", point = [0.19, 0.04, 0.013], direction = [0.0, -1.0, 0.0] }",
+    ));
+    assert_eq!(face_between.num_modes(), 4);
     // between nodes: a different vector, still a valid basis
     let between = reduce(&solid(
         "{ point = [0.19, 0.04, 0.013], direction = [0.0, -1.0, 0.0] }",

@@ -90,6 +90,12 @@ pub fn reduce_beam_augmented(modes: usize) -> Result<Beam> {
 pub const CONTACT_POINT_LOAD: &str =
     "static_loads = [{ point = [0.235, 0.05, 0.025], direction = [0.0, -1.0, 0.0] }]";
 
+/// The static load pattern of a -y unit force at the impact point of setup A on the NURBS surface
+/// of the top face, shared by its nodes with the surface's interpolation weights: what the 2D
+/// contour passes to the nodes there.
+pub const CONTACT_FACE_LOAD: &str = "static_loads = [{ face = \"ymax\", point = [0.235, 0.05, \
+0.025], direction = [0.0, -1.0, 0.0] }]";
+
 /// Meshes and reduces the benchmark's beam with `modes` modes and the static responses of the
 /// `static_loads` line `load` (e.g. [`CONTACT_REGION_LOAD`], [`CONTACT_POINT_LOAD`]).
 pub fn reduce_beam_with_load(modes: usize, load: &str) -> Result<Beam> {
