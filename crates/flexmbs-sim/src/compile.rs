@@ -657,9 +657,9 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
             (Some(_), None, None) => Err(ctx.err(
                 &path,
                 format!(
-                    "`{name}` has no neutral contours (a rigid body, point mass or FE-file \
-                     superelement): flexible contours need an ffr body or a superelement of a \
-                     superelement_beam (`<beam>.s<k>`)"
+                    "`{name}` has no neutral contours (a rigid body or point mass): flexible \
+                     contours need an ffr body, a superelement of a superelement_beam \
+                     (`<beam>.s<k>`) or an FE-file superelement"
                 ),
             )),
             (None, _, _) => Err(ctx.err(

@@ -1,4 +1,4 @@
-//! Flexible contours of `[[contact]]` tables: neutral NURBS contours of ffr bodies and beam
+//! Flexible contours of `[[contact]]` tables: neutral NURBS contours of ffr bodies and
 //! superelements (`type = "surface"`, `"curve"`, `"band"`; `docs/model-file.md`), built from the
 //! body's FE nodes (a bounding-box face or FE node ids) with located errors.
 
@@ -44,7 +44,7 @@ pub(crate) fn flexible_contour(
     let name = c.body.as_ref().ok_or_else(|| {
         ctx.err(
             p,
-            format!("a {kind} contour needs `body` (an ffr body or a beam superelement)"),
+            format!("a {kind} contour needs `body` (an ffr body or a superelement)"),
         )
     })?;
     let o = owner(name, format!("{p}.body"))?;

@@ -128,3 +128,54 @@ fn bad_superelement_contours_are_refused_with_their_key_path() {
         assert!(msg.contains(fragment), "case `{to}`: {msg}");
     }
 }
+
+/// An FE-file superelement (the free hex20 bar of `tests/data/superelement_fe/bar_free.toml`,
+/// 1 m x 20 mm x 20 mm from the FE origin, Craig-Bampton to its end faces with 4 internal modes)
+/// carries a `curve` along the middle of its top face (`through` in FE coordinates; 11 hex20
+/// corner nodes): at t = 0 a point 30 mm above the face's centre has gap 0.03 m along +y
+/// (1e-12), the contact point under it. (The face itself has 3 node stations across: too few
+/// for a cubic surface.)
+#[test]
+fn fe_superelement_carries_a_curve_contour() {
+    let text = r#"
+[model]
+name = "fe_se_surface"
+[solver]
+type = "moreau"
+t_end = "1 ms"
+h = "1e-4 s"
+[[body]]
+name = "bar"
+type = "superelement"
+source = "bar_free.toml"
+[[body]]
+name = "ball"
+type = "rigid"
+mass = "0.1 kg"
+inertia = [1e-5, 1e-5, 1e-5]
+position = [0.5, 0.05, 0.01]
+[[contact]]
+name = "touch"
+a = { type = "curve", body = "bar", through = [[0, 0.02, 0.01], [1, 0.02, 0.01]] }
+b = { type = "point", frame = "ball" }
+normal = "unilateral"
+"#;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/superelement_fe");
+    let cm = compile_model(text, &dir.join("model.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let model = &cm.model;
+    let s = cm.initial.clone();
+    let mut ws = Workspace::new(model);
+    flexmbs_core::system::evaluate(model, &s.q, &s.u, &mut ws.sys).unwrap();
+    let mut work = flexmbs_core::contact::ContactWork::new(model);
+    let geo = model.contacts[0].geometry(model, &ws.sys.frames, &ws.sys.eval, &mut work.sides[0]);
+    println!(
+        "gap {:.15}, normal {:?}, point {:?}",
+        geo.gap,
+        geo.normal.as_slice(),
+        geo.point_a.as_slice()
+    );
+    assert!((geo.gap - 0.03).abs() < 1e-12, "gap {}", geo.gap);
+    assert!((geo.normal - nalgebra::Vector3::y()).norm() < 1e-12);
+    let want = nalgebra::Vector3::new(0.5, 0.02, 0.01);
+    assert!((geo.point_a - want).norm() < 1e-12, "{}", geo.point_a);
+}
