@@ -9,9 +9,14 @@
 //!   beam theory `P a³ / (3 E I)` (tolerance stated before the run: 1e-3 relative; the
 //!   Craig-Bampton truncation of the load at an interior FE node of a segment with 2 internal
 //!   modes and the geometric nonlinearity at `v/a ~ 1e-3` are both far below it), and the
-//!   contact force balances the weight (`k_c` times the penetration equals `P` to 1e-6).
+//!   contact force balances the weight (`k_c` times the penetration equals `P` to 1e-6);
+//! - Moreau steps (fixed and step-size controlled) with the sphere contact or the guide on the
+//!   superelement allocate nothing.
 
 use flexmbs_core::contact::SphereContour;
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
+
 use flexmbs_core::contact::{Contact, ContactLaw, ContactWork, CurveGuide, NeutralCurve};
 use flexmbs_core::ffr::contour::{ContourSettings, FfrCurveContour};
 use flexmbs_core::integrator::{Statics, StaticsSettings};
@@ -300,4 +305,43 @@ fn point_mass_resting_on_a_superelement_cantilever_deflects_it_by_beam_theory() 
     );
     assert!((force - p).abs() < 1e-6 * p, "force {force}");
     assert!(((v - want) / want).abs() < 1e-3, "deflection {v} vs {want}");
+}
+
+#[test]
+fn moreau_steps_on_superelement_contours_allocate_nothing() {
+    use flexmbs_core::integrator::{
+        MoreauSettings, MoreauSscSettings, MoreauSscStepper, MoreauStepper, Stepper,
+    };
+    for guide in [false, true] {
+        let model = beam_and_ball(guide);
+        let mut s = model.initial_state();
+        let (at, v) = if guide {
+            (Vector3::new(0.13, 0.0, 0.0), Vector3::new(0.5, 0.0, 0.0))
+        } else {
+            (
+                Vector3::new(0.13, 0.0301, 0.0),
+                Vector3::new(0.05, -1.0, 0.0),
+            )
+        };
+        model.set_body_pose(&mut s, BodyId(1), at, Matrix3::identity());
+        model.set_body_velocity(&mut s, BodyId(1), v, Vector3::zeros());
+        let mut ws = Workspace::new(&model);
+        let mut fixed = MoreauStepper::new(MoreauSettings::default());
+        let mut ssc = MoreauSscStepper::new(MoreauSscSettings::default());
+        let mut s2 = s.clone();
+        let mut ws2 = Workspace::new(&model);
+        fixed.initialize(&model, &mut s, &mut ws).unwrap();
+        ssc.initialize(&model, &mut s2, &mut ws2).unwrap();
+        for _ in 0..20 {
+            fixed.step(&model, &mut s, &mut ws, 1e-5).unwrap();
+            ssc.step(&model, &mut s2, &mut ws2, 1e-5).unwrap();
+        }
+        let n = counting_alloc::allocations_in(|| {
+            for _ in 0..100 {
+                fixed.step(&model, &mut s, &mut ws, 1e-5).unwrap();
+                ssc.step(&model, &mut s2, &mut ws2, 1e-5).unwrap();
+            }
+        });
+        assert_eq!(n, 0, "guide {guide}: {n} allocations in 200 steps");
+    }
 }
