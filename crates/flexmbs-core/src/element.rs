@@ -26,6 +26,7 @@
 //! quaternions it is the exponential map. Position tangents are taken along this map:
 //! `dh_dq[:, j] = d/de h(q ⊕ e e_j)` at `e = 0` (an `nu x nu` matrix).
 
+use crate::contour_source::NeutralContourSource;
 use crate::rotation::RotationError;
 use faer::{Mat, MatMut};
 use nalgebra::{Matrix3, Vector3};
@@ -72,12 +73,37 @@ pub enum ElementError {
 /// [`crate::Workspace`] holds one per body, plus probes for perturbed evaluations); its content
 /// is private to the element type. For a body whose coordinates are scattered in the global
 /// vectors it also holds the gathered element-local coordinates ([`crate::gather`]).
-pub struct ElementScratch(Box<dyn Any + Send + Sync>, crate::gather::LocalCoordinates);
+pub struct ElementScratch(
+    Box<dyn Any + Send + Sync>,
+    crate::gather::LocalCoordinates,
+    Option<SourceCast>,
+);
+
+/// Recovers the [`NeutralContourSource`] view of a scratch's content.
+type SourceCast = fn(&(dyn Any + Send + Sync)) -> Option<&dyn NeutralContourSource>;
+
+fn cast_source<T: NeutralContourSource + Any>(
+    a: &(dyn Any + Send + Sync),
+) -> Option<&dyn NeutralContourSource> {
+    a.downcast_ref::<T>()
+        .map(|t| t as &dyn NeutralContourSource)
+}
 
 impl ElementScratch {
     /// Wraps an element's own state type.
     pub fn new<T: Any + Send + Sync>(state: T) -> Self {
-        Self(Box::new(state), Default::default())
+        Self(Box::new(state), Default::default(), None)
+    }
+
+    /// Wraps an element's own state type that supplies neutral contours
+    /// ([`crate::contour_source`]): [`Self::contour_source`] returns it.
+    pub fn with_contour_source<T: NeutralContourSource + Any>(state: T) -> Self {
+        Self(Box::new(state), Default::default(), Some(cast_source::<T>))
+    }
+
+    /// The state as a source of neutral contours, if the element type supplies one.
+    pub fn contour_source(&self) -> Option<&dyn NeutralContourSource> {
+        self.2.and_then(|cast| cast(self.0.as_ref()))
     }
 
     /// The gather buffers of a scattered body.

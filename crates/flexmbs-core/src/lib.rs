@@ -53,6 +53,7 @@
 
 pub mod algebra;
 pub mod contact;
+pub mod contour_source;
 pub mod element;
 pub mod error;
 pub mod ffr;

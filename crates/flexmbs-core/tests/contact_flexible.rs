@@ -249,7 +249,7 @@ fn flexible_contours_on_the_wrong_body_are_refused() {
     ));
     match spec.compile() {
         Err(ModelError::InvalidContact { reason, .. }) => {
-            assert!(reason.contains("not an FFR body"), "{reason}")
+            assert!(reason.contains("supplies no neutral contours"), "{reason}")
         }
         other => panic!("expected InvalidContact, got {other:?}"),
     }

@@ -244,7 +244,7 @@ fn bad_guides_are_refused_at_compile_time() {
     spec.add_guide(CurveGuide::new("g", on_rigid, fb, Vector3::z(), false));
     let err = spec.compile().unwrap_err();
     assert!(
-        matches!(&err, ModelError::InvalidContact { reason, .. } if reason.contains("not an FFR body")),
+        matches!(&err, ModelError::InvalidContact { reason, .. } if reason.contains("supplies no neutral contours")),
         "{err}"
     );
     // a zero normal direction

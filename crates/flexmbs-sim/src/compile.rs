@@ -640,17 +640,29 @@ pub fn compile_model(text: &str, file: &Path) -> Result<CompiledModel, SimError>
     }
     let owner = |name: &str, path: String| -> Result<crate::contacts::FlexibleOwner, SimError> {
         let info = bodies.iter().find(|b| b.name == name);
-        match (info, contour_bodies.get(name)) {
-            (Some(info), Some(body)) => Ok(crate::contacts::FlexibleOwner {
+        let segment = se.contour_nodes.get(name);
+        match (info, contour_bodies.get(name), segment) {
+            (Some(info), Some(body), _) => Ok(crate::contacts::FlexibleOwner {
                 frame: info.frame,
                 body,
-                geometry: &info.geometry,
+                node_ids: &info.geometry.node_ids,
+                points: &info.geometry.points,
             }),
-            (Some(_), None) => Err(ctx.err(
+            (Some(info), None, Some(seg)) => Ok(crate::contacts::FlexibleOwner {
+                frame: info.frame,
+                body: &seg.table,
+                node_ids: &seg.ids,
+                points: &seg.points,
+            }),
+            (Some(_), None, None) => Err(ctx.err(
                 &path,
-                format!("`{name}` is a rigid body: flexible contours need an ffr body"),
+                format!(
+                    "`{name}` has no neutral contours (a rigid body or point mass): flexible \
+                     contours need an ffr body, a superelement of a superelement_beam \
+                     (`<beam>.s<k>`) or an FE-file superelement"
+                ),
             )),
-            (None, _) => Err(ctx.err(
+            (None, _, _) => Err(ctx.err(
                 &path,
                 format!("unknown body `{name}` (bodies: {})", body_names.join(", ")),
             )),

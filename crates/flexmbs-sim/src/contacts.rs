@@ -2,7 +2,6 @@
 //! (`docs/model-file.md`, "`[[contact]]`"), compiled into [`flexmbs_core::contact::Contact`]s.
 //! Contacts are solved by the `moreau` solver only.
 
-use crate::bodies::BodyGeometry;
 use crate::compile::Ctx;
 use crate::error::SimError;
 use crate::units::{Dimension, Quantity};
@@ -10,19 +9,22 @@ use flexmbs_core::contact::{
     CircleContour, Contact, ContactLaw, Contour, Friction, NormalLaw, PlaneContour, PointContour,
     SphereContour, TangentDirections,
 };
-use flexmbs_core::ffr::FfrBody;
+use flexmbs_core::contour_source::ContourNodes;
 use flexmbs_core::{FrameId, ModelSpec};
 use serde::Deserialize;
 
-/// What a flexible contour needs of its body: the body's reference frame, the FFR body and its
-/// FE node data.
+/// What a flexible contour needs of its body: the body's reference (floating) frame, its
+/// contour nodes (an ffr body's FE nodes and modes, a superelement's FE nodes and
+/// Craig-Bampton basis) and their ids and positions.
 pub(crate) struct FlexibleOwner<'a> {
     /// The body's reference frame.
     pub frame: FrameId,
-    /// The FFR body (modes, undeformed node positions).
-    pub body: &'a FfrBody,
-    /// Node ids and positions.
-    pub geometry: &'a BodyGeometry,
+    /// The nodes (undeformed positions, shape vectors).
+    pub body: &'a dyn ContourNodes,
+    /// Node ids (external), one per node of `body`.
+    pub node_ids: &'a [u64],
+    /// Node positions (body axes), one per node of `body`.
+    pub points: &'a [[f64; 3]],
 }
 
 /// Resolves a body name at a key path to its [`FlexibleOwner`] (an error for unknown and rigid

@@ -1,6 +1,6 @@
-//! Flexible contours of `[[contact]]` tables: neutral NURBS contours of ffr bodies
-//! (`type = "surface"`, `"curve"`, `"band"`; `docs/model-file.md`), built from the body's FE
-//! nodes (a bounding-box face or FE node ids) with located errors.
+//! Flexible contours of `[[contact]]` tables: neutral NURBS contours of ffr bodies and
+//! superelements (`type = "surface"`, `"curve"`, `"band"`; `docs/model-file.md`), built from the
+//! body's FE nodes (a bounding-box face or FE node ids) with located errors.
 
 use crate::compile::Ctx;
 use crate::contacts::{ContourName, ContourSpec, NodesSpec, OwnerFn};
@@ -22,7 +22,7 @@ pub(crate) fn flexible_contour(
     if c.frame.is_some() {
         return Err(ctx.err(
             &format!("{p}.frame"),
-            format!("a {kind} contour belongs to an ffr body: give `body`, not `frame`"),
+            format!("a {kind} contour belongs to a flexible body: give `body`, not `frame`"),
         ));
     }
     let present = [
@@ -41,19 +41,24 @@ pub(crate) fn flexible_contour(
         _ => &["nodes", "through", "width", "offset", "normal"],
     };
     ctx.only(p, &format!("a {kind} contour"), &present, allowed)?;
-    let name = c
-        .body
-        .as_ref()
-        .ok_or_else(|| ctx.err(p, format!("a {kind} contour needs `body` (an ffr body)")))?;
+    let name = c.body.as_ref().ok_or_else(|| {
+        ctx.err(
+            p,
+            format!("a {kind} contour needs `body` (an ffr body or a superelement)"),
+        )
+    })?;
     let o = owner(name, format!("{p}.body"))?;
-    let nodes = NodeIndex::new(&o.geometry.node_ids);
+    let nodes = NodeIndex::new(o.node_ids);
+    let u0: Vec<Vector3<f64>> = (0..o.body.num_nodes())
+        .map(|i| o.body.node_position(i))
+        .collect();
     let located =
         |key: &str, e: &dyn std::fmt::Display| ctx.err(&format!("{p}.{key}"), e.to_string());
     match c.kind {
         ContourName::Surface => {
-            let (grid, ne, nx, key) = surface_grid(ctx, c, p, o.body, &nodes)?;
+            let (grid, ne, nx, key) = surface_grid(ctx, c, p, &u0, &nodes)?;
             let settings = ContourSettings {
-                flip_normal: inward(o.body, &grid, nx) != c.flip_normal.unwrap_or(false),
+                flip_normal: inward(&u0, &grid, nx) != c.flip_normal.unwrap_or(false),
                 ..ContourSettings::default()
             };
             let contour = FfrSurfaceContour::new(o.body, &grid, ne, nx, settings)
@@ -64,7 +69,7 @@ pub(crate) fn flexible_contour(
         }
         ContourName::Curve | ContourName::Band => {
             let line = match c.through {
-                Some(ends) => segment_nodes(ctx, c, p, &o.geometry.points, ends)?,
+                Some(ends) => segment_nodes(ctx, c, p, o.points, ends)?,
                 None => line_nodes(ctx, c, p, &nodes)?,
             };
             let curve = FfrCurveContour::new(o.body, &line, ContourSettings::default())
@@ -117,7 +122,7 @@ fn surface_grid(
     ctx: &Ctx,
     c: &ContourSpec,
     p: &str,
-    body: &flexmbs_core::ffr::FfrBody,
+    u0: &[Vector3<f64>],
     nodes: &NodeIndex,
 ) -> Result<(Vec<usize>, usize, usize, &'static str), SimError> {
     match (&c.face, &c.nodes) {
@@ -136,15 +141,15 @@ fn surface_grid(
                     ))
                 }
             };
-            let coord = body.u0.iter().map(|u| u[axis]);
+            let coord = u0.iter().map(|u| u[axis]);
             let value = if max {
                 coord.fold(f64::NEG_INFINITY, f64::max)
             } else {
                 coord.fold(f64::INFINITY, f64::min)
             };
-            let (lo, hi) = bounding_box(&body.u0);
+            let (lo, hi) = bounding_box(u0);
             let tol = 1e-6 * (hi - lo).norm();
-            let (grid, ne, nx) = face_grid(&body.u0, axis, value, tol).ok_or_else(|| {
+            let (grid, ne, nx) = face_grid(u0, axis, value, tol).ok_or_else(|| {
                 ctx.err(
                     &format!("{p}.face"),
                     "the nodes on this face do not form a grid of at least 2 x 2 (a structured \
@@ -188,11 +193,11 @@ fn bounding_box(points: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
 
 /// Whether the grid's parametric normal `t_eta x t_xi` (from its first corner) points into the
 /// body (towards the centroid of its nodes): then the contour's normal is flipped.
-fn inward(body: &flexmbs_core::ffr::FfrBody, grid: &[usize], nx: usize) -> bool {
-    let u = |i: usize| body.u0[grid[i]];
+fn inward(u0: &[Vector3<f64>], grid: &[usize], nx: usize) -> bool {
+    let u = |i: usize| u0[grid[i]];
     let n = (u(nx) - u(0)).cross(&(u(1) - u(0)));
-    let centre = grid.iter().map(|&g| body.u0[g]).sum::<Vector3<f64>>() / grid.len() as f64;
-    let centroid = body.u0.iter().sum::<Vector3<f64>>() / body.u0.len().max(1) as f64;
+    let centre = grid.iter().map(|&g| u0[g]).sum::<Vector3<f64>>() / grid.len() as f64;
+    let centroid = u0.iter().sum::<Vector3<f64>>() / u0.len().max(1) as f64;
     n.dot(&(centre - centroid)) < 0.0
 }
 

@@ -115,6 +115,8 @@ pub(crate) fn add_fe_superelement(
         FictitiousName::FromMcb => FictitiousForces::FromMcb,
     };
     let geometry = geometry(&built.data);
+    let contour_nodes = fe_contour_nodes(&fe.reduced, &built.origin, built.data.interfaces.len());
+    build.contour_nodes.insert(b.name.clone(), contour_nodes);
     let itf_local: Vec<Vector3<f64>> = built.data.interfaces.iter().map(|i| i.position).collect();
     let m = built.data.internal_modes;
     let se = Superelement::new(built.data)
@@ -159,6 +161,51 @@ pub(crate) fn add_fe_superelement(
         segments: vec![id],
     });
     Ok(())
+}
+
+/// The FE nodes of an FE superelement for neutral contours: positions in the floating frame
+/// (SI; `points`, for `through`, in FE coordinates) and the translational rows of the Craig-Bampton basis, scaled to SI like the
+/// superelement's coordinates (interface translations dimensionless, rotations and internal
+/// modes times the length unit).
+fn fe_contour_nodes(
+    reduced: &flexmbs_fe::reduction::ReducedBody,
+    origin: &Vector3<f64>,
+    interfaces: usize,
+) -> crate::superelements::SegmentNodes {
+    let l = reduced.units.length_to_si();
+    let n = reduced.modes_t.ncols();
+    let positions: Vec<Vector3<f64>> = reduced
+        .nodes
+        .iter()
+        .map(|x| Vector3::from(*x) * l - origin)
+        .collect();
+    let scale = |j: usize| {
+        if j < 6 * interfaces && j % 6 < 3 {
+            1.0
+        } else {
+            l
+        }
+    };
+    let shapes = nalgebra::DMatrix::from_fn(3 * positions.len(), n, |r, c| {
+        reduced.modes_t[(r, c)] * scale(c)
+    });
+    // `through` selects in FE coordinates (SI)
+    let points = positions
+        .iter()
+        .map(|x| {
+            let f = x + origin;
+            [f.x, f.y, f.z]
+        })
+        .collect();
+    crate::superelements::SegmentNodes {
+        table: flexmbs_core::contour_source::NodeTable {
+            positions,
+            shapes,
+            velocities: n,
+        },
+        ids: reduced.node_ids.clone(),
+        points,
+    }
 }
 
 /// Refuses the keys a superelement body does not use.

@@ -12,9 +12,10 @@ use crate::compile::{BodyInfo, Ctx};
 use crate::error::SimError;
 use crate::schema::{BodySpec, BodyType, ModelFile, RotationName};
 use crate::units::{Dimension, Quantity};
+use flexmbs_core::contour_source::NodeTable;
 use flexmbs_core::superelement::{
-    beam_segment, even_elements, BeamSegmentSpec, FictitiousForces, FrameLocation, Superelement,
-    TransformMatrices,
+    beam_segment_basis, beam_segment_contour_nodes, even_elements, BeamSegmentSpec,
+    FictitiousForces, FrameLocation, Superelement, TransformMatrices,
 };
 use flexmbs_core::{BodyId, FrameId, Joint, ModelSpec, NodeId, NodeKind};
 use flexmbs_fe::mesh::{BeamSection, BeamTheory};
@@ -118,6 +119,21 @@ pub struct SuperelementBuild {
     pub(crate) interfaces: HashMap<String, InterfacePoint>,
     /// FE body files of `superelement` bodies, each read and reduced once.
     pub(crate) fe_sources: crate::superelement_fe_body::FeSourceCache,
+    /// The FE nodes of every beam superelement (by body name `<body>.s<k>`), for neutral
+    /// contours.
+    pub(crate) contour_nodes: HashMap<String, SegmentNodes>,
+}
+
+/// The FE nodes of a beam superelement for neutral contours: node `i` (id `i + 1`) at
+/// `x = i L / n_e` along the segment, in its floating frame.
+#[derive(Debug, Clone)]
+pub(crate) struct SegmentNodes {
+    /// Positions and shape vectors.
+    pub table: NodeTable,
+    /// Node ids `1 ..= n_e + 1`.
+    pub ids: Vec<u64>,
+    /// Positions as arrays (the `through` selection).
+    pub points: Vec<[f64; 3]>,
 }
 
 impl SuperelementBuild {
@@ -538,8 +554,12 @@ fn add_component(
                 .map(|s| r.transpose() * s.rotation)
         };
         let (r0, r1) = (axes(&shared, k == 0), axes(&closing, k == last));
-        let se = segment(ctx, p, k, input, l, r0, r1)?;
+        let (se, table) = segment(ctx, p, k, input, l, r0, r1)?;
         let name = format!("{}.s{k}", b.name);
+        let points = table.positions.iter().map(|x| [x.x, x.y, x.z]).collect();
+        let ids = (1..=table.positions.len() as u64).collect();
+        let nodes_of = SegmentNodes { table, ids, points };
+        build.contour_nodes.insert(name.clone(), nodes_of);
         let mut nodes = vec![a];
         if input.internal_modes > 0 {
             nodes.push(spec.add_node(&format!("{name}.eta"), NodeKind::Vector(se_modes(&se))));
@@ -738,9 +758,9 @@ fn segment_spec(input: &ComponentInput, l: f64) -> BeamSegmentSpec {
     }
 }
 
-/// Superelement `k` of the component; `r0`, `r1`: the undeformed axes of its first and last
-/// interface in its floating frame when it meets an existing point at an angle (default:
-/// parallel).
+/// Superelement `k` of the component and its FE nodes for contours; `r0`, `r1`: the undeformed
+/// axes of its first and last interface in its floating frame when it meets an existing point
+/// at an angle (default: parallel).
 fn segment(
     ctx: &Ctx,
     p: &str,
@@ -749,9 +769,11 @@ fn segment(
     l: f64,
     r0: Option<Matrix3<f64>>,
     r1: Option<Matrix3<f64>>,
-) -> Result<Superelement, SimError> {
-    let mut data = beam_segment(&segment_spec(input, l))
+) -> Result<(Superelement, NodeTable), SimError> {
+    let spec = segment_spec(input, l);
+    let (mut data, v, _) = beam_segment_basis(&spec, flexmbs_fe::element::MassKind::Consistent)
         .map_err(|e| ctx.err(p, format!("superelement {k}: reduction failed: {e}")))?;
+    let table = beam_segment_contour_nodes(&spec, &data, &v);
     if let Some(r0) = r0 {
         data.interfaces[0].rotation = r0;
     }
@@ -760,8 +782,10 @@ fn segment(
     }
     Superelement::new(data)
         .map(|s| {
-            s.with_matrices(input.matrices)
-                .with_fictitious_forces(input.fictitious)
+            let s = s
+                .with_matrices(input.matrices)
+                .with_fictitious_forces(input.fictitious);
+            (s, table)
         })
         .map_err(|e| ctx.err(p, format!("superelement {k}: {e}")))
 }

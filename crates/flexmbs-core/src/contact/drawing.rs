@@ -10,8 +10,8 @@ use super::contour::{CircleContour, Contour, ContourKind, SphereContour};
 use super::flexible::{FlexibleBand, NeutralCurve, NeutralSurface};
 use super::unit_or_zero;
 use super::Contact;
+use crate::contour_source::{NeutralContourSource, ScaledSource};
 use crate::element::{ElementScratch, FrameKinematics};
-use crate::ffr::{FfrEval, FfrScratch};
 use crate::model::{FrameOwner, Model};
 use nalgebra::Vector3;
 
@@ -49,21 +49,19 @@ pub fn refined_parameters(params: &[f64], subdivisions: usize) -> Vec<f64> {
     out
 }
 
-/// The FFR state of the body owning `contour`'s frame, its elastic coordinates scaled by
-/// `scale` (`None`: not on an FFR body).
-fn scaled_owner_state(
+/// The contour source of the body owning `contour`'s frame, its field coordinates scaled by
+/// `scale` (`None`: not on a body that supplies neutral contours).
+fn scaled_owner_state<'a>(
     model: &Model,
     contour: &dyn Contour,
-    eval: &[ElementScratch],
+    eval: &'a [ElementScratch],
     scale: f64,
-) -> Option<FfrScratch> {
+) -> Option<ScaledSource<'a>> {
     let FrameOwner::Body(b) = model.frames[contour.frame().0].owner else {
         return None;
     };
-    let mut s = eval.get(b.0)?.try_get::<FfrEval>()?.state.clone();
-    s.qf.iter_mut().for_each(|x| *x *= scale);
-    s.qfd.iter_mut().for_each(|x| *x *= scale);
-    Some(s)
+    let s = eval.get(b.0)?.contour_source()?;
+    Some(ScaledSource::new(s, scale))
 }
 
 /// The drawing samples of one parameter direction: [`refined_parameters`] of the node
@@ -248,7 +246,7 @@ pub fn draw_contour(
                     // the band's two edges: centre line + offset n -/+ width/2 b
                     Some(b) => {
                         let t = p.tangents[0];
-                        let nb = s.a * b.normal;
+                        let nb = s.frame_rotation() * b.normal;
                         let n = unit_or_zero(nb - nb.dot(&t) * t);
                         let bi = t.cross(&n);
                         let mid = p.position + b.offset * n;

@@ -1,16 +1,20 @@
-//! Flexible contours: neutral NURBS contours of FFR bodies in contact pairs (seed 000 §3.2.2,
-//! §3.3, §4.4).
+//! Flexible contours: neutral NURBS contours of flexible bodies in contact pairs (seed 000
+//! §3.2.2, §3.3, §4.4).
 //!
 //! A flexible contour wraps a neutral contour of [`crate::ffr::contour`] and is attached to its
-//! body's reference frame. Per contact evaluation its pair function
-//! 1. updates the deformed contour from the body's evaluated modal coordinates (once, O(n_ctrl
-//!    n_f), no solve),
+//! body's reference (floating) frame. Its body's evaluated state is reached only through
+//! [`NeutralContourSource`] ([`ElementScratch::contour_source`]): any body type that supplies
+//! one (FFR bodies, superelements) carries these contours. Per contact evaluation its pair
+//! function
+//! 1. updates the deformed contour from the body's evaluated field coordinates (once, O(n_ctrl
+//!    n_q), no solve),
 //! 2. transforms the other contour's point into body axes, `x̄ = Aᵀ (x - R)`, and finds its
 //!    normal projection on the deformed contour by the hierarchical-territory search (warm
 //!    start from the last solution, full search on failure; seed Alg. 4-6),
 //! 3. evaluates the contact point as a material point of the body: position, velocity, outward
-//!    normal and tangents (3.27)-(3.29), and its Jacobian `J_C = [I, -A ū~ H, A Φ(eta, xi)]`
-//!    into the contour's scratch, from which [`Contour::add_direction`] builds the columns of
+//!    normal and tangents (3.27)-(3.29), and its Jacobian `J_C` (the body's
+//!    [`NeutralContourSource::point_jacobian`]; FFR: `[I, -A ū~ H, A Φ(eta, xi)]`) into the
+//!    contour's scratch, from which [`Contour::add_direction`] builds the columns of
 //!    `W_N`, `W_T`.
 //!
 //! A point with no normal projection (beyond an open edge) has no contact point: the geometry
@@ -25,21 +29,20 @@
 use super::contour::{Contour, ContourKind, ContourScratch};
 use super::pair::{orthonormal_tangents, radius, ContactGeometry, Side};
 use super::unit_or_zero;
+use crate::contour_source::NeutralContourSource;
 use crate::element::{ElementScratch, FrameKinematics};
 use crate::ffr::contour::{
     ContourError, CurveContourState, FfrCurveContour, FfrSurfaceContour, SurfaceContourState,
 };
-use crate::ffr::{FfrEval, FfrScratch};
 use crate::ids::FrameId;
 use crate::model::Model;
-use crate::rotation::skew;
 use faer::Mat;
 use flexmbs_nurbs::{CurveSearch, SearchGrid, SearchSettings, SurfaceSearch};
 use nalgebra::Vector3;
 use std::any::Any;
 use std::sync::Arc;
 
-/// A 2D neutral contour of an FFR body as a contact contour (kind
+/// A 2D neutral contour of a flexible body as a contact contour (kind
 /// [`ContourKind::NeutralSurface`]); pairs with points and spheres.
 #[derive(Debug, Clone)]
 pub struct NeutralSurface {
@@ -59,7 +62,7 @@ struct SurfaceWork {
 }
 
 impl NeutralSurface {
-    /// `contour` (built from the FFR body the frame `frame` belongs to) with the contact search
+    /// `contour` (built from the body the frame `frame` belongs to) with the contact search
     /// on a coarse grid through the contour's nodes (seed §4.5 `setNodes`) and default Newton
     /// settings.
     pub fn new(frame: FrameId, contour: FfrSurfaceContour) -> Result<Self, ContourError> {
@@ -80,7 +83,7 @@ impl NeutralSurface {
     ) -> Result<Self, ContourError> {
         let state = contour.state()?;
         let search = state.new_search(grids, settings)?;
-        let jac = Mat::zeros(3, 6 + contour.num_modes());
+        let jac = Mat::zeros(3, contour.num_velocities());
         Ok(Self {
             frame,
             contour: Arc::new(contour),
@@ -94,7 +97,7 @@ impl NeutralSurface {
     }
 }
 
-/// A 1D neutral contour of an FFR body as a contact contour (kind
+/// A 1D neutral contour of a flexible body as a contact contour (kind
 /// [`ContourKind::NeutralCurve`]): a tube of `radius` (0: the line itself) around the curve;
 /// pairs with points and spheres (normal from the curve to the point).
 #[derive(Debug, Clone)]
@@ -125,7 +128,7 @@ impl NeutralCurve {
         let grid = SearchGrid::Nodes(contour.interpolator().params().to_vec());
         let state = contour.state()?;
         let search = state.new_search(grid, SearchSettings::default())?;
-        let jac = Mat::zeros(3, 6 + contour.num_modes());
+        let jac = Mat::zeros(3, contour.num_velocities());
         Ok(Self {
             frame,
             radius,
@@ -156,26 +159,37 @@ pub struct FlexibleBand {
     pub normal: Vector3<f64>,
 }
 
-fn ffr_state(body: Option<&ElementScratch>) -> &FfrScratch {
-    &body
-        .expect("flexible contour on a body (checked when the model was compiled)")
-        .get::<FfrEval>()
-        .state
+fn source(body: Option<&ElementScratch>) -> &dyn NeutralContourSource {
+    body.and_then(ElementScratch::contour_source)
+        .expect("flexible contour on a contour-source body (checked when the model was compiled)")
 }
 
-fn check_ffr_owner(owner: &ElementScratch, nf: usize) -> Result<(), String> {
-    match owner.try_get::<FfrEval>() {
-        None => Err(
-            "its body is not an FFR body (neutral contours need a floating frame \
-                     of reference body)"
+/// The owner supplies a contour source with the contour's field coordinates and velocity
+/// coordinates.
+pub(crate) fn check_source_owner(
+    owner: &ElementScratch,
+    nq: usize,
+    nu: usize,
+) -> Result<(), String> {
+    let Some(s) = owner.contour_source() else {
+        return Err(
+            "its body supplies no neutral contours (they need a flexible body with a \
+                    floating frame: an FFR body or a superelement)"
                 .into(),
-        ),
-        Some(e) if e.state.qf.len() != nf => Err(format!(
-            "the contour was built with {nf} modes, its body has {}",
-            e.state.qf.len()
-        )),
-        Some(_) => Ok(()),
+        );
+    };
+    let (q, u) = (s.field_coordinates().len(), s.num_velocities());
+    if q != nq {
+        return Err(format!(
+            "the contour was built with {nq} field coordinates (modes), its body has {q}"
+        ));
     }
+    if u != nu {
+        return Err(format!(
+            "the contour was built for {nu} velocity coordinates, its body has {u}"
+        ));
+    }
+    Ok(())
 }
 
 /// `scale d^T J_C` into the body's columns of `out`.
@@ -230,7 +244,11 @@ impl Contour for NeutralSurface {
         Ok(())
     }
     fn check_owner(&self, owner: &ElementScratch) -> Result<(), String> {
-        check_ffr_owner(owner, self.contour.num_modes())
+        check_source_owner(
+            owner,
+            self.contour.num_modes(),
+            self.contour.num_velocities(),
+        )
     }
     fn new_scratch(&self) -> ContourScratch {
         ContourScratch::new(self.prototype.as_ref().clone())
@@ -250,7 +268,11 @@ impl Contour for NeutralCurve {
         }
     }
     fn check_owner(&self, owner: &ElementScratch) -> Result<(), String> {
-        check_ffr_owner(owner, self.contour.num_modes())
+        check_source_owner(
+            owner,
+            self.contour.num_modes(),
+            self.contour.num_velocities(),
+        )
     }
     fn new_scratch(&self) -> ContourScratch {
         ContourScratch::new(self.prototype.as_ref().clone())
@@ -275,7 +297,11 @@ impl Contour for FlexibleBand {
         Ok(())
     }
     fn check_owner(&self, owner: &ElementScratch) -> Result<(), String> {
-        check_ffr_owner(owner, self.curve.contour.num_modes())
+        check_source_owner(
+            owner,
+            self.curve.contour.num_modes(),
+            self.curve.contour.num_velocities(),
+        )
     }
     fn new_scratch(&self) -> ContourScratch {
         self.curve.new_scratch()
@@ -290,14 +316,14 @@ pub(super) fn surface_sphere(a: Side<'_>, b: Side<'_>) -> ContactGeometry {
         .as_any()
         .downcast_ref::<NeutralSurface>()
         .expect("dispatch table: a neutral surface");
-    let s = ffr_state(a.body);
+    let s = source(a.body);
     let w = a.scratch.get_mut::<SurfaceWork>();
     let (r, r_dot) = (a.frame.position, a.frame.velocity);
     let c = b.frame.position;
     if surf.contour.update(s, &mut w.state).is_err() {
         return ContactGeometry::OPEN;
     }
-    let x = s.a.transpose() * (c - r);
+    let x = s.frame_rotation().transpose() * (c - r);
     let Some(p) = w.state.project(&mut w.search, &x) else {
         return ContactGeometry::OPEN;
     };
@@ -332,11 +358,11 @@ fn curve_projection(
     a: &mut Side<'_>,
     c: &Vector3<f64>,
 ) -> Option<(crate::ffr::contour::ContourPoint, f64)> {
-    let s = ffr_state(a.body);
+    let s = source(a.body);
     let w = a.scratch.get_mut::<CurveWork>();
     let (r, r_dot) = (a.frame.position, a.frame.velocity);
     curve.contour.update(s, &mut w.state).ok()?;
-    let x = s.a.transpose() * (c - r);
+    let x = s.frame_rotation().transpose() * (c - r);
     let p = w.state.project(&mut w.search, &x)?;
     let pt = curve
         .contour
@@ -370,7 +396,7 @@ pub(super) fn curve_sphere(mut a: Side<'_>, b: Side<'_>) -> ContactGeometry {
         orthonormal_tangents(&t)[0]
     };
     let (ra, rb) = (curve.radius, radius(b.contour));
-    let s = ffr_state(a.body);
+    let s = source(a.body);
     let w = a.scratch.get_mut::<CurveWork>();
     add_offset_jacobian(s, &(ra * n), &mut w.jac);
     ContactGeometry {
@@ -399,9 +425,9 @@ pub(super) fn band_sphere(mut a: Side<'_>, b: Side<'_>) -> ContactGeometry {
     let Some((pt, eta)) = curve_projection(&band.curve, &mut a, &c) else {
         return ContactGeometry::OPEN;
     };
-    let s = ffr_state(a.body);
+    let s = source(a.body);
     let t = pt.tangents[0];
-    let nb = s.a * band.normal;
+    let nb = s.frame_rotation() * band.normal;
     let n = unit_or_zero(nb - nb.dot(&t) * t);
     let bi = t.cross(&n);
     let d = c - pt.position;
@@ -425,17 +451,11 @@ pub(super) fn band_sphere(mut a: Side<'_>, b: Side<'_>) -> ContactGeometry {
     }
 }
 
-/// Adds the rigid rotation of an arm `d` (global) from the curve point to `J_C`: columns of the
-/// angular velocity `w` get `-A [Aᵀ d]~ H` (`v += ω × d`).
-fn add_offset_jacobian(s: &FfrScratch, d: &Vector3<f64>, jac: &mut Mat<f64>) {
+/// Adds the rigid rotation of an arm `d` (global) from the curve point to `J_C` (`v += ω × d`;
+/// FFR: the columns of the angular velocity `w` get `-A [Aᵀ d]~ H`).
+fn add_offset_jacobian(s: &dyn NeutralContourSource, d: &Vector3<f64>, jac: &mut Mat<f64>) {
     if *d == Vector3::zeros() {
         return;
     }
-    let db = s.a.transpose() * d;
-    let m = -s.a * skew(&db) * s.h;
-    for i in 0..3 {
-        for j in 0..3 {
-            jac[(i, 3 + j)] += m[(i, j)];
-        }
-    }
+    s.add_arm_jacobian(d, jac.as_mut());
 }

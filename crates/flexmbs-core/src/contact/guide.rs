@@ -1,5 +1,6 @@
 //! A bilateral guide: the origin of a frame (a slider, the centre of a ball) kept on a 1D neutral
-//! contour of an FFR body (a beam's neutral axis), optionally with the frame's rotation following
+//! contour of a flexible body (a beam's neutral axis; any body supplying a
+//! [`crate::contour_source::NeutralContourSource`]), optionally with the frame's rotation following
 //! the contour frame (seed 000 §5.3, a ball sliding on a beam).
 //!
 //! The guide is a constraint with joint rows (`g`, `G`, counted in [`crate::Model::nc`], its
@@ -36,10 +37,10 @@
 //! point: the slider continues on the end's normal planes, and [`GuideWork::beyond_end`] is set.
 
 use super::NeutralCurve;
+use crate::contour_source::NeutralContourSource;
 use crate::element::{ElementScratch, FrameKinematics};
 use crate::error::ModelError;
 use crate::ffr::contour::{CurveContourState, FfrCurveContour};
-use crate::ffr::{FfrEval, FfrScratch};
 use crate::ids::FrameId;
 use crate::model::{Frame, FrameOwner, Model};
 use faer::{Mat, MatMut};
@@ -54,7 +55,7 @@ pub const MAX_GUIDE_ROWS: usize = 5;
 pub struct CurveGuide {
     /// Name (messages and output).
     pub name: String,
-    /// The curve (its frame is the reference frame of its FFR body; its tube radius is unused).
+    /// The curve (its frame is the reference frame of its body; its tube radius is unused).
     pub curve: NeutralCurve,
     /// The slider frame: its origin stays on the curve.
     pub frame: FrameId,
@@ -110,7 +111,7 @@ impl CurveGuide {
         let search = state
             .new_search(grid, SearchSettings::default())
             .expect("the contour's search was built when the curve was created");
-        let nb = 6 + contour.num_modes();
+        let nb = contour.num_velocities();
         GuideWork {
             state,
             search,
@@ -167,7 +168,7 @@ pub fn new_works(model: &Model) -> Vec<GuideWork> {
     model.guides.iter().map(CurveGuide::new_work).collect()
 }
 
-/// Checks the guides: frames exist, the curve is on an FFR body's reference frame with the
+/// Checks the guides: frames exist, the curve is on a contour-source body's reference frame with the
 /// curve's mode count, the slider is on another owner, the normal is a finite non-zero vector.
 pub(crate) fn check_guides(
     frames: &[Frame],
@@ -309,12 +310,18 @@ fn write_rows(g_jac: MatMut<'_, f64>, r0: usize, n: usize, c: usize, value: impl
     }
 }
 
-/// The FFR state of the curve's body.
-fn curve_body<'a>(model: &Model, guide: &CurveGuide, eval: &'a [ElementScratch]) -> &'a FfrScratch {
+/// The contour source of the curve's body.
+fn curve_body<'a>(
+    model: &Model,
+    guide: &CurveGuide,
+    eval: &'a [ElementScratch],
+) -> &'a dyn NeutralContourSource {
     let FrameOwner::Body(b) = model.frames[guide.curve.frame.0].owner else {
         unreachable!("checked when the model was compiled: the curve is on a body")
     };
-    &eval[b.0].get::<FfrEval>().state
+    eval[b.0]
+        .contour_source()
+        .expect("checked when the model was compiled: the curve's body supplies contours")
 }
 
 /// The projection of `x` (body axes) on the deformed curve: `(eta, beyond an end)`.
@@ -345,7 +352,7 @@ fn evaluate_guide(
     let s = curve_body(model, guide, eval);
     let (kc, ks) = (&frames[guide.curve.frame.0], &frames[guide.frame.0]);
     let fields = contour.update(s, &mut w.state).and_then(|_| {
-        let x = s.a.transpose() * (ks.position - kc.position);
+        let x = s.frame_rotation().transpose() * (ks.position - kc.position);
         let (eta, beyond) = project(contour, w, &x);
         w.eta = eta;
         w.beyond_end = beyond;
@@ -358,7 +365,7 @@ fn evaluate_guide(
         w.g = [f64::NAN; MAX_GUIDE_ROWS];
         return;
     };
-    let a = s.a;
+    let a = *s.frame_rotation();
     let len = u1.norm();
     let tau = u1 / len;
     let p = guide.normal - guide.normal.dot(&tau) * tau;
@@ -387,18 +394,15 @@ fn evaluate_guide(
     let t_full = a * u1;
     let den = len * len - u2.dot(&db);
     rate_rows(contour, s, w, &u1, &u2, &db, &t_full, &n1, &n2, den);
-    // J_ωC (body columns): A H on the rotation columns, plus A m s_2 + A n_2 s_1
+    // J_ωC (body columns): the body's J_π (FFR: A H on the rotation columns), plus
+    // A m s_2 + A n_2 s_1
     let (am, an2) = (a * m, a * n2);
-    let ah = a * s.h;
+    s.rotation_jacobian(w.jac_w.as_mut());
     let nb = w.jac_w.ncols();
     for j in 0..nb {
         let col = w.jac_w.col_as_slice_mut(j);
         for (i, x) in col.iter_mut().enumerate() {
-            let rot = if (3..6).contains(&j) {
-                ah[(i, j - 3)]
-            } else {
-                0.0
-            };
+            let rot = *x;
             *x = rot + am[i] * w.rate[2][j] + an2[i] * w.rate[1][j];
         }
     }
@@ -441,7 +445,7 @@ fn evaluate_guide(
 #[allow(clippy::too_many_arguments)]
 fn rate_rows(
     contour: &FfrCurveContour,
-    s: &FfrScratch,
+    s: &dyn NeutralContourSource,
     w: &mut GuideWork,
     u1: &Vector3<f64>,
     u2: &Vector3<f64>,
@@ -453,39 +457,33 @@ fn rate_rows(
 ) {
     let nb = w.jac_c.ncols();
     let len = u1.norm();
-    // η̇ = [-tᵀ J_C - (d̄ × ū')ᵀ H (rotations) + Φ'_kᵀ d̄ (modes)] u / den (+ the slider's tᵀ v_c / den)
-    let hrot = s.h.transpose() * db.cross(u1);
+    // η̇ = [-tᵀ J_C - (d̄ × ū')ᵀ J_π̄ (rotation) + Φ'_kᵀ d̄ J_q (fields)] u / den (+ the
+    // slider's tᵀ v_c / den)
     for j in 0..nb {
         let jc = w.jac_c.col_as_slice(j);
         let mut v = 0.0;
         for k in 0..3 {
             v -= t_full[k] * jc[k];
         }
-        if (3..6).contains(&j) {
-            v -= hrot[j - 3];
-        }
         w.rate[0][j] = v;
     }
-    // every mode's slope Φ_k' from one basis evaluation (that of `J_C` at the same `eta`)
+    s.add_rotation_row(&db.cross(u1), -1.0, &mut w.rate[0]);
+    w.rate[1].fill(0.0);
+    w.rate[2].fill(0.0);
+    // every field's slope Φ_k' from one basis evaluation (that of `J_C` at the same `eta`)
     let rate = &mut w.rate;
-    let mut mode_rates = |j: usize, phi1: &Vector3<f64>| {
-        rate[0][j] += phi1.dot(db);
-        rate[1][j] = n1.dot(phi1) / len;
-        rate[2][j] = n2.dot(phi1) / len;
+    let nan = [Vector3::repeat(f64::NAN)];
+    let slopes = match contour.mode_slopes(&mut w.state, w.eta) {
+        Ok(slopes) => slopes,
+        Err(_) => &nan[..],
     };
-    match contour.mode_slopes(&mut w.state, w.eta) {
-        Ok(slopes) => (6..nb)
-            .zip(slopes)
-            .for_each(|(j, phi1)| mode_rates(j, phi1)),
-        Err(_) => (6..nb).for_each(|j| mode_rates(j, &Vector3::repeat(f64::NAN))),
-    }
+    let slope = |k: usize| slopes.get(k).unwrap_or(&nan[0]);
+    s.add_field_row(&|k| slope(k).dot(db), &mut rate[0]);
+    s.add_field_row(&|k| n1.dot(slope(k)) / len, &mut rate[1]);
+    s.add_field_row(&|k| n2.dot(slope(k)) / len, &mut rate[2]);
     let (c1, c2) = (n1.dot(u2) / len, n2.dot(u2) / len);
     for j in 0..nb {
         w.rate[0][j] /= den;
-        if j < 6 {
-            w.rate[1][j] = 0.0;
-            w.rate[2][j] = 0.0;
-        }
         w.rate[1][j] += c1 * w.rate[0][j];
         w.rate[2][j] += c2 * w.rate[0][j];
     }

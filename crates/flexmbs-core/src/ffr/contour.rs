@@ -19,16 +19,20 @@
 //!
 //! The contact search runs on the deformed contour in body axes (the point transformed by
 //! `Aᵀ (p - R)`), so the rigid motion never enters the search.
+//!
+//! Nothing here is specific to FFR bodies: the contours are built from any body's
+//! [`ContourNodes`] (an FFR body's nodes and modes, a superelement's FE nodes and Craig-Bampton
+//! basis) and evaluated from any [`NeutralContourSource`] (the field coordinates `q` in place of
+//! `q_f`, the body's own point Jacobian in place of the FFR formula above).
 
-use super::{FfrBody, FfrScratch};
-use crate::rotation::skew;
+use crate::contour_source::{ContourNodes, NeutralContourSource};
 use faer::MatMut;
 use flexmbs_nurbs::{
     CurveInterpolator, CurveProjection, CurveScratch, CurveSearch, NurbsCurve, NurbsError,
     NurbsSurface, ParamMethod, SearchGrid, SearchSettings, SurfaceInterpolator, SurfaceProjection,
     SurfaceScratch, SurfaceSearch,
 };
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 /// Why a neutral contour cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -87,7 +91,7 @@ impl Default for ContourSettings {
 }
 
 /// Checks node indices against the body: all exist, none twice.
-fn check_nodes(body: &FfrBody, nodes: &[usize]) -> Result<(), ContourError> {
+fn check_nodes(body: &dyn ContourNodes, nodes: &[usize]) -> Result<(), ContourError> {
     let mut seen = vec![false; body.num_nodes()];
     for &n in nodes {
         let s = seen.get_mut(n).ok_or(ContourError::UnknownNode {
@@ -103,12 +107,8 @@ fn check_nodes(body: &FfrBody, nodes: &[usize]) -> Result<(), ContourError> {
 }
 
 /// Translational mode `k` at the listed nodes (body axes).
-fn mode_values(body: &FfrBody, nodes: &[usize], k: usize) -> Vec<Vector3<f64>> {
-    let col = body.modes_t.column(k);
-    nodes
-        .iter()
-        .map(|&n| Vector3::new(col[3 * n], col[3 * n + 1], col[3 * n + 2]))
-        .collect()
+fn mode_values(body: &dyn ContourNodes, nodes: &[usize], k: usize) -> Vec<Vector3<f64>> {
+    nodes.iter().map(|&n| body.node_shape(n, k)).collect()
 }
 
 /// The control nets of a neutral contour: undeformed `C_0` and one per translational mode `C_k`
@@ -121,23 +121,26 @@ struct ModalNets {
     by_ctrl: Vec<Vector3<f64>>,
     /// The mode nets as one column-major `3 n_ctrl x n_f` matrix (`modes.rs`).
     flat: Vec<f64>,
+    /// `n_u` of the body ([`ContourNodes::num_velocities`]).
+    velocities: usize,
 }
 
 mod modes;
+mod source;
 use modes::ModeShapes;
 
 impl ModalNets {
     /// The nets of the listed nodes through `interpolate` (node values -> control points).
     fn new(
-        body: &FfrBody,
+        body: &dyn ContourNodes,
         nodes: &[usize],
         n_ctrl: usize,
         interpolate: impl Fn(&[Vector3<f64>], &mut [Vector3<f64>]) -> Result<(), NurbsError>,
     ) -> Result<Self, NurbsError> {
-        let u0: Vec<Vector3<f64>> = nodes.iter().map(|&n| body.u0[n]).collect();
+        let u0: Vec<Vector3<f64>> = nodes.iter().map(|&n| body.node_position(n)).collect();
         let mut net0 = vec![Vector3::zeros(); n_ctrl];
         interpolate(&u0, &mut net0)?;
-        let modes = (0..body.nf())
+        let modes = (0..body.num_fields())
             .map(|k| {
                 let mut net = vec![Vector3::zeros(); n_ctrl];
                 interpolate(&mode_values(body, nodes, k), &mut net)?;
@@ -155,6 +158,7 @@ impl ModalNets {
             modes,
             by_ctrl,
             flat,
+            velocities: body.num_velocities(),
         })
     }
 }
@@ -199,7 +203,7 @@ impl FfrSurfaceContour {
     /// The contour through the nodes `grid` (row-major `n_eta x n_xi`, the matrix `O` of (3.24))
     /// of `body`. Interpolates the undeformed positions and the `n_f` mode shapes once.
     pub fn new(
-        body: &FfrBody,
+        body: &dyn ContourNodes,
         grid: &[usize],
         n_eta: usize,
         n_xi: usize,
@@ -213,7 +217,7 @@ impl FfrSurfaceContour {
             });
         }
         check_nodes(body, grid)?;
-        let u0: Vec<Vector3<f64>> = grid.iter().map(|&n| body.u0[n]).collect();
+        let u0: Vec<Vector3<f64>> = grid.iter().map(|&n| body.node_position(n)).collect();
         let degrees = [settings.degree; 2];
         let interp = SurfaceInterpolator::from_grid(
             &u0,
@@ -243,6 +247,11 @@ impl FfrSurfaceContour {
         self.nets.modes.len()
     }
 
+    /// Number of the body's velocity coordinates `n_u` (columns of a point's Jacobian).
+    pub fn num_velocities(&self) -> usize {
+        self.nets.velocities
+    }
+
     /// A state for [`Self::update`] (allocates; create once).
     pub fn state(&self) -> Result<SurfaceContourState, ContourError> {
         let (eta, xi) = (self.interp.eta(), self.interp.xi());
@@ -265,11 +274,11 @@ impl FfrSurfaceContour {
     /// O(n_ctrl n_f), no allocation.
     pub fn update(
         &self,
-        s: &FfrScratch,
+        s: &dyn NeutralContourSource,
         state: &mut SurfaceContourState,
     ) -> Result<(), ContourError> {
         self.nets
-            .deformed_into(s.qf.as_slice(), &mut state.shapes, &mut state.net);
+            .deformed_into(s.field_coordinates(), &mut state.shapes, &mut state.net);
         state.surface.set_control_points(&state.net)?;
         Ok(())
     }
@@ -280,7 +289,7 @@ impl FfrSurfaceContour {
         &self,
         r: &Vector3<f64>,
         r_dot: &Vector3<f64>,
-        s: &FfrScratch,
+        s: &dyn NeutralContourSource,
         state: &mut SurfaceContourState,
         eta: f64,
         xi: f64,
@@ -291,7 +300,7 @@ impl FfrSurfaceContour {
         self.nets
             .surface_shapes(&self.interp, eta, xi, &mut state.shapes)?;
         let mut phi_qd = Vector3::zeros();
-        for (phi_k, qd) in state.shapes.phi.iter().zip(&s.qfd) {
+        for (phi_k, qd) in state.shapes.phi.iter().zip(s.field_velocities()) {
             phi_qd += phi_k * *qd;
         }
         Ok(material_point(
@@ -309,7 +318,7 @@ impl FfrSurfaceContour {
     /// `(eta, xi)` into `jt`.
     pub fn jacobian_translation(
         &self,
-        s: &FfrScratch,
+        s: &dyn NeutralContourSource,
         state: &mut SurfaceContourState,
         eta: f64,
         xi: f64,
@@ -320,8 +329,8 @@ impl FfrSurfaceContour {
             .field_derivatives(&state.net, eta, xi, &mut state.scratch)?[0];
         self.nets
             .surface_shapes(&self.interp, eta, xi, &mut state.shapes)?;
-        let phi = &state.shapes.phi;
-        write_jacobian(s, &u, phi.len(), &mut |k| Ok(phi[k]), jt)
+        s.point_jacobian(&u, &state.shapes.phi, jt);
+        Ok(())
     }
 }
 
@@ -387,12 +396,12 @@ pub struct CurveContourState {
 impl FfrCurveContour {
     /// The contour through `nodes` (in order) of `body`; `settings.closed[0]` closes it.
     pub fn new(
-        body: &FfrBody,
+        body: &dyn ContourNodes,
         nodes: &[usize],
         settings: ContourSettings,
     ) -> Result<Self, ContourError> {
         check_nodes(body, nodes)?;
-        let u0: Vec<Vector3<f64>> = nodes.iter().map(|&n| body.u0[n]).collect();
+        let u0: Vec<Vector3<f64>> = nodes.iter().map(|&n| body.node_position(n)).collect();
         let interp = CurveInterpolator::from_points(
             &u0,
             settings.params,
@@ -415,6 +424,11 @@ impl FfrCurveContour {
         self.nets.modes.len()
     }
 
+    /// Number of the body's velocity coordinates `n_u` (columns of a point's Jacobian).
+    pub fn num_velocities(&self) -> usize {
+        self.nets.velocities
+    }
+
     /// A state for [`Self::update`] (allocates; create once).
     pub fn state(&self) -> Result<CurveContourState, ContourError> {
         let net_w = self.nets.net0.iter().map(|p| p.push(1.0)).collect();
@@ -431,11 +445,11 @@ impl FfrCurveContour {
     /// The deformed contour of the evaluated body state `s`. O(n_ctrl n_f), no allocation.
     pub fn update(
         &self,
-        s: &FfrScratch,
+        s: &dyn NeutralContourSource,
         state: &mut CurveContourState,
     ) -> Result<(), ContourError> {
         self.nets
-            .deformed_into(s.qf.as_slice(), &mut state.shapes, &mut state.net);
+            .deformed_into(s.field_coordinates(), &mut state.shapes, &mut state.net);
         state.curve.set_control_points(&state.net)?;
         Ok(())
     }
@@ -446,7 +460,7 @@ impl FfrCurveContour {
         &self,
         r: &Vector3<f64>,
         r_dot: &Vector3<f64>,
-        s: &FfrScratch,
+        s: &dyn NeutralContourSource,
         state: &mut CurveContourState,
         eta: f64,
     ) -> Result<ContourPoint, ContourError> {
@@ -456,7 +470,7 @@ impl FfrCurveContour {
         self.nets
             .curve_shapes(&self.interp, eta, &mut state.shapes)?;
         let mut phi_qd = Vector3::zeros();
-        for (phi_k, qd) in state.shapes.phi.iter().zip(&s.qfd) {
+        for (phi_k, qd) in state.shapes.phi.iter().zip(s.field_velocities()) {
             phi_qd += phi_k * *qd;
         }
         let mut p = material_point(r, r_dot, s, d[0], phi_qd, [d[1], Vector3::zeros()], 1.0);
@@ -506,7 +520,7 @@ impl FfrCurveContour {
     /// `J_T` (3 x n_u) of the curve point at `eta` into `jt`.
     pub fn jacobian_translation(
         &self,
-        s: &FfrScratch,
+        s: &dyn NeutralContourSource,
         state: &mut CurveContourState,
         eta: f64,
         jt: MatMut<'_, f64>,
@@ -516,8 +530,8 @@ impl FfrCurveContour {
             .field_derivatives(&state.net, eta, &mut state.scratch)?[0];
         self.nets
             .curve_shapes(&self.interp, eta, &mut state.shapes)?;
-        let phi = &state.shapes.phi;
-        write_jacobian(s, &u, phi.len(), &mut |k| Ok(phi[k]), jt)
+        s.point_jacobian(&u, &state.shapes.phi, jt);
+        Ok(())
     }
 }
 
@@ -526,13 +540,13 @@ impl FfrCurveContour {
 fn material_point(
     r: &Vector3<f64>,
     r_dot: &Vector3<f64>,
-    s: &FfrScratch,
+    s: &dyn NeutralContourSource,
     u: Vector3<f64>,
     phi_qd: Vector3<f64>,
     t: [Vector3<f64>; 2],
     sign: f64,
 ) -> ContourPoint {
-    let a = s.a;
+    let a = *s.frame_rotation();
     let (te, tx) = (a * t[0], a * t[1]);
     let n = te.cross(&tx);
     let n = if n.norm() > 0.0 {
@@ -545,36 +559,12 @@ fn material_point(
     let t2 = if t2.norm() > 0.0 { t2 / t2.norm() } else { t2 };
     ContourPoint {
         position: r + a * u,
-        velocity: r_dot + a * (s.omega.cross(&u) + phi_qd),
+        velocity: r_dot + a * (s.frame_angular_velocity().cross(&u) + phi_qd),
         normal: n,
         tangents: [t1, t2],
         t_param: [te, tx],
         local: u,
     }
-}
-
-/// `J_T = [I, -A ū~ H, A Φ]` with `Φ` column `k` from `phi(k)`.
-fn write_jacobian(
-    s: &FfrScratch,
-    u: &Vector3<f64>,
-    nf: usize,
-    phi: &mut dyn FnMut(usize) -> Result<Vector3<f64>, NurbsError>,
-    mut jt: MatMut<'_, f64>,
-) -> Result<(), ContourError> {
-    let b: Matrix3<f64> = -s.a * skew(u) * s.h;
-    for i in 0..3 {
-        for j in 0..3 {
-            jt[(i, j)] = if i == j { 1.0 } else { 0.0 };
-            jt[(i, 3 + j)] = b[(i, j)];
-        }
-    }
-    for k in 0..nf {
-        let col = s.a * phi(k)?;
-        for i in 0..3 {
-            jt[(i, 6 + k)] = col[i];
-        }
-    }
-    Ok(())
 }
 
 /// The node index matrix `O` (3.24) of a face of a structured mesh: the nodes with coordinate

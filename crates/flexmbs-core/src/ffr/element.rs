@@ -201,7 +201,7 @@ impl Element for FfrElement {
             .body
             .load_stiffening()
             .map_or(0, |l| l.num_coefficients());
-        ElementScratch::new(FfrEval {
+        ElementScratch::with_contour_source(FfrEval {
             state: FfrScratch::new(nf),
             tangent: FfrTangentScratch::new(nf),
             load_coefficients: vec![0.0; nc],

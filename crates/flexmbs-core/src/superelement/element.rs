@@ -191,16 +191,20 @@ impl Element for Superelement {
     }
 
     fn new_scratch(&self) -> ElementScratch {
-        ElementScratch::new(SuperelementEval::new(self))
+        ElementScratch::with_contour_source(SuperelementEval::new(self))
     }
 
+    /// The evaluation, and the floating frame's velocity and `q̇_loc` for neutral contours.
     fn update(
         &self,
         q: &[f64],
-        _u: &[f64],
+        u: &[f64],
         scratch: &mut ElementScratch,
     ) -> Result<(), ElementError> {
-        self.evaluate(q, scratch.get_mut::<SuperelementEval>())
+        let e = scratch.get_mut::<SuperelementEval>();
+        self.evaluate(q, e)?;
+        self.contour_kinematics(e, u);
+        Ok(())
     }
 
     /// `M = Pᵀ M_CB P` (4.9).

@@ -53,6 +53,12 @@ pub struct SuperelementEval {
     /// `P` (n x n, rows local, columns velocity).
     pub(super) p: DMatrix<f64>,
     pub(super) work: TangentWork,
+    /// Angular velocity `ω̄` of the floating frame in its axes (`contour.rs`).
+    pub(super) omega_bar: Vector3<f64>,
+    /// `q̇_loc` (`contour.rs`).
+    pub(super) qd_loc: DVector<f64>,
+    /// Velocity index of local coordinate `i` (the element's).
+    pub(super) vel_index: Vec<usize>,
 }
 
 /// Work matrices of the analytic tangent.
@@ -115,6 +121,9 @@ impl SuperelementEval {
                 mom: DVector::zeros(n),
                 tmp: DVector::zeros(n),
             },
+            omega_bar: Vector3::zeros(),
+            qd_loc: DVector::zeros(n),
+            vel_index: se.vel_index.clone(),
         }
     }
 

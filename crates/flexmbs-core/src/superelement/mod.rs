@@ -20,6 +20,7 @@
 //! measure) or the approximated `1 − Φ_rig,0 Φ_CB` (3.25).
 
 mod beam_segment;
+mod contour;
 mod element;
 mod eval;
 pub mod rotvec;
@@ -31,6 +32,7 @@ pub use beam_segment::{
     beam_segment, beam_segment_basis, beam_segment_with_interfaces, even_elements, BeamSegmentSpec,
     FrameLocation,
 };
+pub use contour::{beam_segment_contour_nodes, fe_contour_nodes};
 pub use eval::SuperelementEval;
 
 use crate::NodeKind;

@@ -188,6 +188,7 @@ mod tests {
             modes,
             by_ctrl,
             flat,
+            velocities: 6 + nf,
         }
     }
 
