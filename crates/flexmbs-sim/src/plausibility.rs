@@ -10,8 +10,12 @@
 //!   rad), or velocity constraints by more than [`VELOCITY_DRIFT`] times `max(1, max |u|)` of the
 //!   step (index-3 integration keeps positions, not velocities, on the constraints: a large
 //!   velocity drift means inconsistent initial velocities or steps too large for the motion).
+//! * **Unstable penalty step**: Moreau time-stepping treats a regularized contact's force
+//!   explicitly; when `h sqrt(k / m_eff)` at a closing contact exceeds [`PENALTY_STEP`]
+//!   ([`flexmbs_core::contact::ContactState::penalty_step`]) the penalty oscillation grows.
 
 use crate::compile::CompiledModel;
+use flexmbs_core::contact::ContactState;
 
 /// Elastic displacement, as a fraction of a flexible body's size, above which a run warns.
 pub const DEFORMATION_FRACTION: f64 = 0.1;
@@ -24,6 +28,10 @@ pub const POSITION_DRIFT: f64 = 1e-6;
 /// smooth move (3 % measured for a quintic 90 deg move in 80 steps); a drive whose velocity jumps
 /// gives O(1) to O(100).
 pub const VELOCITY_DRIFT: f64 = 0.1;
+
+/// `h sqrt(k / m_eff)` of a closing penalty contact above which a Moreau run warns (the stability
+/// limit of the explicit penalty force).
+pub const PENALTY_STEP: f64 = 2.0;
 
 /// Output rows between two deformation checks when no animation frame is written there.
 pub const DEFORMATION_CHECK_EVERY: usize = 10;
@@ -51,6 +59,8 @@ pub(crate) struct Plausibility {
     deformation: Vec<Peak>,
     position_drift: Peak,
     velocity_drift: Peak,
+    /// Per contact: the largest `h sqrt(k / m_eff)` of a closing penalty contact.
+    penalty_step: Vec<Peak>,
 }
 
 impl Plausibility {
@@ -79,6 +89,14 @@ impl Plausibility {
             sizes,
             position_drift: Peak::default(),
             velocity_drift: Peak::default(),
+            penalty_step: vec![Peak::default(); cm.model.contacts.len()],
+        }
+    }
+
+    /// The contacts' penalty step ratios after an accepted step at `t`.
+    pub(crate) fn observe_contacts(&mut self, t: f64, contacts: &[ContactState]) {
+        for (peak, c) in self.penalty_step.iter_mut().zip(contacts) {
+            peak.observe(c.penalty_step, t);
         }
     }
 
@@ -124,6 +142,17 @@ impl Plausibility {
                 "the position constraints were violated by up to {:.3e} (m or rad) at t = {:.6e} s (above {POSITION_DRIFT:e}): the joints did not hold; use a smaller step or tighter Newton tolerances",
                 p.value, p.t
             ));
+        }
+        for (p, c) in self.penalty_step.iter().zip(&cm.model.contacts) {
+            if p.value > PENALTY_STEP {
+                out.push(format!(
+                    "contact `{}`: the penalty step h sqrt(k / m_eff) reached {:.3} at t = {:.6e} s (above {PENALTY_STEP}; m_eff is the effective mass of the contact's normal direction, without the joints): Moreau's step treats the penalty force explicitly and its contact oscillation grows; use a smaller step (by the factor {:.2}), `adaptive` steps, a set-valued law (`unilateral`) or `generalized-alpha`",
+                    c.name,
+                    p.value,
+                    p.t,
+                    PENALTY_STEP / p.value
+                ));
+            }
         }
         let v = self.velocity_drift;
         if v.value > VELOCITY_DRIFT {

@@ -474,6 +474,7 @@ impl<'a> Recorder<'a> {
         if !self.statics {
             self.plausibility
                 .observe_drift(st.t, st.g_max, st.g_dot_max, &s.u);
+            self.plausibility.observe_contacts(st.t, &s.contacts);
             self.oscillation.observe(st.t, &s.lambda);
         }
         let due = match self.cm.output.every {

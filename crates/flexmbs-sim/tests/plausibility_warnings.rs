@@ -87,3 +87,47 @@ angle = { type = "ramp", t0 = 0.05, t1 = 0.06, v0 = 0, v1 = "90 deg" }
     let s = run(&smooth, "smooth");
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
 }
+
+/// A 2 kg ball dropped on a penalty floor (k = 1e6 N/m) with Moreau's fixed steps: at h = 3 ms
+/// the explicit penalty step `h sqrt(k / m)` is 2.12 (above 2, the bounces gain energy) and the
+/// run warns with the ratio and the factor to shrink the step by; at 1 ms (0.71) it does not.
+#[test]
+fn unstable_penalty_step_of_moreau_warns() {
+    let model = |h: &str| {
+        format!(
+            r#"
+[model]
+name = "drop"
+gravity = [0, 0, -9.81]
+[solver]
+type = "moreau"
+h = {h}
+t_end = 0.5
+[[body]]
+name = "ball"
+type = "rigid"
+mass = 2.0
+inertia = [8e-3, 8e-3, 8e-3]
+position = [0, 0, 0.101]
+[[frame]]
+name = "floor"
+body = "ground"
+[[contact]]
+name = "floor_contact"
+a = {{ type = "sphere", frame = "ball", radius = 0.1 }}
+b = {{ type = "plane", frame = "floor" }}
+normal = "regularized"
+stiffness = 1e6
+"#
+        )
+    };
+    let ok = run(&model("1e-3"), "penalty-stable");
+    assert!(ok.warnings.is_empty(), "{:?}", ok.warnings);
+    let bad = run(&model("3e-3"), "penalty-unstable");
+    assert_eq!(bad.warnings.len(), 1, "{:?}", bad.warnings);
+    let w = &bad.warnings[0];
+    assert!(
+        w.contains("contact `floor_contact`") && w.contains("reached 2.121") && w.contains("0.94"),
+        "{w}"
+    );
+}

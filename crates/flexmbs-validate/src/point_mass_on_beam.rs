@@ -152,6 +152,9 @@ pub struct Run {
     pub v_y_final: f64,
     /// Smallest y of the mass.
     pub y_min: f64,
+    /// Largest `h sqrt(k / m_eff)` of the penalty contact's closings (Moreau's stability limit
+    /// of the explicit penalty force is 2; 0 for the set-valued laws).
+    pub penalty_step: f64,
     /// Largest (E - E0) / E0 (E: kinetic + elastic + penalty energy).
     pub energy_gain: f64,
     /// (E_end - E0) / E0.
@@ -315,6 +318,7 @@ pub fn simulate(beam: &Beam, c: &Config) -> Result<Run> {
         c.t_end,
         |s, _| {
             run.steps += 1;
+            run.penalty_step = run.penalty_step.max(s.contacts[0].penalty_step);
             let y = model.body_q(m, &s.q)[1];
             run.y_min = run.y_min.min(y);
             let v = model.body_u(m, &s.u)[1];

@@ -290,7 +290,9 @@ pub fn full_fe_check(
         t_end,
         ..*base
     };
-    let ffr = compare_ffr(&simulate(beam, &c)?, &r);
+    let ffr_run = simulate(beam, &c)?;
+    let ffr_penalty_step = ffr_run.penalty_step;
+    let ffr = compare_ffr(&ffr_run, &r);
     log(&format!(
         "FFR 100 modes (S4): y_min {:.6} m, node RMS difference {:.2} %, {:.1} s",
         ffr.y_min,
@@ -366,7 +368,9 @@ pub fn full_fe_check(
         step: Some(0.5 * h),
         ..c
     };
-    let fc = compare_ffr(&simulate(&at_face, &half)?, &r);
+    let face_run = simulate(&at_face, &half)?;
+    let fc_penalty_step = face_run.penalty_step;
+    let fc = compare_ffr(&face_run, &r);
     log(&format!(
         "FFR 100 modes + static response to the contour's weights (S4, h = {:e}): y_min {:.6} \
          m, deflection {:+.2} %, node RMS difference {:.2} %, {:.1} s",
@@ -382,6 +386,11 @@ pub fn full_fe_check(
         (r.y_min - fc.y_min) / (0.05 - r.y_min),
     );
     res.record("full_fe_node_rms_diff_modes100_face", fc.node_rms_rel);
+    res.record("full_fe_penalty_step_modes100", ffr_penalty_step);
+    res.record("full_fe_penalty_step_modes100_face", fc_penalty_step);
+    if fc_penalty_step > 2.0 {
+        res.fail("full_fe_penalty_step_modes100_face");
+    }
     Ok(())
 }
 

@@ -195,6 +195,13 @@ pub struct ContactState {
     /// pushes `b` along the normal). Regularized laws: the law's forces at the evaluation of
     /// [`Self::gap`]; set-valued laws (Moreau): the impulses over the step, `impulse / h`.
     pub force: [f64; 3],
+    /// Moreau time-stepping with a regularized normal law: `h sqrt(k / m_eff)` at the step that
+    /// closed the contact (kept while it stays closed, 0 before), with `m_eff = 1 / (wᵀ M⁻¹ w)`
+    /// the effective mass of the contact's normal direction `w` over the unconstrained mass
+    /// matrix. Moreau's step is explicit in the penalty force: above 2 the penalty oscillation
+    /// grows. Joints that stiffen the contact make the true ratio smaller (this is its upper
+    /// bound).
+    pub penalty_step: f64,
     /// The contact geometry at the evaluation of [`Self::gap`] (contact points, contact frame,
     /// contour coordinates; the step's midpoint for the Moreau stepper, the step's end for the
     /// implicit integrators); `None` before the first evaluation.

@@ -126,6 +126,7 @@ pub fn update_regularized_states(
             impulse: [f[0] * h, f[1] * h, f[2] * h],
             coordinates: geo.coordinates,
             force: f,
+            penalty_step: 0.0,
             geometry: Some(geo),
         };
     }

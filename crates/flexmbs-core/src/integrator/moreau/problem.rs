@@ -264,11 +264,16 @@ impl MoreauStepper {
 
     /// Activity, gap (at `q_M`), gap rate at `u_E`, impulses, forces (impulses over `h`) and
     /// geometry of every contact.
-    fn update_contact_states(&self, model: &Model, s: &mut State, ws: &mut Workspace, h: f64) {
-        let b = &self.buf;
+    fn update_contact_states(&mut self, model: &Model, s: &mut State, ws: &mut Workspace, h: f64) {
+        let b = &mut self.buf;
         for (i, (c, st)) in model.contacts.iter().zip(&mut s.contacts).enumerate() {
             let geo = &b.geometry[i];
             let mut rate = 0.0;
+            let mut penalty_step = if b.normal_force[i] > 0.0 {
+                st.penalty_step
+            } else {
+                0.0
+            };
             if geo.has_contact_point() {
                 let col = &mut ws.step.dv;
                 col.fill(0.0);
@@ -282,6 +287,15 @@ impl MoreauStepper {
                     col,
                 );
                 rate = dot(col, &ws.step.u_new);
+                if let NormalLaw::Regularized { stiffness, .. } = c.law.normal {
+                    if b.normal_force[i] > 0.0 && st.force[0] == 0.0 {
+                        // the step that closed the contact: `h sqrt(k wᵀ M⁻¹ w)` (the mass
+                        // blocks are factored at the step's midpoint)
+                        b.rhs.copy_from_slice(col);
+                        ws.mass_blocks.solve_in_place(&mut b.rhs, 1);
+                        penalty_step = h * (stiffness * dot(col, &b.rhs)).max(0.0).sqrt();
+                    }
+                }
             }
             let [f1, f2] = b.friction_force[i];
             let f = [b.normal_force[i], f1, f2];
@@ -292,6 +306,7 @@ impl MoreauStepper {
                 impulse: [f[0] * h, f[1] * h, f[2] * h],
                 coordinates: geo.coordinates,
                 force: f,
+                penalty_step,
                 geometry: Some(*geo),
             };
         }
