@@ -76,9 +76,21 @@ fn main() {
         ..EigenOptions::default()
     };
     let mut last = String::new();
+    let mut iterations = 0usize;
     let sol = lowest_modes(&sys.k, &sys.m, &opts, &mut |e| {
         let s = match e {
-            EigenEvent::Iteration { .. } => "iteration".to_string(),
+            EigenEvent::Iteration {
+                basis, converged, ..
+            } => {
+                iterations += 1;
+                if std::env::var_os("ALL").is_some() {
+                    eprintln!(
+                        "{:7.3} s basis {basis} converged {converged}",
+                        t0.elapsed().as_secs_f64()
+                    );
+                }
+                "iteration".to_string()
+            }
             e => format!("{e:?}"),
         };
         if s != "iteration" || last != "iteration" {
@@ -87,7 +99,11 @@ fn main() {
         last = s;
     })
     .expect("eigen");
-    eprintln!("{:7.3} s done {}", t0.elapsed().as_secs_f64(), rss());
+    eprintln!(
+        "{:7.3} s done {} ({iterations} block steps)",
+        t0.elapsed().as_secs_f64(),
+        rss()
+    );
     let hz: Vec<String> = sol
         .omega2
         .iter()

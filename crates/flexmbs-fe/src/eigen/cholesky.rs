@@ -511,7 +511,8 @@ pub fn ldlt_inertia(a: &SparseMatrix) -> Result<Option<Inertia>, FeError> {
 }
 
 impl SparseCholesky {
-    /// Inertia of `a` (full storage or its lower triangle), whose pattern must lie within the
+    /// Inertia of `a` (full storage or its lower triangle; for a factor of
+    /// [`Self::factor_shifted_observed`] a separate factorization), whose pattern must lie within the
     /// pattern of the matrix this factorization was computed from (e.g. `K - b M` vs.
     /// `K - sigma M`, [`super::shifted_lower`]), computed in this factor's own storage: the
     /// symbolic analysis (ordering) and the memory of `L` are reused, so the Sturm check needs
@@ -521,7 +522,8 @@ impl SparseCholesky {
         &mut self,
         a: &SparseMatrix,
     ) -> Result<Option<Inertia>, FeError> {
-        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz {
+        // a factor on an ordered pattern reads matrices in its own ordering only
+        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz || self.shifted.is_some() {
             return ldlt_inertia(a);
         }
         self.stale = true;
@@ -593,7 +595,7 @@ impl SparseCholesky {
         &mut self,
         a: &SparseMatrix,
     ) -> Result<Option<Inertia>, FeError> {
-        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz {
+        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz || self.shifted.is_some() {
             return Err(FeError::Invalid(
                 "L D L^T pattern outside the factored pattern".into(),
             ));
@@ -611,6 +613,11 @@ impl SparseCholesky {
     /// Numeric `L L^T` factorization of `a` (full storage or its lower triangle, pattern within
     /// the original one) into this factor's storage, reusing the symbolic analysis.
     pub(crate) fn refactor(&mut self, a: &SparseMatrix) -> Result<(), FeError> {
+        if self.shifted.is_some() {
+            return Err(FeError::Invalid(
+                "refactor of a factor on an ordered pattern: use refactor_shifted".into(),
+            ));
+        }
         refactor_llt(&self.symbolic, a.as_ref(), &mut self.values)?;
         self.stale = false;
         self.ldlt = false;
