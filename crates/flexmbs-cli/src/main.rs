@@ -131,6 +131,8 @@ enum Command {
 
 fn main() {
     restore_default_sigpipe();
+    // large matrices and Lanczos blocks go back to the system when freed (peak memory)
+    flexmbs_fe::memory::fix_mmap_threshold();
     let cli = Cli::parse();
     match run(cli) {
         Ok(0) => {}

@@ -32,6 +32,119 @@ pub struct SparseCholesky {
     stale: bool,
     /// `values` hold an `L D L^T` factor for solves ([`Self::factor_ldlt_in_place`]).
     ldlt: bool,
+    /// Factors of `K - s M` ([`Self::factor_shifted_observed`]): the ordered lower pattern that
+    /// the symbolic analysis (identity ordering) was made on; solves apply its ordering.
+    shifted: Option<ShiftedPattern>,
+}
+
+/// The lower triangle of `P (K - s M) P^T` (`P` the fill-reducing ordering) on the union of the
+/// patterns of `K` and `M`, rows sorted: the matrix the factorizations of the Lanczos driver
+/// read, its pattern stored once. Given a matrix and an ordering, faer first copies the permuted
+/// lower triangle into its workspace (values and 64-bit indices of every entry); given this
+/// already ordered matrix and the identity ordering it reads it in place, and a new shift only
+/// refills the values ([`Self::values`]). At the Sturm check the modal analysis thus holds one
+/// lower triangle of values instead of two matrices (the shifted one and faer's permuted copy).
+#[derive(Debug)]
+struct ShiftedPattern {
+    /// `fwd[new] = old`.
+    fwd: Vec<usize>,
+    /// `inv[old] = new`.
+    inv: Vec<usize>,
+    symbolic: faer::sparse::SymbolicSparseColMat<usize>,
+}
+
+impl ShiftedPattern {
+    /// Calls `f(row, col, k, m)` for every entry of the ordered lower triangle (new indices,
+    /// `row >= col`) in a fixed order, rows increasing, so that each column receives its rows
+    /// sorted. Entry `(new i, new r)` takes the stored entry `(r, i)` of column `i` of `K` and
+    /// `M` (symmetric matrices).
+    fn for_each(
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        fwd: &[usize],
+        inv: &[usize],
+        mut f: impl FnMut(usize, usize, f64, f64),
+    ) {
+        for (pi, &i) in fwd.iter().enumerate() {
+            let (kr, kv) = (k.row_idx_of_col_raw(i), k.val_of_col(i));
+            let (mr, mv) = (m.row_idx_of_col_raw(i), m.val_of_col(i));
+            let (mut a, mut b) = (0, 0);
+            while a < kr.len() || b < mr.len() {
+                let (ri, rm) = (kr.get(a).copied(), mr.get(b).copied());
+                let row = ri.unwrap_or(usize::MAX).min(rm.unwrap_or(usize::MAX));
+                let x = if ri == Some(row) {
+                    a += 1;
+                    kv[a - 1]
+                } else {
+                    0.0
+                };
+                let y = if rm == Some(row) {
+                    b += 1;
+                    mv[b - 1]
+                } else {
+                    0.0
+                };
+                let pr = inv[row];
+                if pr <= pi {
+                    f(pi, pr, x, y);
+                }
+            }
+        }
+    }
+
+    fn new(k: &SparseMatrix, m: &SparseMatrix, fwd: Vec<usize>, inv: Vec<usize>) -> Self {
+        let n = k.ncols();
+        let mut col_ptr = vec![0usize; n + 1];
+        Self::for_each(k, m, &fwd, &inv, |_, c, _, _| col_ptr[c + 1] += 1);
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let mut cursor = col_ptr[..n].to_vec();
+        let mut rows = vec![0usize; col_ptr[n]];
+        Self::for_each(k, m, &fwd, &inv, |r, c, _, _| {
+            rows[cursor[c]] = r;
+            cursor[c] += 1;
+        });
+        let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, rows);
+        Self { fwd, inv, symbolic }
+    }
+
+    /// The values of the ordered lower triangle of `K - s M`, in the order of the pattern.
+    fn values(&self, k: &SparseMatrix, m: &SparseMatrix, s: f64) -> Result<Vec<f64>, FeError> {
+        let mut values = zeros_or_refused(self.nnz())?;
+        let mut cursor = self.symbolic.col_ptr()[..self.fwd.len()].to_vec();
+        Self::for_each(k, m, &self.fwd, &self.inv, |_, c, x, y| {
+            values[cursor[c]] = x - s * y;
+            cursor[c] += 1;
+        });
+        Ok(values)
+    }
+
+    fn nnz(&self) -> usize {
+        self.symbolic.row_idx().len()
+    }
+
+    /// The transposed (upper triangle) pattern, rows sorted.
+    fn upper(&self) -> faer::sparse::SymbolicSparseColMat<usize> {
+        let n = self.fwd.len();
+        let (col_ptr, rows) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
+        let mut up_ptr = vec![0usize; n + 1];
+        for &r in rows {
+            up_ptr[r + 1] += 1;
+        }
+        for j in 0..n {
+            up_ptr[j + 1] += up_ptr[j];
+        }
+        let mut cursor = up_ptr[..n].to_vec();
+        let mut up_rows = vec![0usize; rows.len()];
+        for c in 0..n {
+            for &r in &rows[col_ptr[c]..col_ptr[c + 1]] {
+                up_rows[cursor[r]] = c;
+                cursor[r] += 1;
+            }
+        }
+        faer::sparse::SymbolicSparseColMat::new_checked(n, n, up_ptr, None, up_rows)
+    }
 }
 
 impl SparseCholesky {
@@ -64,32 +177,57 @@ impl SparseCholesky {
         Self::factor_with_symbolic(symbolic, a)
     }
 
-    /// [`SparseCholesky::factor_observed`] of `K - sigma M` without holding the full shifted
-    /// matrix during the numeric work: the symbolic analysis (ordering, size estimate) reads the
-    /// full matrix, which is then dropped; the numeric factorization reads its lower triangle
-    /// only ([`super::shifted_lower`], the same factor bit for bit), one K-sized matrix less at
-    /// the peak of the modal analysis.
+    /// [`SparseCholesky::factor_observed`] of `K - sigma M` (`K`, `M` symmetric with sorted rows)
+    /// without holding the full shifted matrix during the numeric work: the ordering (METIS)
+    /// reads the full matrix, which is then dropped; the symbolic analysis and every numeric
+    /// factorization read the ordered lower triangle ([`ShiftedPattern`], identity ordering: the
+    /// factor of faer's ordering of the full matrix, without faer's permuted copy). The estimate
+    /// (`on_estimate`, memory guard) counts `L`, faer's workspace and the values of the shifted
+    /// matrix.
     pub fn factor_shifted_observed(
         k: &SparseMatrix,
         m: &SparseMatrix,
         sigma: f64,
         on_estimate: &mut dyn FnMut(usize, u64),
     ) -> Result<Self, FeError> {
-        let a = super::shifted(k, m, sigma)?;
-        let symbolic = symbolic_factor(&a)?;
-        let pattern_nnz = a.compute_nnz();
-        drop(a);
+        let (fwd, inv) = {
+            let a = super::shifted(k, m, sigma)?;
+            let perm = if a.nrows() >= METIS_MIN_DIM {
+                metis_nested_dissection(&a)
+            } else {
+                None
+            };
+            let perm = match perm {
+                Some(p) => p,
+                None => amd_ordering(&a)?,
+            };
+            let (fwd, inv) = perm.into_arrays();
+            (fwd.into_vec(), inv.into_vec())
+        };
+        let pattern = ShiftedPattern::new(k, m, fwd, inv);
+        // with the identity ordering faer's symbolic analysis reads the upper triangle whatever
+        // the side: the transposed pattern, only for the analysis
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.upper().as_ref(),
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| FeError::Invalid(format!("symbolic Cholesky analysis failed: {e:?}")))?;
         let req = symbolic
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::<LltParams, f64>::default());
-        let bytes = factor_bytes(symbolic.len_val(), req.size_bytes());
+        let bytes = factor_bytes(symbolic.len_val(), req.size_bytes()) + 8 * pattern.nnz() as u64;
         on_estimate(symbolic.len_val(), bytes);
         crate::memory::check_allocation(
             &format!("the sparse Cholesky factor of {} equations", k.nrows()),
             bytes,
         )?;
-        let lower = super::shifted_lower(k, m, sigma)?;
-        let mut chol = Self::factor_with_symbolic(symbolic, &lower)?;
-        chol.pattern_nnz = pattern_nnz;
+        let values = pattern.values(k, m, sigma)?;
+        let lower = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &values);
+        let mut chol = Self::factor_with_symbolic_ref(symbolic, lower)?;
+        drop(values);
+        chol.pattern_nnz = pattern.nnz();
+        chol.shifted = Some(pattern);
         Ok(chol)
     }
 
@@ -98,6 +236,13 @@ impl SparseCholesky {
         symbolic: SymbolicCholesky<usize>,
         a: &SparseMatrix,
     ) -> Result<Self, FeError> {
+        Self::factor_with_symbolic_ref(symbolic, a.as_ref())
+    }
+
+    fn factor_with_symbolic_ref(
+        symbolic: SymbolicCholesky<usize>,
+        a: faer::sparse::SparseColMatRef<'_, usize, f64>,
+    ) -> Result<Self, FeError> {
         let mut values = zeros_or_refused(symbolic.len_val())?;
         let par = Par::Seq;
         let req =
@@ -105,7 +250,7 @@ impl SparseCholesky {
         let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
         let res = symbolic.factorize_numeric_llt(
             &mut values,
-            a.as_ref(),
+            a,
             Side::Lower,
             LltRegularization::default(),
             par,
@@ -119,6 +264,7 @@ impl SparseCholesky {
                 pattern_nnz: a.compute_nnz(),
                 stale: false,
                 ldlt: false,
+                shifted: None,
             }),
             Err(e) => Err(FeError::NotPositiveDefinite {
                 what: format!("sparse matrix of dimension {}", a.nrows()),
@@ -138,6 +284,24 @@ impl SparseCholesky {
             "solve with a factor overwritten by a Sturm check"
         );
         let par = Par::Seq;
+        let Some(pattern) = &self.shifted else {
+            self.solve_ordered(rhs, par);
+            return;
+        };
+        // the symbolic analysis has the identity ordering: the pattern's ordering is applied here
+        let mut rhs = rhs;
+        let (n, p) = (rhs.nrows(), rhs.ncols());
+        let mut y = faer::Mat::<f64>::from_fn(n, p, |i, j| rhs[(pattern.fwd[i], j)]);
+        self.solve_ordered(y.as_mut(), par);
+        for j in 0..p {
+            for (i, &old) in pattern.fwd.iter().enumerate() {
+                rhs[(old, j)] = y[(i, j)];
+            }
+        }
+    }
+
+    /// The solve with faer's factor (and faer's ordering, if any).
+    fn solve_ordered(&self, rhs: MatMut<'_, f64>, par: Par) {
         let req = self
             .symbolic
             .solve_in_place_scratch::<f64>(rhs.ncols(), par);
@@ -213,6 +377,25 @@ fn symbolic_factor(a: &SparseMatrix) -> Result<SymbolicCholesky<usize>, FeError>
         }
     };
     sym.map_err(|e| FeError::Invalid(format!("symbolic Cholesky analysis failed: {e:?}")))
+}
+
+/// faer's AMD ordering of the pattern of `a` (full storage).
+fn amd_ordering(a: &SparseMatrix) -> Result<Perm<usize>, FeError> {
+    let sym = factorize_symbolic_cholesky(
+        a.symbolic(),
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        CholeskySymbolicParams::default(),
+    )
+    .map_err(|e| FeError::Invalid(format!("symbolic Cholesky analysis failed: {e:?}")))?;
+    let n = a.nrows();
+    Ok(match sym.perm() {
+        Some(p) => {
+            let (fwd, inv) = p.arrays();
+            Perm::new_checked(fwd.into(), inv.into(), n)
+        }
+        None => Perm::new_checked((0..n).collect(), (0..n).collect(), n),
+    })
 }
 
 /// Fill-reducing permutation from `METIS_NodeND` on the adjacency graph of `a`
@@ -324,11 +507,12 @@ pub fn ldlt_inertia(a: &SparseMatrix) -> Result<Option<Inertia>, FeError> {
         factor_bytes(symbolic.len_val(), req.size_bytes()),
     )?;
     let mut values = zeros_or_refused(symbolic.len_val())?;
-    inertia_with_symbolic(&symbolic, a, &mut values)
+    inertia_with_symbolic(&symbolic, a.as_ref(), &mut values)
 }
 
 impl SparseCholesky {
-    /// Inertia of `a` (full storage or its lower triangle), whose pattern must lie within the
+    /// Inertia of `a` (full storage or its lower triangle; for a factor of
+    /// [`Self::factor_shifted_observed`] a separate factorization), whose pattern must lie within the
     /// pattern of the matrix this factorization was computed from (e.g. `K - b M` vs.
     /// `K - sigma M`, [`super::shifted_lower`]), computed in this factor's own storage: the
     /// symbolic analysis (ordering) and the memory of `L` are reused, so the Sturm check needs
@@ -338,26 +522,43 @@ impl SparseCholesky {
         &mut self,
         a: &SparseMatrix,
     ) -> Result<Option<Inertia>, FeError> {
-        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz {
+        // a factor on an ordered pattern reads matrices in its own ordering only
+        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz || self.shifted.is_some() {
             return ldlt_inertia(a);
         }
+        self.stale = true;
+        inertia_with_symbolic(&self.symbolic, a.as_ref(), &mut self.values)
+    }
+
+    /// [`Self::inertia_in_place`] of `K - b M` for a factor of [`Self::factor_shifted_observed`]
+    /// (the values refilled into its ordered pattern); other factors build [`super::shifted_lower`].
+    pub(crate) fn inertia_shifted_in_place(
+        &mut self,
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        b: f64,
+    ) -> Result<Option<Inertia>, FeError> {
+        let Some(pattern) = &self.shifted else {
+            return self.inertia_in_place(&super::shifted_lower(k, m, b)?);
+        };
+        let values = pattern.values(k, m, b)?;
+        let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &values);
         self.stale = true;
         inertia_with_symbolic(&self.symbolic, a, &mut self.values)
     }
 
-    /// `L D L^T` factorization (no pivoting) of the symmetric, possibly indefinite `a` (pattern
-    /// within the original one) into this factor's storage, for solves with a shift inside the
-    /// spectrum (spectrum slicing); returns its inertia (`None`: a zero pivot, the storage is then
-    /// stale). [`Self::refactor`] returns to `L L^T`.
-    pub(crate) fn factor_ldlt_in_place(
+    /// [`Self::factor_ldlt_in_place`] of `K - s M` (see [`Self::inertia_shifted_in_place`]).
+    pub(crate) fn factor_ldlt_shifted_in_place(
         &mut self,
-        a: &SparseMatrix,
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        s: f64,
     ) -> Result<Option<Inertia>, FeError> {
-        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz {
-            return Err(FeError::Invalid(
-                "L D L^T pattern outside the factored pattern".into(),
-            ));
-        }
+        let Some(pattern) = &self.shifted else {
+            return self.factor_ldlt_in_place(&super::shifted_lower(k, m, s)?);
+        };
+        let values = pattern.values(k, m, s)?;
+        let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &values);
         self.stale = true;
         self.ldlt = false;
         let inertia = inertia_with_symbolic(&self.symbolic, a, &mut self.values)?;
@@ -368,37 +569,91 @@ impl SparseCholesky {
         Ok(inertia)
     }
 
+    /// [`Self::refactor`] with `K - s M` (see [`Self::inertia_shifted_in_place`]).
+    pub(crate) fn refactor_shifted(
+        &mut self,
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        s: f64,
+    ) -> Result<(), FeError> {
+        let Some(pattern) = &self.shifted else {
+            return self.refactor(&super::shifted_lower(k, m, s)?);
+        };
+        let values = pattern.values(k, m, s)?;
+        let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &values);
+        refactor_llt(&self.symbolic, a, &mut self.values)?;
+        self.stale = false;
+        self.ldlt = false;
+        Ok(())
+    }
+
+    /// `L D L^T` factorization (no pivoting) of the symmetric, possibly indefinite `a` (pattern
+    /// within the original one) into this factor's storage, for solves with a shift inside the
+    /// spectrum (spectrum slicing); returns its inertia (`None`: a zero pivot, the storage is then
+    /// stale). [`Self::refactor`] returns to `L L^T`.
+    pub(crate) fn factor_ldlt_in_place(
+        &mut self,
+        a: &SparseMatrix,
+    ) -> Result<Option<Inertia>, FeError> {
+        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz || self.shifted.is_some() {
+            return Err(FeError::Invalid(
+                "L D L^T pattern outside the factored pattern".into(),
+            ));
+        }
+        self.stale = true;
+        self.ldlt = false;
+        let inertia = inertia_with_symbolic(&self.symbolic, a.as_ref(), &mut self.values)?;
+        if inertia.is_some() {
+            self.stale = false;
+            self.ldlt = true;
+        }
+        Ok(inertia)
+    }
+
     /// Numeric `L L^T` factorization of `a` (full storage or its lower triangle, pattern within
     /// the original one) into this factor's storage, reusing the symbolic analysis.
     pub(crate) fn refactor(&mut self, a: &SparseMatrix) -> Result<(), FeError> {
-        let par = Par::Seq;
-        let req = self
-            .symbolic
-            .factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default());
-        let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
-        self.symbolic
-            .factorize_numeric_llt(
-                &mut self.values,
-                a.as_ref(),
-                Side::Lower,
-                LltRegularization::default(),
-                par,
-                MemStack::new(&mut mem),
-                Spec::<LltParams, f64>::default(),
-            )
-            .map_err(|e| FeError::NotPositiveDefinite {
-                what: format!("sparse matrix of dimension {}", a.nrows()),
-                hint: format!(" ({e:?})"),
-            })?;
+        if self.shifted.is_some() {
+            return Err(FeError::Invalid(
+                "refactor of a factor on an ordered pattern: use refactor_shifted".into(),
+            ));
+        }
+        refactor_llt(&self.symbolic, a.as_ref(), &mut self.values)?;
         self.stale = false;
         self.ldlt = false;
         Ok(())
     }
 }
 
+/// Numeric `L L^T` of `a` into `values` with the symbolic analysis `symbolic`.
+fn refactor_llt(
+    symbolic: &SymbolicCholesky<usize>,
+    a: faer::sparse::SparseColMatRef<'_, usize, f64>,
+    values: &mut [f64],
+) -> Result<(), FeError> {
+    let par = Par::Seq;
+    let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default());
+    let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
+    symbolic
+        .factorize_numeric_llt(
+            values,
+            a,
+            Side::Lower,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Spec::<LltParams, f64>::default(),
+        )
+        .map_err(|e| FeError::NotPositiveDefinite {
+            what: format!("sparse matrix of dimension {}", a.nrows()),
+            hint: format!(" ({e:?})"),
+        })?;
+    Ok(())
+}
+
 fn inertia_with_symbolic(
     symbolic: &SymbolicCholesky<usize>,
-    a: &SparseMatrix,
+    a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     values: &mut [f64],
 ) -> Result<Option<Inertia>, FeError> {
     let par = Par::Seq;
@@ -407,7 +662,7 @@ fn inertia_with_symbolic(
     let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
     let res = symbolic.factorize_numeric_ldlt(
         values,
-        a.as_ref(),
+        a,
         Side::Lower,
         LdltRegularization::default(),
         par,

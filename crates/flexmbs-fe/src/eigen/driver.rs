@@ -7,7 +7,7 @@ use faer::Mat;
 use super::cholesky::SparseCholesky;
 use super::lanczos::{BlockLanczos, Outcome, RitzPairs};
 use super::ops::apply_mass;
-use super::{automatic_shift, shift, shifted_lower, sort_pairs};
+use super::{automatic_shift, shift, sort_pairs};
 use super::{EigenEvent, EigenOptions, EigenSolution};
 use crate::{FeError, SparseMatrix};
 
@@ -268,11 +268,10 @@ fn factor_at(
     sigma: f64,
     interior: bool,
 ) -> Result<(), FeError> {
-    let a = shifted_lower(k, m, sigma)?;
     if !interior {
-        return chol.refactor(&a);
+        return chol.refactor_shifted(k, m, sigma);
     }
-    match chol.factor_ldlt_in_place(&a)? {
+    match chol.factor_ldlt_shifted_in_place(k, m, sigma)? {
         Some(_) => Ok(()),
         None => Err(FeError::EigenNotConverged(format!(
             "L D L^T of K - sigma M singular at the slice shift {sigma:e}"
@@ -326,7 +325,7 @@ fn next_slice(
         }
         tries += 1;
         let expected = lz.locked_lambda().iter().filter(|&&x| x < cut).count();
-        let inertia = chol.factor_ldlt_in_place(&shifted_lower(k, m, cut)?)?;
+        let inertia = chol.factor_ldlt_shifted_in_place(k, m, cut)?;
         if let Some(inertia) = inertia {
             progress(EigenEvent::SturmCheck {
                 expected,
@@ -355,8 +354,7 @@ fn sturm_count(
 ) -> Result<usize, FeError> {
     for frac in [0.5, 0.3, 0.7] {
         let bound = lo + frac * (hi - lo);
-        let kb = shifted_lower(k, m, bound)?;
-        if let Some(inertia) = chol.inertia_in_place(&kb)? {
+        if let Some(inertia) = chol.inertia_shifted_in_place(k, m, bound)? {
             if inertia.near_zero == 0 {
                 return Ok(inertia.negative);
             }

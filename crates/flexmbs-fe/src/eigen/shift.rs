@@ -8,7 +8,6 @@
 
 use super::cholesky::SparseCholesky;
 use super::lanczos::BlockLanczos;
-use super::shifted_lower;
 use crate::mechanism::{spectrum_scale, ZERO_ENERGY_TOLERANCE};
 use crate::{FeError, SparseMatrix};
 
@@ -58,10 +57,10 @@ pub(super) fn spectrum_shift<'a>(
             // no move: the main run continues this probe's Krylov space
             return Ok((sigma, Some(lz)));
         };
-        match chol.refactor(&shifted_lower(k, m, target)?) {
+        match chol.refactor_shifted(k, m, target) {
             Ok(()) => sigma = target,
             Err(FeError::NotPositiveDefinite { .. }) => {
-                chol.refactor(&shifted_lower(k, m, sigma)?)?;
+                chol.refactor_shifted(k, m, sigma)?;
                 return Ok((sigma, None));
             }
             Err(e) => return Err(e),

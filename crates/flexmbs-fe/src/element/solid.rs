@@ -106,17 +106,66 @@ pub fn stiffness(
     rule: &[QuadPoint],
     element: usize,
 ) -> Result<DMatrix<f64>, FeError> {
-    let nd = 3 * x.len();
-    let dd = dyn_d(d);
+    let nn = x.len();
+    let nd = 3 * nn;
     let mut k = DMatrix::zeros(nd, nd);
+    // D B by node (6 x 3 each), reused across the points
+    let mut db = vec![[[0.0f64; 3]; 6]; nn];
     for (ip, p) in rule.iter().enumerate() {
         let e = eval_point(shape, x, p.xi, element, ip)?;
-        let b = b_matrix(&e.dndx);
-        let db = &dd * &b;
-        k.gemm_tr(e.det * p.w, &b, &db, 1.0);
+        let f = e.det * p.w;
+        for (dbb, g) in db.iter_mut().zip(&e.dndx) {
+            *dbb = d_times_b_block(d, g);
+        }
+        let kd = k.as_mut_slice();
+        for (a, ga) in e.dndx.iter().enumerate() {
+            for (b, dbb) in db.iter().enumerate().skip(a) {
+                let blk = bt_times(ga, dbb);
+                for (i, row) in blk.iter().enumerate() {
+                    for (c, v) in row.iter().enumerate() {
+                        // column-major: entry (3a + i, 3b + c)
+                        kd[(3 * a + i) + (3 * b + c) * nd] += f * v;
+                    }
+                }
+            }
+        }
+    }
+    // the blocks below the diagonal mirror those above (b >= a)
+    for a in 0..nn {
+        for b in (a + 1)..nn {
+            for i in 0..3 {
+                for c in 0..3 {
+                    k[(3 * b + c, 3 * a + i)] = k[(3 * a + i, 3 * b + c)];
+                }
+            }
+        }
     }
     symmetrize(&mut k);
     Ok(k)
+}
+
+/// `D B_b` (6 x 3) of the node block `B_b` with Cartesian derivative `g` ([`b_block`]: column 0
+/// has `g_x, g_y, g_z` in rows 0, 3, 5; column 1 `g_y, g_x, g_z` in rows 1, 3, 4; column 2
+/// `g_z, g_y, g_x` in rows 2, 4, 5).
+fn d_times_b_block(d: &Matrix6<f64>, g: &Vector3<f64>) -> [[f64; 3]; 6] {
+    let mut out = [[0.0; 3]; 6];
+    for (r, row) in out.iter_mut().enumerate() {
+        row[0] = d[(r, 0)] * g[0] + d[(r, 3)] * g[1] + d[(r, 5)] * g[2];
+        row[1] = d[(r, 1)] * g[1] + d[(r, 3)] * g[0] + d[(r, 4)] * g[2];
+        row[2] = d[(r, 2)] * g[2] + d[(r, 4)] * g[1] + d[(r, 5)] * g[0];
+    }
+    out
+}
+
+/// `B_a^T (D B_b)` (3 x 3) with the sparsity of `B_a` ([`d_times_b_block`]).
+fn bt_times(g: &Vector3<f64>, db: &[[f64; 3]; 6]) -> [[f64; 3]; 3] {
+    let mut out = [[0.0; 3]; 3];
+    for c in 0..3 {
+        out[0][c] = g[0] * db[0][c] + g[1] * db[3][c] + g[2] * db[5][c];
+        out[1][c] = g[1] * db[1][c] + g[0] * db[3][c] + g[2] * db[4][c];
+        out[2][c] = g[2] * db[2][c] + g[1] * db[4][c] + g[0] * db[5][c];
+    }
+    out
 }
 
 /// Consistent mass M = sum_p rho N^T N det J w over `rule`, expanded to the 3 translations

@@ -565,3 +565,53 @@ fn hex20r_spurious_modes_in_meshes() {
     assert_eq!(counts[1], 10);
     assert_eq!(counts[2], 6, "2x2x2 block of Hex20R has only rigid modes");
 }
+
+/// The node-block stiffness (`B` has three nonzeros per column) equals the dense
+/// `sum_p B^T D B det J w` to round-off, for a distorted hex20 and tet10 and a full (anisotropic)
+/// symmetric `D`.
+#[test]
+fn node_block_stiffness_matches_dense_product() {
+    use super::gauss::{hex_rule, tet_rule_4};
+    use super::{hex20, tet10};
+    let d = nalgebra::Matrix6::from_fn(|i, j| {
+        let (a, b) = (i.min(j) as f64, i.max(j) as f64);
+        if i == j {
+            10.0 + a
+        } else {
+            0.3 * (a + 1.0) / (b + 2.0)
+        }
+    });
+    let (a, t) = affine();
+    for (kind, shape, rule) in [
+        (
+            ElementKind::Hex20,
+            hex20::hex20_shape as solid::ShapeFn,
+            hex_rule(3),
+        ),
+        (
+            ElementKind::Tet10,
+            tet10::tet10_shape as solid::ShapeFn,
+            tet_rule_4(),
+        ),
+    ] {
+        let x: Vec<[f64; 3]> = reference_nodes(kind)
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let v = a * Vector3::new(p[0], p[1], p[2]) + t;
+                let w = 0.03 * (i as f64).sin();
+                [v[0] + w, v[1] - w, v[2] + 0.5 * w]
+            })
+            .collect();
+        let k = solid::stiffness(shape, &x, &d, &rule, 0).unwrap();
+        let dd = solid::dyn_d(&d);
+        let mut r = DMatrix::zeros(k.nrows(), k.ncols());
+        for (ip, p) in rule.iter().enumerate() {
+            let e = solid::eval_point(shape, &x, p.xi, 0, ip).unwrap();
+            let b = solid::b_matrix(&e.dndx);
+            r.gemm_tr(e.det * p.w, &b, &(&dd * &b), 1.0);
+        }
+        solid::symmetrize(&mut r);
+        assert!(max_abs(&(&k - &r)) <= 1e-13 * max_abs(&r), "{kind:?}");
+    }
+}
