@@ -161,7 +161,7 @@ fn log(s: &str) {
 /// h = 1e-5 s, 0.1 s); writes the `node_full_fe` and `mass_full_fe` plots into the case's folder.
 /// Tens of minutes on a busy 2-core machine.
 #[test]
-#[ignore]
+#[ignore = "study behind the README table: 6 FFR runs up to 200 modes and the full FE, tens of minutes; not part of CI"]
 fn full_fe_mode_study() {
     let beam = reduce_beam_with(200).unwrap();
     let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation/point_mass_on_beam");
@@ -173,7 +173,7 @@ fn full_fe_mode_study() {
 /// The step study of the reference (h = 1e-5, 5e-6, 2.5e-6 s and the hex20 face weights at
 /// 1e-5 s, to 0.035 s: the contact phase up to past the largest deflection).
 #[test]
-#[ignore]
+#[ignore = "step study of the full-FE reference down to h = 2.5e-6 s, several minutes; not part of CI"]
 fn full_fe_step_study() {
     let rows = step_study(1e-5, 0.035, &log).unwrap();
     println!("{}", rows.join("\n"));
