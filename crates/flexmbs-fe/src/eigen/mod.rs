@@ -285,14 +285,25 @@ fn validate(k: &SparseMatrix, m: &SparseMatrix) -> Result<(), FeError> {
     Ok(())
 }
 
-/// `max |a_ij - a_ji|` over the stored entries (a missing mirror entry counts as zero), by a
-/// binary search of each mirror entry in its sorted column: no transposed copy of `a`.
+/// `max |a_ij - a_ji|` over the stored entries (a missing mirror entry counts as zero), without
+/// a transposed copy of `a`: the mirror of entry `(i, j)` is row `j` of column `i`, and for a
+/// fixed column `i` the rows asked for grow with `j`, so one cursor per column finds every mirror
+/// in a single pass (rows sorted, [`rows_sorted`]).
 fn max_asymmetry(a: &SparseMatrix) -> f64 {
+    let mut cursor = vec![0usize; a.ncols()];
     let mut asym = 0.0f64;
     for j in 0..a.ncols() {
         for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
             let rows = a.row_idx_of_col_raw(i);
-            let mirror = rows.binary_search(&j).map_or(0.0, |p| a.val_of_col(i)[p]);
+            let c = &mut cursor[i];
+            while *c < rows.len() && rows[*c] < j {
+                *c += 1;
+            }
+            let mirror = if rows.get(*c) == Some(&j) {
+                a.val_of_col(i)[*c]
+            } else {
+                0.0
+            };
             asym = asym.max((v - mirror).abs());
         }
     }

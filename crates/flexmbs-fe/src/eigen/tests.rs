@@ -726,3 +726,26 @@ fn ordered_pattern_solve_permutes_in_place() {
         assert!((&x1 - &x2).norm_max() < 1e-12 * scale);
     }
 }
+
+/// The one-pass asymmetry measure: zero for the symmetric grid matrix, the difference for a
+/// mirror pair with different values, the value for an entry without a mirror.
+#[test]
+fn asymmetry_finds_differing_and_missing_mirrors() {
+    let (k, _) = grid_model(3, false);
+    assert_eq!(super::max_asymmetry(&k), 0.0);
+    let mut t: Vec<_> = k
+        .triplet_iter()
+        .map(|t| Triplet::new(t.row, t.col, *t.val))
+        .collect();
+    t.push(Triplet::new(0, 5, 0.25));
+    assert!((super::max_asymmetry(&sparse(k.nrows(), &t)) - 0.25).abs() < 1e-15);
+    let lone = [
+        Triplet::new(0, 0, 1.0),
+        Triplet::new(1, 1, 1.0),
+        Triplet::new(2, 2, 1.0),
+        Triplet::new(2, 0, 0.5),
+        Triplet::new(1, 2, 0.125),
+        Triplet::new(2, 1, 0.125),
+    ];
+    assert_eq!(super::max_asymmetry(&sparse(3, &lone)), 0.5);
+}
