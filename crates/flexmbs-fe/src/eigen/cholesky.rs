@@ -18,6 +18,9 @@ use faer::{Conj, MatMut, Par, Side, Spec};
 
 use crate::{FeError, SparseMatrix};
 
+/// Serializes the calls into METIS (see [`metis_on_patterns`]).
+static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Matrices below this dimension are ordered with faer's AMD instead of METIS.
 const METIS_MIN_DIM: usize = 64;
 
@@ -521,6 +524,9 @@ pub(crate) fn metis_on_patterns(mats: &[&SparseMatrix]) -> Option<Perm<usize>> {
     // and writes nvtxs entries of perm and iperm. All buffers have these sizes, the
     // graph is symmetric without self loops (built above from a symmetric pattern),
     // and none of the pointers is retained after the calls return.
+    // METIS keeps its random generator in process-global state: calls from two threads at once
+    // (parallel tests, a Python sweep) would race and make the ordering depend on timing
+    let _metis = METIS_LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let status = unsafe {
         metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
         metis_sys::METIS_NodeND(

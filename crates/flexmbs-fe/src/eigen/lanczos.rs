@@ -46,10 +46,6 @@ type OrthonormalBlock = (Mat<f64>, Mat<f64>, Mat<f64>);
 /// Ritz values (descending), coefficient vectors `S` and residual estimates.
 type RitzDecomposition = (Vec<f64>, Mat<f64>, Vec<f64>);
 
-/// Smallest ratio of the Gram matrix's eigenvalues (of a block to be M-orthonormalised) for which
-/// one Cholesky-QR pass suffices (orthonormality error about `eps / GRAM_SINGLE_PASS`).
-const GRAM_SINGLE_PASS: f64 = 1e-4;
-
 /// The active part of the basis holds at most this many blocks ([`BlockLanczos::window`]).
 const ACTIVE_WINDOW_BLOCKS: usize = 20;
 
@@ -304,6 +300,12 @@ impl<'a> BlockLanczos<'a> {
     /// locked pairs the active part stays small.
     fn window(&self) -> usize {
         (ACTIVE_WINDOW_BLOCKS * self.block).max(40)
+    }
+
+    /// [`Self::window`], at least four pending blocks of `bq` columns (a block enlarged by random
+    /// directions after a failed Sturm check must leave room for kept Ritz vectors).
+    fn window_for(&self, bq: usize) -> usize {
+        self.window().max(4 * bq)
     }
 
     /// Eigenvalues of the locked pairs.
@@ -639,14 +641,6 @@ impl<'a> BlockLanczos<'a> {
             w = &w * &uk;
             mq = &mw * &uk;
             b_total = &bk * &b_total;
-            // a well-conditioned Gram matrix leaves Q orthonormal to eps * cond(G) <= 1e-12 and
-            // orthogonal to the basis to eps * sqrt(cond(G)): the second pass is not needed
-            let (lo, hi) = keep.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &i| {
-                (lo.min(evd.S()[i]), hi.max(evd.S()[i]))
-            });
-            if pass == 0 && lo >= GRAM_SINGLE_PASS * hi {
-                break;
-            }
         }
         Ok((w, mq, b_total))
     }
@@ -798,7 +792,7 @@ impl<'a> BlockLanczos<'a> {
             let open = wanted.saturating_sub(locked_after);
             (open + self.block.max(open / 2))
                 .min(self.cap.saturating_sub(locked_after + 2 * bq))
-                .min(self.window().saturating_sub(2 * bq.max(self.block)))
+                .min(self.window_for(bq).saturating_sub(2 * bq.max(self.block)))
                 .min(rest.len())
         } else {
             rest.len().min(self.cap.saturating_sub(locked_after + bq))
