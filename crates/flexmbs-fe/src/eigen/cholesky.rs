@@ -526,7 +526,9 @@ pub(crate) fn metis_on_patterns(mats: &[&SparseMatrix]) -> Option<Perm<usize>> {
     // and none of the pointers is retained after the calls return.
     // METIS keeps its random generator in process-global state: calls from two threads at once
     // (parallel tests, a Python sweep) would race and make the ordering depend on timing
-    let _metis = METIS_LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let _metis = METIS_LOCK
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
     let status = unsafe {
         metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
         metis_sys::METIS_NodeND(

@@ -494,7 +494,7 @@ impl<'a> BlockLanczos<'a> {
         let bl = used - ls;
         let mut w = self.mv.subcols(ls, bl).to_owned();
         op.solve_in_place(w.as_mut());
-        let c = self.project_out(&mut w, used);
+        let c = self.project_out(&mut w, used, 2);
         // rows of locked pairs stay zero: their coupling is of the size of their residual
         for j in 0..bl {
             for i in self.locked..used {
@@ -548,15 +548,15 @@ impl<'a> BlockLanczos<'a> {
         Ok(())
     }
 
-    /// `W <- (I - V V^T M) W` twice (CGS2), the inner products `V^T M W = (M V)^T W` from the
+    /// `W <- (I - V V^T M) W`, `passes` times (2: CGS2), the inner products `V^T M W = (M V)^T W` from the
     /// stored `M V`; returns the summed coefficients `V^T M W`.
-    fn project_out(&self, w: &mut Mat<f64>, used: usize) -> Mat<f64> {
+    fn project_out(&self, w: &mut Mat<f64>, used: usize, passes: usize) -> Mat<f64> {
         let bl = w.ncols();
         let mut c = Mat::zeros(used, bl);
         let mut ci = Mat::zeros(used, bl);
         let vb = self.v.subcols(0, used);
         let mvb = self.mv.subcols(0, used);
-        for _ in 0..2 {
+        for _ in 0..passes {
             matmul(
                 ci.as_mut(),
                 Accum::Replace,
@@ -611,7 +611,8 @@ impl<'a> BlockLanczos<'a> {
         let mut mq = Mat::zeros(self.n, 0);
         for pass in 0..2 {
             if pass == 1 {
-                let _ = self.project_out(&mut w, used);
+                // Q's components along the basis are round-off: one pass removes them
+                let _ = self.project_out(&mut w, used, 1);
             }
             let mut mw = Mat::zeros(self.n, w.ncols());
             apply_mass(self.m, w.as_ref(), mw.as_mut());
@@ -666,7 +667,7 @@ impl<'a> BlockLanczos<'a> {
                     let c = mx.transpose() * &r;
                     r -= x * &c;
                 }
-                let _ = self.project_out(&mut r, used);
+                let _ = self.project_out(&mut r, used, 2);
             }
             let (q, mq, _) = self.gram_eigen_qr(r, used, 1e-14)?;
             if q.ncols() == count {
