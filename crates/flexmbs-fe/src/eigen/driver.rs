@@ -171,7 +171,7 @@ fn start<'a>(
         &[safe]
     };
     let (mut chol, used) = first_factor(k, m, shifts, progress)?;
-    if shifts[used] == 0.0 {
+    if opts.supported && used == 0 {
         return Ok((chol, 0.0, None));
     }
     let (sigma, probe) = shift::spectrum_shift(k, m, &mut chol, safe, opts.block_size.max(1))?;
