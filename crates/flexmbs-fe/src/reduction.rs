@@ -184,6 +184,7 @@ pub fn modal_analysis(
     let wanted = (n_modes + if free { 6 } else { 0 }).min(sys.len());
     let o = EigenOptions {
         n_modes: wanted,
+        supported: !free,
         ..opts.clone()
     };
     let expected = if free { 6 } else { 0 };
@@ -405,6 +406,8 @@ pub fn craig_bampton(
             &m_ii,
             &EigenOptions {
                 n_modes: k_internal,
+                // K_ii factored above for the static modes: positive definite
+                supported: true,
                 ..opts.clone()
             },
             progress,

@@ -4,7 +4,7 @@
 //! of K and M took 456 MB, the matrices themselves 190 MB.
 
 use crate::assembly::DofMap;
-use crate::element::{element_matrices, MassKind};
+use crate::element::{element_matrices, ElementMatrices, MassKind};
 use crate::{FeError, Mesh, SparseMatrix};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
@@ -137,7 +137,7 @@ pub fn assembly_bytes(nnz: usize) -> u64 {
 
 /// Assembles K and M of all elements of `mesh` into the node-adjacency pattern, keeping the
 /// entries with a nonzero element contribution (the pattern a triplet assembly gives). Values
-/// are summed in element order.
+/// are summed in element order (element matrices computed in parallel, [`CHUNK`] at a time).
 pub(crate) fn assemble_direct(
     mesh: &Mesh,
     mass: MassKind,
@@ -167,31 +167,90 @@ pub(crate) fn assemble_direct(
     let pattern = Pattern { col_ptr, row_idx };
     let mut k = Filling::new(nnz)?;
     let mut m = Filling::new(nnz)?;
-    let mut eqs = Vec::with_capacity(120);
     let ne = mesh.elements.len();
-    for (ei, el) in mesh.elements.iter().enumerate() {
-        let em = element_matrices(mesh, ei, mass)?;
-        let npn = el.kind.dofs_per_node();
-        eqs.clear();
-        for &n in &el.nodes {
-            eqs.extend((0..npn).map(|d| dofs.first[n] + d));
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get().min(MAX_WORKERS));
+    for c0 in (0..ne).step_by(CHUNK) {
+        let c1 = (c0 + CHUNK).min(ne);
+        let ems = element_matrices_parallel(mesh, c0..c1, mass, workers)?;
+        for (ei, em) in (c0..c1).zip(&ems) {
+            scatter_element(&pattern, dofs, &mesh.elements[ei], em, (&mut k, &mut m))?;
         }
-        for (b, &gb) in eqs.iter().enumerate() {
-            let start = pattern.col_ptr[gb];
-            let rows = &pattern.row_idx[start..pattern.col_ptr[gb + 1]];
-            for (a, &ga) in eqs.iter().enumerate() {
-                let p = start + rows.binary_search(&ga).map_err(|_| pattern_error(ga, gb))?;
-                k.add(p, em.k[(a, b)]);
-                m.add(p, em.m[(a, b)]);
-            }
-        }
-        if ei % 256 == 0 || ei + 1 == ne {
-            progress(ei + 1, ne);
-        }
+        progress(c1, ne);
     }
     let k = k.finish(&pattern)?;
     let m = m.finish(&pattern)?;
     Ok((k, m))
+}
+
+/// Elements whose matrices are computed (in parallel) before they are added, in element order.
+const CHUNK: usize = 128;
+/// At most this many threads compute element matrices.
+const MAX_WORKERS: usize = 8;
+
+/// The matrices of the elements `range`, computed by up to `workers` threads on contiguous parts
+/// (each element's matrices depend on that element only: the result does not depend on the
+/// number of threads).
+fn element_matrices_parallel(
+    mesh: &Mesh,
+    range: std::ops::Range<usize>,
+    mass: MassKind,
+    workers: usize,
+) -> Result<Vec<ElementMatrices>, FeError> {
+    let ids: Vec<usize> = range.collect();
+    let one_part = |part: &[usize]| -> Result<Vec<ElementMatrices>, FeError> {
+        part.iter()
+            .map(|&e| element_matrices(mesh, e, mass))
+            .collect()
+    };
+    if workers <= 1 || ids.len() < 2 * workers {
+        return one_part(&ids);
+    }
+    let per = ids.len().div_ceil(workers);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = ids
+            .chunks(per)
+            .map(|part| s.spawn(move || one_part(part)))
+            .collect();
+        let mut out = Vec::with_capacity(ids.len());
+        for h in handles {
+            let part = h
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            out.extend(part?);
+        }
+        Ok(out)
+    })
+}
+
+/// Adds one element's matrices into `K` and `M`. Every DOF column of a node has the node's
+/// neighbour rows (each neighbour's DOFs contiguous), so one search per node pair locates the
+/// whole `npn x npn` block.
+fn scatter_element(
+    pattern: &Pattern,
+    dofs: &DofMap,
+    el: &crate::mesh::Element,
+    em: &ElementMatrices,
+    (k, m): (&mut Filling, &mut Filling),
+) -> Result<(), FeError> {
+    let npn = el.kind.dofs_per_node();
+    for (jb, &nb) in el.nodes.iter().enumerate() {
+        let cb = dofs.first[nb];
+        let start = pattern.col_ptr[cb];
+        let rows = &pattern.row_idx[start..pattern.col_ptr[cb + 1]];
+        for (ja, &na) in el.nodes.iter().enumerate() {
+            let ra = dofs.first[na];
+            let off = rows.binary_search(&ra).map_err(|_| pattern_error(ra, cb))?;
+            for db in 0..npn {
+                let base = pattern.col_ptr[cb + db] + off;
+                for da in 0..npn {
+                    let (a, b) = (ja * npn + da, jb * npn + db);
+                    k.add(base + da, em.k[(a, b)]);
+                    m.add(base + da, em.m[(a, b)]);
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 fn pattern_error(row: usize, col: usize) -> FeError {

@@ -20,13 +20,9 @@ pub(super) fn lanczos_solution(
 ) -> Result<EigenSolution, FeError> {
     let n = k.nrows();
     let nm = opts.n_modes;
-    let sigma0 = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
-    let mut chol = first_factor(k, m, sigma0, progress)?;
     let b = opts.block_size.max(1);
-    let (sigma, probe) = match opts.shift {
-        Some(s) => (s, None),
-        None => shift::spectrum_shift(k, m, &mut chol, sigma0, b)?,
-    };
+    let (mut chol, sigma, probe) = start(k, m, opts, progress)?;
+    let sigma0 = sigma;
     let mut need = nm;
     let cap = basis_cap(opts).max(need + 3 * b);
     // the probe's Krylov space at the final shift is the start of the main run
@@ -94,7 +90,7 @@ pub(super) fn lanczos_solution(
                 None => continue,
             }
         }
-        return Ok(solution(m, &pairs, nm, sturm));
+        return Ok(solution(m, &pairs, nm, sturm, sigma0));
     }
 }
 
@@ -117,6 +113,7 @@ fn sturm_step(
     let lam = &pairs.lambda;
     let nconv = pairs.locked.iter().take_while(|&&l| l).count();
     // the storage then holds the L D L^T of the cut: refactored before the next solve
+    lz.release_mass_products();
     let (below, found) = match sturm_at_gap(k, m, chol, lam, (nm, nconv), sigma, gap_rel)? {
         Cut::NoGap => {
             *need = nconv.max(*need) + b;
@@ -154,12 +151,40 @@ fn basis_cap(opts: &EigenOptions) -> usize {
     }
 }
 
+/// The factor and shift the iteration starts with, and the Lanczos state of a shift probe that
+/// ran at that shift: the given shift; or `sigma = 0` for a supported model whose `K` factors
+/// ([`EigenOptions::supported`]); or the shift from the spectrum ([`shift::spectrum_shift`]),
+/// starting at [`automatic_shift`].
+fn start<'a>(
+    k: &SparseMatrix,
+    m: &'a SparseMatrix,
+    opts: &EigenOptions,
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<(SparseCholesky, f64, Option<BlockLanczos<'a>>), FeError> {
+    if let Some(s) = opts.shift {
+        return Ok((first_factor(k, m, &[s], progress)?.0, s, None));
+    }
+    let safe = automatic_shift(k, m);
+    let shifts: &[f64] = if opts.supported {
+        &[0.0, safe]
+    } else {
+        &[safe]
+    };
+    let (mut chol, used) = first_factor(k, m, shifts, progress)?;
+    if opts.supported && used == 0 {
+        return Ok((chol, 0.0, None));
+    }
+    let (sigma, probe) = shift::spectrum_shift(k, m, &mut chol, safe, opts.block_size.max(1))?;
+    Ok((chol, sigma, probe))
+}
+
 /// The leading `nm` pairs, M-normalised, as the solution.
 fn solution(
     m: &SparseMatrix,
     pairs: &RitzPairs,
     nm: usize,
     sturm: Option<(usize, usize)>,
+    start_shift: f64,
 ) -> EigenSolution {
     let mut x = pairs.vectors.subcols(0, nm).to_owned();
     m_normalize(m, &mut x);
@@ -173,21 +198,24 @@ fn solution(
         vectors,
         residuals,
         sturm,
+        start_shift,
     }
 }
 
-/// Factorization of `K - sigma0 M` with its progress events.
+/// Factorization of `K - s M` for the first shift `s` of `shifts` at which it is positive
+/// definite ([`SparseCholesky::factor_first_definite`]), with its progress events.
 fn first_factor(
     k: &SparseMatrix,
     m: &SparseMatrix,
-    sigma0: f64,
+    shifts: &[f64],
     progress: &mut dyn FnMut(EigenEvent),
-) -> Result<SparseCholesky, FeError> {
+) -> Result<(SparseCholesky, usize), FeError> {
+    let sigma0 = shifts.last().copied().unwrap_or(0.0);
     progress(EigenEvent::Factorizing {
         n: k.nrows(),
         nnz: k.compute_nnz(),
     });
-    let chol = SparseCholesky::factor_shifted_observed(k, m, sigma0, &mut |nnz_l, bytes| {
+    let chol = SparseCholesky::factor_first_definite(k, m, shifts, &mut |nnz_l, bytes| {
         progress(EigenEvent::FactorEstimate { nnz_l, bytes })
     })
     .map_err(|e| match e {
@@ -200,7 +228,7 @@ fn first_factor(
         },
     })?;
     progress(EigenEvent::Factorized {
-        nnz_l: chol.nnz_l(),
+        nnz_l: chol.0.nnz_l(),
     });
     Ok(chol)
 }

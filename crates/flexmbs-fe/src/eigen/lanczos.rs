@@ -19,6 +19,7 @@
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par, Side};
 
+use super::basis::{combine_in_place, concat_cols, concat_rows, empty_columns, SplitMix};
 use super::cholesky::SparseCholesky;
 use super::ops::{apply_mass, shift_invert_residuals};
 use crate::{FeError, SparseMatrix};
@@ -38,6 +39,9 @@ pub(crate) struct RitzPairs {
     /// Current basis size.
     pub basis: usize,
 }
+
+/// An M-orthonormal block `Q`, its product `M Q` and the coefficients `B` (`W = Q B`).
+type OrthonormalBlock = (Mat<f64>, Mat<f64>, Mat<f64>);
 
 /// Ritz values (descending), coefficient vectors `S` and residual estimates.
 type RitzDecomposition = (Vec<f64>, Mat<f64>, Vec<f64>);
@@ -65,20 +69,6 @@ enum Pair {
     Active(usize),
 }
 
-/// Deterministic splitmix64 generator for start blocks (no external RNG dependency).
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    }
-}
-
 /// State of a block shift-invert Lanczos run.
 pub(crate) struct BlockLanczos<'a> {
     m: &'a SparseMatrix,
@@ -87,13 +77,18 @@ pub(crate) struct BlockLanczos<'a> {
     cap: usize,
     /// Basis vectors in columns `0..used`.
     v: Mat<f64>,
+    /// `M v` of the basis vectors (columns `0..used`): the M-inner products of the
+    /// orthogonalisation read it instead of multiplying by `M` (two products per block step
+    /// instead of seven).
+    mv: Mat<f64>,
     /// Projected operator `V^T M OP V`.
     h: Mat<f64>,
     used: usize,
     /// Start column of the last block of `v` (not yet multiplied by OP).
     last: usize,
-    /// Next block `Q` and coupling `B` (`Q B = (I - V V^T M) OP V_last`), if computed.
-    next: Option<(Mat<f64>, Mat<f64>)>,
+    /// Next block `Q`, its `M Q` and the coupling `B` (`Q B = (I - V V^T M) OP V_last`), if
+    /// computed.
+    next: Option<OrthonormalBlock>,
     /// Number of extra random vectors to add to the next block.
     inject: usize,
     rng: SplitMix,
@@ -122,7 +117,8 @@ impl<'a> BlockLanczos<'a> {
             n,
             block,
             cap,
-            v: Mat::zeros(n, cap),
+            v: empty_columns(n, cap),
+            mv: empty_columns(n, cap),
             h: Mat::zeros(cap, cap),
             used: 0,
             last: 0,
@@ -135,8 +131,10 @@ impl<'a> BlockLanczos<'a> {
             estimate_factor: 1.0,
             lambda_floor: f64::INFINITY,
         };
-        let q = s.random_block(block)?;
+        let (q, mq) = s.random_block(block)?;
+        s.grow_to(block);
         s.v.as_mut().subcols_mut(0, block).copy_from(&q);
+        s.mv.as_mut().subcols_mut(0, block).copy_from(&mq);
         s.used = block;
         Ok(s)
     }
@@ -147,17 +145,40 @@ impl<'a> BlockLanczos<'a> {
         if cap <= self.cap {
             return;
         }
-        let mut v = Mat::zeros(self.n, cap);
-        v.as_mut()
-            .subcols_mut(0, self.used)
-            .copy_from(self.v.subcols(0, self.used));
+        self.v.reserve(self.n, cap);
+        self.mv.reserve(self.n, cap);
         let mut h = Mat::zeros(cap, cap);
         h.as_mut()
             .submatrix_mut(0, 0, self.used, self.used)
             .copy_from(self.h.submatrix(0, 0, self.used, self.used));
-        self.v = v;
         self.h = h;
         self.cap = cap;
+    }
+
+    /// Frees the stored `M V` (for the Sturm check's factorization, the peak of the modal
+    /// analysis' memory); the next [`Self::run`] or [`Self::reshift`] recomputes it.
+    pub fn release_mass_products(&mut self) {
+        self.mv = empty_columns(self.n, 0);
+    }
+
+    /// Recomputes `M V` after [`Self::release_mass_products`].
+    fn restore_mass_products(&mut self) {
+        if self.mv.ncols() >= self.v.ncols() {
+            return;
+        }
+        self.mv = empty_columns(self.n, self.cap);
+        self.mv.resize_with(self.n, self.v.ncols(), |_, _| 0.0);
+        apply_mass(self.m, self.v.as_ref(), self.mv.as_mut());
+    }
+
+    /// Makes the first `cols` columns of `V` and `M V` addressable (within the capacity; new
+    /// columns zero). The bases grow with the basis instead of being allocated (and their memory
+    /// touched) at the full capacity up front.
+    fn grow_to(&mut self, cols: usize) {
+        if cols > self.v.ncols() {
+            self.v.resize_with(self.n, cols, |_, _| 0.0);
+            self.mv.resize_with(self.n, cols, |_, _| 0.0);
+        }
     }
 
     /// Requests `count` extra random directions in the next block (used when a
@@ -185,6 +206,7 @@ impl<'a> BlockLanczos<'a> {
         progress: &mut dyn FnMut(usize, usize),
     ) -> Result<(RitzPairs, Outcome), FeError> {
         let mut steps = 0usize;
+        self.restore_mass_products();
         if self.next.is_some() {
             // resume after a previous run: apply pending injections, then append
             let (theta, s, _) = self.rayleigh_ritz()?;
@@ -213,7 +235,7 @@ impl<'a> BlockLanczos<'a> {
                 let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &[], p);
                 return Ok((pairs, Outcome::Converged));
             }
-            let pending = self.next.as_ref().map_or(0, |(q, _)| q.ncols());
+            let pending = self.next.as_ref().map_or(0, |(q, _, _)| q.ncols());
             let full =
                 self.used + pending > self.cap || self.used - self.locked + pending > self.window();
             let mut lock = Vec::new();
@@ -256,7 +278,7 @@ impl<'a> BlockLanczos<'a> {
     ) -> Result<Vec<f64>, FeError> {
         for step in 0..steps {
             self.expand(op)?;
-            let pending = self.next.as_ref().map_or(0, |(q, _)| q.ncols());
+            let pending = self.next.as_ref().map_or(0, |(q, _, _)| q.ncols());
             if step + 1 == steps || self.used + pending > self.cap {
                 break;
             }
@@ -278,6 +300,12 @@ impl<'a> BlockLanczos<'a> {
     /// locked pairs the active part stays small.
     fn window(&self) -> usize {
         (ACTIVE_WINDOW_BLOCKS * self.block).max(40)
+    }
+
+    /// [`Self::window`], at least four pending blocks of `bq` columns (a block enlarged by random
+    /// directions after a failed Sturm check must leave room for kept Ritz vectors).
+    fn window_for(&self, bq: usize) -> usize {
+        self.window().max(4 * bq)
     }
 
     /// Eigenvalues of the locked pairs.
@@ -304,8 +332,10 @@ impl<'a> BlockLanczos<'a> {
         self.used = self.locked + b;
         let fill = self.block.min(self.n - self.locked) - b;
         if fill > 0 {
-            let r = self.random_block_against(fill, self.used, None)?;
+            let (r, mr) = self.random_block_against(fill, self.used, None)?;
+            self.grow_to(self.used + fill);
             self.v.as_mut().subcols_mut(self.used, fill).copy_from(&r);
+            self.mv.as_mut().subcols_mut(self.used, fill).copy_from(&mr);
             self.used += fill;
         }
         self.last = self.locked;
@@ -334,6 +364,7 @@ impl<'a> BlockLanczos<'a> {
     /// yet converged: near neighbours, deflated, would keep that pair from converging; with the
     /// new shift they converge again, to the tolerance, in a few steps).
     pub fn reshift(&mut self, unlock_from: f64) {
+        self.restore_mass_products();
         let (l, used) = (self.locked, self.used);
         let keep: Vec<usize> = (0..l)
             .filter(|&i| self.locked_lambda[i] < unlock_from)
@@ -342,8 +373,10 @@ impl<'a> BlockLanczos<'a> {
             .filter(|&i| self.locked_lambda[i] >= unlock_from)
             .collect();
         let order: Vec<usize> = keep.iter().chain(&free).copied().chain(l..used).collect();
-        let v = Mat::from_fn(self.n, used, |i, j| self.v[(i, order[j])]);
-        self.v.as_mut().subcols_mut(0, used).copy_from(&v);
+        for basis in [&mut self.v, &mut self.mv] {
+            let v = Mat::from_fn(self.n, used, |i, j| basis[(i, order[j])]);
+            basis.as_mut().subcols_mut(0, used).copy_from(&v);
+        }
         self.locked_lambda = keep.iter().map(|&i| self.locked_lambda[i]).collect();
         self.locked_res = keep.iter().map(|&i| self.locked_res[i]).collect();
         self.locked = keep.len();
@@ -459,10 +492,9 @@ impl<'a> BlockLanczos<'a> {
         }
         let (ls, used) = (self.last, self.used);
         let bl = used - ls;
-        let mut w = Mat::zeros(self.n, bl);
-        apply_mass(self.m, self.v.subcols(ls, bl), w.as_mut());
+        let mut w = self.mv.subcols(ls, bl).to_owned();
         op.solve_in_place(w.as_mut());
-        let c = self.project_out(&mut w, used);
+        let c = self.project_out(&mut w, used, 2);
         // rows of locked pairs stay zero: their coupling is of the size of their residual
         for j in 0..bl {
             for i in self.locked..used {
@@ -478,12 +510,16 @@ impl<'a> BlockLanczos<'a> {
             }
         }
         let room = self.n - used;
-        let (q, b) = if room == 0 {
-            (Mat::zeros(self.n, 0), Mat::zeros(0, bl))
+        let next = if room == 0 {
+            (
+                Mat::zeros(self.n, 0),
+                Mat::zeros(self.n, 0),
+                Mat::zeros(0, bl),
+            )
         } else {
             self.m_orthonormalize(w, used, room)?
         };
-        self.next = Some((q, b));
+        self.next = Some(next);
         self.inject_into_pending()
     }
 
@@ -494,37 +530,38 @@ impl<'a> BlockLanczos<'a> {
         }
         let used = self.used;
         let room = self.n - used;
-        let Some((q, b)) = self.next.take() else {
+        let Some((q, mq, b)) = self.next.take() else {
             return Ok(());
         };
         let extra = self.inject.min(room.saturating_sub(q.ncols()));
         self.inject = 0;
         if extra == 0 {
-            self.next = Some((q, b));
+            self.next = Some((q, mq, b));
             return Ok(());
         }
-        let r = self.random_block_against(extra, used, Some(q.as_ref()))?;
+        let (r, mr) = self.random_block_against(extra, used, Some((q.as_ref(), mq.as_ref())))?;
         let bl = b.ncols();
         let q = concat_cols(q.as_ref(), r.as_ref());
+        let mq = concat_cols(mq.as_ref(), mr.as_ref());
         let b = concat_rows(b.as_ref(), Mat::zeros(extra, bl).as_ref());
-        self.next = Some((q, b));
+        self.next = Some((q, mq, b));
         Ok(())
     }
 
-    /// `W <- (I - V V^T M) W` twice (CGS2); returns the summed coefficients `V^T M W`.
-    fn project_out(&self, w: &mut Mat<f64>, used: usize) -> Mat<f64> {
+    /// `W <- (I - V V^T M) W`, `passes` times (2: CGS2), the inner products `V^T M W = (M V)^T W` from the
+    /// stored `M V`; returns the summed coefficients `V^T M W`.
+    fn project_out(&self, w: &mut Mat<f64>, used: usize, passes: usize) -> Mat<f64> {
         let bl = w.ncols();
         let mut c = Mat::zeros(used, bl);
-        let mut mw = Mat::zeros(self.n, bl);
         let mut ci = Mat::zeros(used, bl);
         let vb = self.v.subcols(0, used);
-        for _ in 0..2 {
-            apply_mass(self.m, w.as_ref(), mw.as_mut());
+        let mvb = self.mv.subcols(0, used);
+        for _ in 0..passes {
             matmul(
                 ci.as_mut(),
                 Accum::Replace,
-                vb.transpose(),
-                mw.as_ref(),
+                mvb.transpose(),
+                w.as_ref(),
                 1.0,
                 Par::Seq,
             );
@@ -535,42 +572,47 @@ impl<'a> BlockLanczos<'a> {
     }
 
     /// M-orthonormalises `w` (already orthogonal to the first `used` basis vectors):
-    /// `W = Q B` with `Q^T M Q = I`. Numerically dependent directions are dropped
-    /// (zero rows of `B`) and replaced by random directions so the block keeps its size.
+    /// `W = Q B` with `Q^T M Q = I`; returns `(Q, M Q, B)`. Numerically dependent directions are
+    /// dropped (zero rows of `B`) and replaced by random directions so the block keeps its size.
     fn m_orthonormalize(
         &mut self,
         w: Mat<f64>,
         used: usize,
         room: usize,
-    ) -> Result<(Mat<f64>, Mat<f64>), FeError> {
+    ) -> Result<OrthonormalBlock, FeError> {
         let bl = w.ncols();
-        let (q, b) = self.gram_eigen_qr(w, used, 1e-20)?;
+        let (q, mq, b) = self.gram_eigen_qr(w, used, 1e-20)?;
         let r = q.ncols();
         let want = bl.min(room);
         if r >= want {
-            return Ok((q, b));
+            return Ok((q, mq, b));
         }
-        let fill = self.random_block_against(want - r, used, Some(q.as_ref()))?;
+        let (fill, mfill) =
+            self.random_block_against(want - r, used, Some((q.as_ref(), mq.as_ref())))?;
         let q = concat_cols(q.as_ref(), fill.as_ref());
+        let mq = concat_cols(mq.as_ref(), mfill.as_ref());
         let b = concat_rows(b.as_ref(), Mat::zeros(want - r, bl).as_ref());
-        Ok((q, b))
+        Ok((q, mq, b))
     }
 
     /// Eigen-based Cholesky-QR in the M-inner product, done twice (with a
-    /// reprojection against the basis in between). Columns whose Gram eigenvalue
-    /// is below `rel` times the largest column norm squared are dropped.
+    /// reprojection against the basis in between): `(Q, M Q, B)`. Columns whose Gram eigenvalue
+    /// is below `rel` times the largest column norm squared are dropped. `M Q` is the product of
+    /// the second pass's `M W` with its coefficients (one product with `M` per pass).
     fn gram_eigen_qr(
         &self,
         mut w: Mat<f64>,
         used: usize,
         rel: f64,
-    ) -> Result<(Mat<f64>, Mat<f64>), FeError> {
+    ) -> Result<OrthonormalBlock, FeError> {
         let bl = w.ncols();
         let mut b_total = Mat::<f64>::identity(bl, bl);
         let mut ref_norm = None;
+        let mut mq = Mat::zeros(self.n, 0);
         for pass in 0..2 {
             if pass == 1 {
-                let _ = self.project_out(&mut w, used);
+                // Q's components along the basis are round-off: one pass removes them
+                let _ = self.project_out(&mut w, used, 1);
             }
             let mut mw = Mat::zeros(self.n, w.ncols());
             apply_mass(self.m, w.as_ref(), mw.as_mut());
@@ -579,7 +621,11 @@ impl<'a> BlockLanczos<'a> {
             let gmax = (0..g.nrows()).map(|i| g[(i, i)]).fold(0.0f64, f64::max);
             let thr = rel * *ref_norm.get_or_insert(gmax);
             if g.nrows() == 0 || gmax <= 0.0 || !gmax.is_finite() {
-                return Ok((Mat::zeros(self.n, 0), Mat::zeros(0, bl)));
+                return Ok((
+                    Mat::zeros(self.n, 0),
+                    Mat::zeros(self.n, 0),
+                    Mat::zeros(0, bl),
+                ));
             }
             let evd = g.self_adjoint_eigen(Side::Lower).map_err(|e| {
                 FeError::EigenNotConverged(format!("Gram matrix eigen solver failed: {e:?}"))
@@ -594,19 +640,21 @@ impl<'a> BlockLanczos<'a> {
                 u[(j, keep[i])] * evd.S()[keep[i]].sqrt()
             });
             w = &w * &uk;
+            mq = &mw * &uk;
             b_total = &bk * &b_total;
         }
-        Ok((w, b_total))
+        Ok((w, mq, b_total))
     }
 
-    /// `count` random M-orthonormal vectors, orthogonal to the first `used` basis
-    /// vectors and to `extra` (M-orthonormal columns), if given.
+    /// `count` random M-orthonormal vectors and their `M` products, orthogonal to the first
+    /// `used` basis vectors and to `extra` (M-orthonormal columns and their `M` products), if
+    /// given.
     fn random_block_against(
         &mut self,
         count: usize,
         used: usize,
-        extra: Option<MatRef<'_, f64>>,
-    ) -> Result<Mat<f64>, FeError> {
+        extra: Option<(MatRef<'_, f64>, MatRef<'_, f64>)>,
+    ) -> Result<(Mat<f64>, Mat<f64>), FeError> {
         for _attempt in 0..3 {
             let mut r = Mat::from_fn(self.n, count, |_, _| 0.0);
             for j in 0..count {
@@ -615,17 +663,15 @@ impl<'a> BlockLanczos<'a> {
                 }
             }
             for _ in 0..2 {
-                if let Some(x) = extra {
-                    let mut mr = Mat::zeros(self.n, count);
-                    apply_mass(self.m, r.as_ref(), mr.as_mut());
-                    let c = x.transpose() * &mr;
+                if let Some((x, mx)) = extra {
+                    let c = mx.transpose() * &r;
                     r -= x * &c;
                 }
-                let _ = self.project_out(&mut r, used);
+                let _ = self.project_out(&mut r, used, 2);
             }
-            let (q, _) = self.gram_eigen_qr(r, used, 1e-14)?;
+            let (q, mq, _) = self.gram_eigen_qr(r, used, 1e-14)?;
             if q.ncols() == count {
-                return Ok(q);
+                return Ok((q, mq));
             }
         }
         Err(FeError::EigenNotConverged(format!(
@@ -634,7 +680,7 @@ impl<'a> BlockLanczos<'a> {
         )))
     }
 
-    fn random_block(&mut self, count: usize) -> Result<Mat<f64>, FeError> {
+    fn random_block(&mut self, count: usize) -> Result<(Mat<f64>, Mat<f64>), FeError> {
         self.random_block_against(count, 0, None)
     }
 
@@ -650,7 +696,7 @@ impl<'a> BlockLanczos<'a> {
         })?;
         let theta: Vec<f64> = (0..a).rev().map(|i| evd.S()[i]).collect();
         let s = Mat::from_fn(a, a, |i, j| evd.U()[(i, a - 1 - j)]);
-        let (_, b) = self
+        let (_, _, b) = self
             .next
             .as_ref()
             .expect("expand() precedes rayleigh_ritz()");
@@ -672,12 +718,17 @@ impl<'a> BlockLanczos<'a> {
 
     /// The active Ritz vectors `V_active S[:, cols]`.
     fn ritz_vectors(&self, s: MatRef<'_, f64>, cols: &[usize]) -> Mat<f64> {
+        self.active_combination(&self.v, s, cols)
+    }
+
+    /// `B_active S[:, cols]` for the basis `B` (`V` or `M V`).
+    fn active_combination(&self, basis: &Mat<f64>, s: MatRef<'_, f64>, cols: &[usize]) -> Mat<f64> {
         let sc = Mat::from_fn(s.nrows(), cols.len(), |i, j| s[(i, cols[j])]);
         let mut y = Mat::zeros(self.n, cols.len());
         matmul(
             y.as_mut(),
             Accum::Replace,
-            self.v.subcols(self.locked, self.used - self.locked),
+            basis.subcols(self.locked, self.used - self.locked),
             sc.as_ref(),
             1.0,
             Par::Seq,
@@ -698,7 +749,7 @@ impl<'a> BlockLanczos<'a> {
         wanted: usize,
         full: bool,
     ) -> Result<(), FeError> {
-        let (q, _b) = self.next.take().expect("expand() precedes advance()");
+        let (q, mq, _b) = self.next.take().expect("expand() precedes advance()");
         let bq = q.ncols();
         if bq == 0 {
             return Err(FeError::EigenNotConverged(format!(
@@ -710,10 +761,15 @@ impl<'a> BlockLanczos<'a> {
             self.thick_restart(theta, s, lock, wanted, full, bq)?;
         }
         let bq = bq.min(self.cap - self.used);
+        self.grow_to(self.used + bq);
         self.v
             .as_mut()
             .subcols_mut(self.used, bq)
             .copy_from(q.subcols(0, bq));
+        self.mv
+            .as_mut()
+            .subcols_mut(self.used, bq)
+            .copy_from(mq.subcols(0, bq));
         self.last = self.used;
         self.used += bq;
         Ok(())
@@ -737,7 +793,7 @@ impl<'a> BlockLanczos<'a> {
             let open = wanted.saturating_sub(locked_after);
             (open + self.block.max(open / 2))
                 .min(self.cap.saturating_sub(locked_after + 2 * bq))
-                .min(self.window().saturating_sub(2 * bq.max(self.block)))
+                .min(self.window_for(bq).saturating_sub(2 * bq.max(self.block)))
                 .min(rest.len())
         } else {
             rest.len().min(self.cap.saturating_sub(locked_after + bq))
@@ -753,9 +809,10 @@ impl<'a> BlockLanczos<'a> {
             .map(|l| l.0)
             .chain(rest[..keep].iter().copied())
             .collect();
-        let y = self.ritz_vectors(s, &cols);
-        let l = self.locked;
-        self.v.as_mut().subcols_mut(l, cols.len()).copy_from(&y);
+        let sc = Mat::from_fn(s.nrows(), cols.len(), |i, j| s[(i, cols[j])]);
+        let (l, active) = (self.locked, self.used - self.locked);
+        combine_in_place(&mut self.v, l, active, sc.as_ref());
+        combine_in_place(&mut self.mv, l, active, sc.as_ref());
         self.h.fill(0.0);
         for &(_, t, r) in lock {
             self.locked_lambda.push(t);
@@ -768,26 +825,4 @@ impl<'a> BlockLanczos<'a> {
         self.used = locked_after + keep;
         Ok(())
     }
-}
-
-fn concat_cols(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
-    let ca = a.ncols();
-    Mat::from_fn(a.nrows(), ca + b.ncols(), |i, j| {
-        if j < ca {
-            a[(i, j)]
-        } else {
-            b[(i, j - ca)]
-        }
-    })
-}
-
-fn concat_rows(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
-    let ra = a.nrows();
-    Mat::from_fn(ra + b.nrows(), a.ncols(), |i, j| {
-        if i < ra {
-            a[(i, j)]
-        } else {
-            b[(i - ra, j)]
-        }
-    })
 }

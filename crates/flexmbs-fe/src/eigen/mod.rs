@@ -13,6 +13,7 @@
 //! automatic shift is negative, half the lowest nonzero eigenvalue below zero, so
 //! `K - sigma M` stays positive definite.
 
+mod basis;
 mod cholesky;
 mod dense;
 mod driver;
@@ -69,6 +70,12 @@ pub struct EigenOptions {
     pub max_basis: usize,
     /// Verify the number of eigenvalues below a cut by the inertia of `K - b M`.
     pub sturm_check: bool,
+    /// The model is supported (boundary conditions remove its rigid-body motion), so `K` is
+    /// expected positive definite: with the automatic shift the solver first tries `sigma = 0`
+    /// (`K` itself, factored once, a shift below the spectrum at the distance of the lowest
+    /// eigenvalue) and takes the spectrum-probing shift only if `K` does not factor as positive
+    /// definite (a mechanism). `false` (default): the spectrum-probing shift at once.
+    pub supported: bool,
 }
 
 impl Default for EigenOptions {
@@ -82,6 +89,7 @@ impl Default for EigenOptions {
             block_size: 8,
             max_basis: 0,
             sturm_check: true,
+            supported: false,
         }
     }
 }
@@ -140,7 +148,8 @@ pub struct EigenSolution {
     /// `||OP x - theta x||_M / (|theta| ||x||_M)` with `theta = 1 / (lambda - sigma)` and `sigma`
     /// the shift at which the pair converged; it bounds the eigenvalue error,
     /// `|lambda - lambda_exact| <= r |lambda - sigma|` (first order), i.e. relative to the pair's
-    /// own scale (`|lambda - sigma| <= 1.5 |lambda|` for the automatic shift; `|sigma|`, half the
+    /// own scale (`|lambda - sigma| <= 1.5 |lambda|` for the automatic shift, `|lambda|` for a
+    /// supported model started at `sigma = 0`; `|sigma|`, half the
     /// lowest nonzero eigenvalue, for zero-energy modes). The plain residual
     /// `||K x - lambda M x|| / (|lambda| ||M x||)` is not used: evaluating `K x` in floating point
     /// alone errs by `eps |K| |x|`, up to 2e-5 of `|lambda M x|` for the lowest mode of a slender
@@ -152,6 +161,9 @@ pub struct EigenSolution {
     /// Sturm check `(eigenvalues returned below the cut, true count below the cut)`,
     /// `None` for the dense path (all eigenvalues known) or if disabled.
     pub sturm: Option<(usize, usize)>,
+    /// The shift the Lanczos iteration started at (0 for a supported model whose `K` factors,
+    /// see [`EigenOptions::supported`]); the dense path: the automatic shift value.
+    pub start_shift: f64,
 }
 
 /// `K - sigma M` on the union of both sparsity patterns.
@@ -273,14 +285,25 @@ fn validate(k: &SparseMatrix, m: &SparseMatrix) -> Result<(), FeError> {
     Ok(())
 }
 
-/// `max |a_ij - a_ji|` over the stored entries (a missing mirror entry counts as zero), by a
-/// binary search of each mirror entry in its sorted column: no transposed copy of `a`.
+/// `max |a_ij - a_ji|` over the stored entries (a missing mirror entry counts as zero), without
+/// a transposed copy of `a`: the mirror of entry `(i, j)` is row `j` of column `i`, and for a
+/// fixed column `i` the rows asked for grow with `j`, so one cursor per column finds every mirror
+/// in a single pass (rows sorted, [`rows_sorted`]).
 fn max_asymmetry(a: &SparseMatrix) -> f64 {
+    let mut cursor = vec![0usize; a.ncols()];
     let mut asym = 0.0f64;
     for j in 0..a.ncols() {
         for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
             let rows = a.row_idx_of_col_raw(i);
-            let mirror = rows.binary_search(&j).map_or(0.0, |p| a.val_of_col(i)[p]);
+            let c = &mut cursor[i];
+            while *c < rows.len() && rows[*c] < j {
+                *c += 1;
+            }
+            let mirror = if rows.get(*c) == Some(&j) {
+                a.val_of_col(i)[*c]
+            } else {
+                0.0
+            };
             asym = asym.max((v - mirror).abs());
         }
     }
@@ -386,6 +409,7 @@ pub fn lowest_modes(
             vectors: Mat::zeros(n, 0),
             residuals: vec![],
             sturm: None,
+            start_shift: 0.0,
         });
     }
     let dense = match opts.method {
@@ -410,6 +434,7 @@ pub fn lowest_modes(
             vectors: x,
             residuals: res,
             sturm: None,
+            start_shift: sigma,
         });
     }
     lanczos_solution(k, m, opts, progress)

@@ -76,6 +76,8 @@ pub(super) fn shift_invert_residuals(
     x: &mut Mat<f64>,
 ) -> (Vec<f64>, Vec<f64>) {
     let (n, p) = (x.nrows(), x.ncols());
+    // two n x p buffers besides x (the peak memory of the modal analysis is near): `mx` holds
+    // M x, later M s
     let mut mx = Mat::zeros(n, p);
     apply_mass(m, x.as_ref(), mx.as_mut());
     let mut w = mx.clone();
@@ -95,7 +97,7 @@ pub(super) fn shift_invert_residuals(
         }
     }
     // w now holds the residual vectors s = OP x - theta x
-    let mut ms = Mat::zeros(n, p);
+    let mut ms = mx;
     apply_mass(m, w.as_ref(), ms.as_mut());
     let mut res = Vec::with_capacity(p);
     for j in 0..p {

@@ -648,3 +648,104 @@ fn symmetric_block_product_matches_faer() {
         assert!((&y - &r).norm_max() <= 1e-13 * r.norm_max(), "p = {p}");
     }
 }
+
+/// A supported model (`EigenOptions::supported`) starts at `sigma = 0`; the same problem without
+/// the hint starts at the spectrum-probing shift below zero; both match the dense eigenvalues to
+/// 1e-9 with the Sturm check passing. A singular `K` (free-free lattice) with the hint falls back
+/// to the negative shift and still finds its six rigid-body modes.
+#[test]
+fn supported_models_start_at_zero_shift() {
+    let (k, m) = grid_model(6, false);
+    let (ld, _) = dense_generalized(k.to_dense().as_ref(), m.to_dense().as_ref()).unwrap();
+    for supported in [true, false] {
+        let opts = EigenOptions {
+            supported,
+            ..lanczos_opts(20)
+        };
+        let sol = lowest_modes(&k, &m, &opts, &mut |_| {}).unwrap();
+        if supported {
+            assert_eq!(sol.start_shift, 0.0);
+        } else {
+            assert!(sol.start_shift < 0.0, "shift {}", sol.start_shift);
+        }
+        for i in 0..20 {
+            assert!(
+                rel_err(sol.omega2[i], ld[i], ld[i]) < 1e-9,
+                "supported={supported} mode {i}: {} vs {}",
+                sol.omega2[i],
+                ld[i]
+            );
+        }
+        assert!(sol.sturm.is_some_and(|(a, b)| a == b));
+        assert!(m_orthonormality(&m, &sol.vectors) < 1e-10);
+    }
+    let (k, m) = spring_lattice(5, |_| 2.0);
+    let opts = EigenOptions {
+        supported: true,
+        ..lanczos_opts(12)
+    };
+    let sol = lowest_modes(&k, &m, &opts, &mut |_| {}).unwrap();
+    assert!(sol.start_shift < 0.0, "shift {}", sol.start_shift);
+    let l7 = sol.omega2[6];
+    assert!(sol.omega2[..6].iter().all(|w| w.abs() < 1e-8 * l7));
+}
+
+/// The ordering read from the patterns of `K` and `M` (whose patterns differ: the grid's `M`
+/// couples equal directions only) is the ordering of the formed union `K - s M`, so the DOFs of
+/// a node stay one METIS vertex.
+#[test]
+fn metis_on_two_patterns_equals_metis_on_their_union() {
+    let (k, m) = grid_model(8, false);
+    let union = shifted(&k, &m, 1.0).unwrap();
+    let a = super::cholesky::metis_nested_dissection(&union).unwrap();
+    let b = super::cholesky::metis_on_patterns(&[&k, &m]).unwrap();
+    assert_eq!(a.arrays().0, b.arrays().0);
+    let m_alone = super::cholesky::metis_nested_dissection(&m).unwrap();
+    assert_ne!(
+        a.arrays().0,
+        m_alone.arrays().0,
+        "the test must see M's pattern"
+    );
+}
+
+/// The solve with a factor on an ordered pattern (rows permuted in place, no copy) equals the
+/// solve of faer's own ordering of the same matrix to 1e-12, for 1, 8 and 13 right-hand sides.
+#[test]
+fn ordered_pattern_solve_permutes_in_place() {
+    let (k, m) = grid_model(7, false);
+    let sigma = -0.1;
+    let ordered = SparseCholesky::factor_shifted_observed(&k, &m, sigma, &mut |_, _| {}).unwrap();
+    let plain = SparseCholesky::factor(&shifted(&k, &m, sigma).unwrap()).unwrap();
+    let n = k.nrows();
+    for p in [1, 8, 13] {
+        let b = Mat::from_fn(n, p, |i, j| ((i * 7 + j * 13) % 17) as f64 - 8.0);
+        let (mut x1, mut x2) = (b.clone(), b.clone());
+        ordered.solve_in_place(x1.as_mut());
+        plain.solve_in_place(x2.as_mut());
+        let scale = x2.norm_max();
+        assert!((&x1 - &x2).norm_max() < 1e-12 * scale);
+    }
+}
+
+/// The one-pass asymmetry measure: zero for the symmetric grid matrix, the difference for a
+/// mirror pair with different values, the value for an entry without a mirror.
+#[test]
+fn asymmetry_finds_differing_and_missing_mirrors() {
+    let (k, _) = grid_model(3, false);
+    assert_eq!(super::max_asymmetry(&k), 0.0);
+    let mut t: Vec<_> = k
+        .triplet_iter()
+        .map(|t| Triplet::new(t.row, t.col, *t.val))
+        .collect();
+    t.push(Triplet::new(0, 5, 0.25));
+    assert!((super::max_asymmetry(&sparse(k.nrows(), &t)) - 0.25).abs() < 1e-15);
+    let lone = [
+        Triplet::new(0, 0, 1.0),
+        Triplet::new(1, 1, 1.0),
+        Triplet::new(2, 2, 1.0),
+        Triplet::new(2, 0, 0.5),
+        Triplet::new(1, 2, 0.125),
+        Triplet::new(2, 1, 0.125),
+    ];
+    assert_eq!(super::max_asymmetry(&sparse(3, &lone)), 0.5);
+}
