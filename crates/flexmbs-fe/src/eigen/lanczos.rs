@@ -414,16 +414,20 @@ impl<'a> BlockLanczos<'a> {
         cand: &[usize],
         tol: f64,
     ) -> Vec<(usize, f64, f64)> {
-        if cand.is_empty() {
-            return Vec::new();
+        // one block of candidates at a time: the check's vectors (three n x block arrays) stay
+        // small beside the basis whatever the number of candidates
+        let mut out = Vec::new();
+        for part in cand.chunks(self.block.max(1)) {
+            let mut y = self.ritz_vectors(s, part);
+            let (lam, res) = shift_invert_residuals(op, self.m, sigma, &mut y);
+            out.extend(
+                part.iter()
+                    .zip(lam.iter().zip(&res))
+                    .filter(|(_, (_, &r))| r <= tol)
+                    .map(|(&j, (&l, &r))| (j, l, r)),
+            );
         }
-        let mut y = self.ritz_vectors(s, cand);
-        let (lam, res) = shift_invert_residuals(op, self.m, sigma, &mut y);
-        cand.iter()
-            .zip(lam.iter().zip(&res))
-            .filter(|(_, (_, &r))| r <= tol)
-            .map(|(&j, (&l, &r))| (j, l, r))
-            .collect()
+        out
     }
 
     /// The leading `p` pairs of the merged list.
