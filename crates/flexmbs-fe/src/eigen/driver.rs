@@ -21,7 +21,7 @@ pub(super) fn lanczos_solution(
     let n = k.nrows();
     let nm = opts.n_modes;
     let b = opts.block_size.max(1);
-    let (mut chol, sigma, probe) = start(k, m, opts, progress)?;
+    let (mut chol, sigma, probe) = start(k, m, opts, b, progress)?;
     let sigma0 = sigma;
     let mut need = nm;
     let cap = basis_cap(opts).max(need + 3 * b);
@@ -159,6 +159,7 @@ fn start<'a>(
     k: &SparseMatrix,
     m: &'a SparseMatrix,
     opts: &EigenOptions,
+    block: usize,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<(SparseCholesky, f64, Option<BlockLanczos<'a>>), FeError> {
     if let Some(s) = opts.shift {
@@ -174,7 +175,7 @@ fn start<'a>(
     if opts.supported && used == 0 {
         return Ok((chol, 0.0, None));
     }
-    let (sigma, probe) = shift::spectrum_shift(k, m, &mut chol, safe, opts.block_size.max(1))?;
+    let (sigma, probe) = shift::spectrum_shift(k, m, &mut chol, safe, block)?;
     Ok((chol, sigma, probe))
 }
 
