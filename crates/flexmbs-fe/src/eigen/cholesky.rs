@@ -18,25 +18,43 @@ use faer::{Conj, MatMut, Par, Side, Spec};
 
 use crate::{FeError, SparseMatrix};
 
-/// Serializes the calls into METIS (see [`metis_on_patterns`]).
-static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// Matrices below this dimension are ordered with faer's AMD instead of METIS.
-const METIS_MIN_DIM: usize = 64;
+use super::ordering::{
+    amd_ordering, metis_nested_dissection, metis_on_patterns, metis_two_domains, TwoDomains,
+    METIS_MIN_DIM,
+};
+use super::split::{self, SplitFactor, SPLIT_MIN_DIM};
 
 /// Sparse `L L^T` factorization of a symmetric positive definite matrix
 /// (faer supernodal/simplicial Cholesky, METIS `NodeND` ordering, AMD fallback).
 #[derive(Debug)]
 pub struct SparseCholesky {
+    factor: Factor,
+    pattern_nnz: usize,
+    /// The storage holds something else than the `L L^T` factor (an `L D L^T` of the Sturm
+    /// check).
+    stale: bool,
+    /// The storage holds an `L D L^T` factor for solves ([`Self::factor_ldlt_in_place`]).
+    ldlt: bool,
+}
+
+/// The storage of a [`SparseCholesky`].
+#[derive(Debug)]
+enum Factor {
+    /// One faer factor of the whole matrix.
+    One(Box<OneFactor>),
+    /// Two domains and their separator, on two threads ([`super::split`]; large factors of
+    /// `K - s M`).
+    Split(Box<SplitFactor>),
+}
+
+/// faer's factor of the whole matrix.
+#[derive(Debug)]
+struct OneFactor {
     symbolic: SymbolicCholesky<usize>,
     values: Vec<f64>,
-    pattern_nnz: usize,
-    /// `values` hold something else than the `L L^T` factor (an `L D L^T` of the Sturm check).
-    stale: bool,
-    /// `values` hold an `L D L^T` factor for solves ([`Self::factor_ldlt_in_place`]).
-    ldlt: bool,
-    /// Factors of `K - s M` ([`Self::factor_shifted_observed`]): the ordered lower pattern that
-    /// the symbolic analysis (identity ordering) was made on; solves apply its ordering.
+    /// Factors of `K - s M` ([`SparseCholesky::factor_shifted_observed`]): the ordered lower
+    /// pattern that the symbolic analysis (identity ordering) was made on; solves apply its
+    /// ordering.
     shifted: Option<ShiftedPattern>,
 }
 
@@ -47,20 +65,22 @@ pub struct SparseCholesky {
 /// already ordered matrix and the identity ordering it reads it in place, and a new shift only
 /// refills the values ([`Self::values`]). At the Sturm check the modal analysis thus holds one
 /// lower triangle of values instead of two matrices (the shifted one and faer's permuted copy).
+/// A pattern may also cover a subset of the unknowns (the halves of [`super::split`]): `fwd`
+/// lists the subset, `inv` is `usize::MAX` outside it.
 #[derive(Debug)]
-struct ShiftedPattern {
+pub(super) struct ShiftedPattern {
     /// `fwd[new] = old`.
-    fwd: Vec<usize>,
+    pub(super) fwd: Vec<usize>,
     /// `inv[old] = new`.
     inv: Vec<usize>,
-    symbolic: faer::sparse::SymbolicSparseColMat<usize>,
+    pub(super) symbolic: faer::sparse::SymbolicSparseColMat<usize>,
 }
 
 impl ShiftedPattern {
     /// Calls `f(row, col, k, m)` for every entry of the ordered lower triangle (new indices,
     /// `row >= col`) in a fixed order, rows increasing, so that each column receives its rows
     /// sorted. Entry `(new i, new r)` takes the stored entry `(r, i)` of column `i` of `K` and
-    /// `M` (symmetric matrices).
+    /// `M` (symmetric matrices). Rows outside the subset (`inv = usize::MAX`) are skipped.
     fn for_each(
         k: &SparseMatrix,
         m: &SparseMatrix,
@@ -95,8 +115,13 @@ impl ShiftedPattern {
         }
     }
 
-    fn new(k: &SparseMatrix, m: &SparseMatrix, fwd: Vec<usize>, inv: Vec<usize>) -> Self {
-        let n = k.ncols();
+    pub(super) fn new(
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        fwd: Vec<usize>,
+        inv: Vec<usize>,
+    ) -> Self {
+        let n = fwd.len();
         let mut col_ptr = vec![0usize; n + 1];
         Self::for_each(k, m, &fwd, &inv, |_, c, _, _| col_ptr[c + 1] += 1);
         for j in 0..n {
@@ -113,7 +138,12 @@ impl ShiftedPattern {
     }
 
     /// The values of the ordered lower triangle of `K - s M`, in the order of the pattern.
-    fn values(&self, k: &SparseMatrix, m: &SparseMatrix, s: f64) -> Result<Vec<f64>, FeError> {
+    pub(super) fn values(
+        &self,
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        s: f64,
+    ) -> Result<Vec<f64>, FeError> {
         let mut values = zeros_or_refused(self.nnz())?;
         let mut cursor = self.symbolic.col_ptr()[..self.fwd.len()].to_vec();
         Self::for_each(k, m, &self.fwd, &self.inv, |_, c, x, y| {
@@ -123,12 +153,12 @@ impl ShiftedPattern {
         Ok(values)
     }
 
-    fn nnz(&self) -> usize {
+    pub(super) fn nnz(&self) -> usize {
         self.symbolic.row_idx().len()
     }
 
     /// The transposed (upper triangle) pattern, rows sorted.
-    fn upper(&self) -> faer::sparse::SymbolicSparseColMat<usize> {
+    pub(super) fn upper(&self) -> faer::sparse::SymbolicSparseColMat<usize> {
         let n = self.fwd.len();
         let (col_ptr, rows) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
         let mut up_ptr = vec![0usize; n + 1];
@@ -207,7 +237,15 @@ impl SparseCholesky {
         on_estimate: &mut dyn FnMut(usize, u64),
     ) -> Result<(Self, usize), FeError> {
         // the ordering reads the union of the patterns of K and M (the values do not matter)
-        let perm = if k.nrows() >= METIS_MIN_DIM {
+        let perm = if k.nrows() >= SPLIT_MIN_DIM {
+            match metis_two_domains(&[k, m]) {
+                Some((p, d)) if split::accept(&d) => {
+                    return Self::split_first_definite(k, m, p, d, shifts, on_estimate)
+                }
+                Some((p, _)) => Some(p),
+                None => metis_on_patterns(&[k, m]),
+            }
+        } else if k.nrows() >= METIS_MIN_DIM {
             metis_on_patterns(&[k, m])
         } else {
             None
@@ -248,12 +286,43 @@ impl SparseCholesky {
         }
         let used = result?;
         let chol = Self {
-            symbolic,
-            values: factor,
             pattern_nnz: pattern.nnz(),
+            factor: Factor::One(Box::new(OneFactor {
+                symbolic,
+                values: factor,
+                shifted: Some(pattern),
+            })),
             stale: false,
             ldlt: false,
-            shifted: Some(pattern),
+        };
+        Ok((chol, used))
+    }
+
+    /// [`Self::factor_first_definite`] in two domains ([`super::split`]) with the ordering
+    /// `perm` of [`metis_two_domains`].
+    fn split_first_definite(
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        perm: Perm<usize>,
+        domains: TwoDomains,
+        shifts: &[f64],
+        on_estimate: &mut dyn FnMut(usize, u64),
+    ) -> Result<(Self, usize), FeError> {
+        let (fwd, _) = perm.as_ref().arrays();
+        let mut factor = SplitFactor::new(k, m, fwd, domains, on_estimate)?;
+        let mut result = Err(FeError::Invalid("no shift to factor K - s M at".into()));
+        for (i, &s) in shifts.iter().enumerate() {
+            result = factor.factor_llt(k, m, s).map(|()| i);
+            if result.is_ok() {
+                break;
+            }
+        }
+        let used = result?;
+        let chol = Self {
+            factor: Factor::Split(Box::new(factor)),
+            pattern_nnz: usize::MAX,
+            stale: false,
+            ldlt: false,
         };
         Ok((chol, used))
     }
@@ -286,12 +355,14 @@ impl SparseCholesky {
         );
         match res {
             Ok(_) => Ok(Self {
-                symbolic,
-                values,
+                factor: Factor::One(Box::new(OneFactor {
+                    symbolic,
+                    values,
+                    shifted: None,
+                })),
                 pattern_nnz: a.compute_nnz(),
                 stale: false,
                 ldlt: false,
-                shifted: None,
             }),
             Err(e) => Err(FeError::NotPositiveDefinite {
                 what: format!("sparse matrix of dimension {}", a.nrows()),
@@ -310,52 +381,21 @@ impl SparseCholesky {
             !self.stale,
             "solve with a factor overwritten by a Sturm check"
         );
+        let f = match &self.factor {
+            Factor::One(f) => f,
+            Factor::Split(f) => return f.solve_in_place(rhs),
+        };
         let par = Par::Seq;
-        let Some(pattern) = &self.shifted else {
-            self.solve_ordered(rhs, par);
+        let Some(pattern) = &f.shifted else {
+            f.solve_ordered(self.ldlt, rhs, par);
             return;
         };
         // the symbolic analysis has the identity ordering: the pattern's ordering is applied here,
         // in place (no copy of the right-hand sides)
         let mut rhs = rhs;
         permute_rows_in_place(rhs.as_mut(), &pattern.fwd);
-        self.solve_columns_split(rhs.as_mut(), par);
+        f.solve_columns_split(self.ldlt, rhs.as_mut(), par);
         permute_rows_in_place(rhs.as_mut(), &pattern.inv);
-    }
-
-    /// [`Self::solve_ordered`] of the two halves of the columns, on two threads. The halves are
-    /// the same on every machine (faer's kernels round differently for different numbers of
-    /// columns, so the split is fixed, not taken from the machine's threads): the result does
-    /// not depend on the machine. The solve reads the factor from memory once per half; two
-    /// threads share that bandwidth better than one (60k-DOF bench: 5.6 -> 5.2 s).
-    fn solve_columns_split(&self, rhs: MatMut<'_, f64>, par: Par) {
-        let p = rhs.ncols();
-        if p < 2 {
-            self.solve_ordered(rhs, par);
-            return;
-        }
-        let (left, right) = rhs.split_at_col_mut(p / 2);
-        std::thread::scope(|s| {
-            let h = s.spawn(|| self.solve_ordered(right, par));
-            self.solve_ordered(left, par);
-            h.join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        });
-    }
-
-    /// The solve with faer's factor (and faer's ordering, if any).
-    fn solve_ordered(&self, rhs: MatMut<'_, f64>, par: Par) {
-        let req = self
-            .symbolic
-            .solve_in_place_scratch::<f64>(rhs.ncols(), par);
-        let mut mem = MemBuffer::new(req);
-        if self.ldlt {
-            let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(&self.symbolic, &self.values);
-            ldlt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
-        } else {
-            let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.values);
-            llt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
-        }
     }
 
     /// The storage holds the `L D L^T` of a Sturm check instead of this factor
@@ -364,14 +404,63 @@ impl SparseCholesky {
         self.stale
     }
 
+    /// Whether the factor is held in two domains ([`super::split`]).
+    #[cfg(test)]
+    pub(crate) fn is_split(&self) -> bool {
+        matches!(self.factor, Factor::Split(_))
+    }
+
     /// Dimension of the factored matrix.
     pub fn dim(&self) -> usize {
-        self.symbolic.nrows()
+        match &self.factor {
+            Factor::One(f) => f.symbolic.nrows(),
+            Factor::Split(f) => f.dim(),
+        }
     }
 
     /// Number of stored entries of the factor `L`.
     pub fn nnz_l(&self) -> usize {
-        self.symbolic.len_val()
+        match &self.factor {
+            Factor::One(f) => f.symbolic.len_val(),
+            Factor::Split(f) => f.nnz_l(),
+        }
+    }
+}
+
+impl OneFactor {
+    /// [`Self::solve_ordered`] of the two halves of the columns, on two threads. The halves are
+    /// the same on every machine (faer's kernels round differently for different numbers of
+    /// columns, so the split is fixed, not taken from the machine's threads): the result does
+    /// not depend on the machine. The solve reads the factor from memory once per half; two
+    /// threads share that bandwidth better than one (60k-DOF bench: 5.6 -> 5.2 s).
+    fn solve_columns_split(&self, ldlt: bool, rhs: MatMut<'_, f64>, par: Par) {
+        let p = rhs.ncols();
+        if p < 2 {
+            self.solve_ordered(ldlt, rhs, par);
+            return;
+        }
+        let (left, right) = rhs.split_at_col_mut(p / 2);
+        std::thread::scope(|s| {
+            let h = s.spawn(|| self.solve_ordered(ldlt, right, par));
+            self.solve_ordered(ldlt, left, par);
+            h.join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        });
+    }
+
+    /// The solve with faer's factor (and faer's ordering, if any).
+    fn solve_ordered(&self, ldlt: bool, rhs: MatMut<'_, f64>, par: Par) {
+        let req = self
+            .symbolic
+            .solve_in_place_scratch::<f64>(rhs.ncols(), par);
+        let mut mem = MemBuffer::new(req);
+        if ldlt {
+            let ldlt = faer::sparse::linalg::cholesky::LdltRef::new(&self.symbolic, &self.values);
+            ldlt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+        } else {
+            let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.values);
+            llt.solve_in_place_with_conj(Conj::No, rhs, par, MemStack::new(&mut mem));
+        }
     }
 }
 
@@ -408,19 +497,19 @@ fn permute_rows_in_place(mut a: MatMut<'_, f64>, from: &[usize]) {
 }
 
 /// Bytes of a factor with `nnz_l` stored entries and a workspace of `scratch` bytes.
-fn factor_bytes(nnz_l: usize, scratch: usize) -> u64 {
+pub(super) fn factor_bytes(nnz_l: usize, scratch: usize) -> u64 {
     8 * nnz_l as u64 + scratch as u64
 }
 
 /// `n` zeros, or an error instead of an abort when the allocation fails.
-fn zeros_or_refused(n: usize) -> Result<Vec<f64>, FeError> {
+pub(super) fn zeros_or_refused(n: usize) -> Result<Vec<f64>, FeError> {
     let mut v = Vec::new();
     v.try_reserve_exact(n).map_err(|_| oom())?;
     v.resize(n, 0.0);
     Ok(v)
 }
 
-fn oom() -> FeError {
+pub(super) fn oom() -> FeError {
     FeError::Invalid("out of memory in sparse factorization".into())
 }
 
@@ -454,148 +543,9 @@ fn symbolic_factor(a: &SparseMatrix) -> Result<SymbolicCholesky<usize>, FeError>
     sym.map_err(|e| FeError::Invalid(format!("symbolic Cholesky analysis failed: {e:?}")))
 }
 
-/// faer's AMD ordering of the pattern of `a` (full storage).
-fn amd_ordering(a: &SparseMatrix) -> Result<Perm<usize>, FeError> {
-    let sym = factorize_symbolic_cholesky(
-        a.symbolic(),
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        CholeskySymbolicParams::default(),
-    )
-    .map_err(|e| FeError::Invalid(format!("symbolic Cholesky analysis failed: {e:?}")))?;
-    let n = a.nrows();
-    Ok(match sym.perm() {
-        Some(p) => {
-            let (fwd, inv) = p.arrays();
-            Perm::new_checked(fwd.into(), inv.into(), n)
-        }
-        None => Perm::new_checked((0..n).collect(), (0..n).collect(), n),
-    })
-}
-
-/// Fill-reducing permutation from `METIS_NodeND` on the adjacency graph of `a`
-/// (diagonal excluded). Consecutive columns with identical patterns (the DOFs of
-/// one FE node) are compressed into one weighted graph vertex first.
-///
-/// Returns `None` if the graph has no edges, is too large for METIS' 32-bit
-/// indices, or METIS reports an error; the caller then falls back to AMD.
-pub(crate) fn metis_nested_dissection(a: &SparseMatrix) -> Option<Perm<usize>> {
-    metis_on_patterns(&[a])
-}
-
-/// [`metis_nested_dissection`] of the union of the patterns of `mats` (same dimension, e.g. `K`
-/// and `M` for the ordering of `K - s M`), read from the matrices without forming the union.
-/// Consecutive columns are one supervariable if their patterns are equal in every matrix.
-pub(crate) fn metis_on_patterns(mats: &[&SparseMatrix]) -> Option<Perm<usize>> {
-    let n = mats.first()?.nrows();
-    if mats.iter().any(|a| a.nrows() != n || a.ncols() != n) {
-        return None;
-    }
-    // 1. supervariables: runs of consecutive columns with identical row patterns.
-    let mut group_of = vec![0usize; n];
-    let mut group_start = vec![0usize];
-    let (mut prev, mut cur) = (Vec::new(), Vec::new());
-    union_rows(mats, 0, &mut prev);
-    for (j, g) in group_of.iter_mut().enumerate().skip(1) {
-        union_rows(mats, j, &mut cur);
-        if cur != prev {
-            group_start.push(j);
-        }
-        std::mem::swap(&mut prev, &mut cur);
-        *g = group_start.len() - 1;
-    }
-    let ng = group_start.len();
-    group_start.push(n);
-    // 2. compressed graph (CSR, no self loops, no duplicates).
-    let mut xadj: Vec<i32> = Vec::with_capacity(ng + 1);
-    let mut adjncy: Vec<i32> = Vec::new();
-    let mut mark = vec![usize::MAX; ng];
-    xadj.push(0);
-    for g in 0..ng {
-        mark[g] = g;
-        let first = adjncy.len();
-        for a in mats {
-            for &i in a.row_idx_of_col_raw(group_start[g]) {
-                let h = group_of[i];
-                if mark[h] != g {
-                    mark[h] = g;
-                    adjncy.push(i32::try_from(h).ok()?);
-                }
-            }
-        }
-        // ascending, as read from one pattern (METIS' result depends on the order)
-        if mats.len() > 1 {
-            adjncy[first..].sort_unstable();
-        }
-        xadj.push(i32::try_from(adjncy.len()).ok()?);
-    }
-    if adjncy.is_empty() {
-        return None;
-    }
-    let mut vwgt: Vec<i32> = (0..ng)
-        .map(|g| i32::try_from(group_start[g + 1] - group_start[g]).unwrap_or(i32::MAX))
-        .collect();
-    let mut nvtxs = i32::try_from(ng).ok()?;
-    let mut options = [0i32; metis_sys::METIS_NOPTIONS as usize];
-    let mut perm = vec![0i32; ng];
-    let mut iperm = vec![0i32; ng];
-    // SAFETY: METIS_SetDefaultOptions writes exactly METIS_NOPTIONS entries; METIS_NodeND
-    // reads nvtxs+1 entries of xadj, xadj[nvtxs] entries of adjncy and nvtxs of vwgt,
-    // and writes nvtxs entries of perm and iperm. All buffers have these sizes, the
-    // graph is symmetric without self loops (built above from a symmetric pattern),
-    // and none of the pointers is retained after the calls return.
-    // METIS keeps its random generator in process-global state: calls from two threads at once
-    // (parallel tests, a Python sweep) would race and make the ordering depend on timing
-    let _metis = METIS_LOCK
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
-    let status = unsafe {
-        metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
-        metis_sys::METIS_NodeND(
-            &mut nvtxs,
-            xadj.as_mut_ptr(),
-            adjncy.as_mut_ptr(),
-            vwgt.as_mut_ptr(),
-            options.as_mut_ptr(),
-            perm.as_mut_ptr(),
-            iperm.as_mut_ptr(),
-        )
-    };
-    if status != metis_sys::rstatus_et_METIS_OK {
-        return None;
-    }
-    // METIS: row i of the permuted matrix is row perm[i] of the original (faer's `forward`).
-    let mut fwd = Vec::with_capacity(n);
-    for &g in &perm {
-        let g = usize::try_from(g).ok()?;
-        fwd.extend(group_start[g]..group_start[g + 1]);
-    }
-    let mut inv = vec![0usize; n];
-    for (new, &old) in fwd.iter().enumerate() {
-        inv[old] = new;
-    }
-    Some(Perm::new_checked(
-        fwd.into_boxed_slice(),
-        inv.into_boxed_slice(),
-        n,
-    ))
-}
-
-/// The sorted union of the row indices of column `j` of `mats` (sorted rows each) into `out`.
-fn union_rows(mats: &[&SparseMatrix], j: usize, out: &mut Vec<usize>) {
-    out.clear();
-    for a in mats {
-        out.extend_from_slice(a.row_idx_of_col_raw(j));
-    }
-    if mats.len() > 1 {
-        out.sort_unstable();
-        out.dedup();
-    }
-}
-
 /// Inertia of a symmetric matrix: numbers of negative, (numerically) zero and
 /// positive pivots of `L D L^T` (Sylvester's law of inertia).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Inertia {
     /// Number of negative pivots = number of negative eigenvalues.
     pub negative: usize,
@@ -603,6 +553,19 @@ pub struct Inertia {
     pub near_zero: usize,
     /// Number of positive pivots.
     pub positive: usize,
+}
+
+impl Inertia {
+    /// Counts the pivot `d`: near zero if `|d| <= tiny` or not finite.
+    pub(super) fn count(&mut self, d: f64, tiny: f64) {
+        if d.abs() <= tiny || !d.is_finite() {
+            self.near_zero += 1;
+        } else if d < 0.0 {
+            self.negative += 1;
+        } else {
+            self.positive += 1;
+        }
+    }
 }
 
 /// Inertia of the symmetric matrix `a` from a sparse `L D L^T` factorization without
@@ -636,28 +599,39 @@ impl SparseCholesky {
         a: &SparseMatrix,
     ) -> Result<Option<Inertia>, FeError> {
         // a factor on an ordered pattern reads matrices in its own ordering only
-        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz || self.shifted.is_some() {
-            return ldlt_inertia(a);
+        let fits = a.nrows() == self.dim() && a.compute_nnz() <= self.pattern_nnz;
+        match &mut self.factor {
+            Factor::One(f) if fits && f.shifted.is_none() => {
+                self.stale = true;
+                inertia_with_symbolic(&f.symbolic, a.as_ref(), &mut f.values)
+            }
+            _ => ldlt_inertia(a),
         }
-        self.stale = true;
-        inertia_with_symbolic(&self.symbolic, a.as_ref(), &mut self.values)
     }
 
     /// [`Self::inertia_in_place`] of `K - b M` for a factor of [`Self::factor_shifted_observed`]
-    /// (the values refilled into its ordered pattern); other factors build [`super::shifted_lower`].
+    /// (the values refilled into its ordered pattern; two domains: their own `L D L^T`); other
+    /// factors build [`super::shifted_lower`].
     pub(crate) fn inertia_shifted_in_place(
         &mut self,
         k: &SparseMatrix,
         m: &SparseMatrix,
         b: f64,
     ) -> Result<Option<Inertia>, FeError> {
-        let Some(pattern) = &self.shifted else {
+        let f = match &mut self.factor {
+            Factor::Split(f) => {
+                self.stale = true;
+                return f.factor_ldlt(k, m, b);
+            }
+            Factor::One(f) => f,
+        };
+        let Some(pattern) = &f.shifted else {
             return self.inertia_in_place(&super::shifted_lower(k, m, b)?);
         };
-        let values = pattern.values(k, m, b)?;
-        let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &values);
+        let lower = pattern.values(k, m, b)?;
+        let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &lower);
         self.stale = true;
-        inertia_with_symbolic(&self.symbolic, a, &mut self.values)
+        inertia_with_symbolic(&f.symbolic, a, &mut f.values)
     }
 
     /// [`Self::factor_ldlt_in_place`] of `K - s M` (see [`Self::inertia_shifted_in_place`]).
@@ -667,14 +641,11 @@ impl SparseCholesky {
         m: &SparseMatrix,
         s: f64,
     ) -> Result<Option<Inertia>, FeError> {
-        let Some(pattern) = &self.shifted else {
+        if matches!(&self.factor, Factor::One(f) if f.shifted.is_none()) {
             return self.factor_ldlt_in_place(&super::shifted_lower(k, m, s)?);
-        };
-        let values = pattern.values(k, m, s)?;
-        let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &values);
-        self.stale = true;
+        }
         self.ldlt = false;
-        let inertia = inertia_with_symbolic(&self.symbolic, a, &mut self.values)?;
+        let inertia = self.inertia_shifted_in_place(k, m, s)?;
         if inertia.is_some() {
             self.stale = false;
             self.ldlt = true;
@@ -689,12 +660,17 @@ impl SparseCholesky {
         m: &SparseMatrix,
         s: f64,
     ) -> Result<(), FeError> {
-        let Some(pattern) = &self.shifted else {
-            return self.refactor(&super::shifted_lower(k, m, s)?);
-        };
-        let values = pattern.values(k, m, s)?;
-        let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &values);
-        refactor_llt(&self.symbolic, a, &mut self.values)?;
+        match &mut self.factor {
+            Factor::Split(f) => f.factor_llt(k, m, s)?,
+            Factor::One(f) => {
+                let Some(pattern) = &f.shifted else {
+                    return self.refactor(&super::shifted_lower(k, m, s)?);
+                };
+                let lower = pattern.values(k, m, s)?;
+                let a = faer::sparse::SparseColMatRef::new(pattern.symbolic.as_ref(), &lower);
+                refactor_llt(&f.symbolic, a, &mut f.values)?;
+            }
+        }
         self.stale = false;
         self.ldlt = false;
         Ok(())
@@ -708,14 +684,18 @@ impl SparseCholesky {
         &mut self,
         a: &SparseMatrix,
     ) -> Result<Option<Inertia>, FeError> {
-        if a.nrows() != self.dim() || a.compute_nnz() > self.pattern_nnz || self.shifted.is_some() {
-            return Err(FeError::Invalid(
-                "L D L^T pattern outside the factored pattern".into(),
-            ));
-        }
+        let fits = a.nrows() == self.dim() && a.compute_nnz() <= self.pattern_nnz;
+        let f = match &mut self.factor {
+            Factor::One(f) if fits && f.shifted.is_none() => f,
+            _ => {
+                return Err(FeError::Invalid(
+                    "L D L^T pattern outside the factored pattern".into(),
+                ))
+            }
+        };
         self.stale = true;
         self.ldlt = false;
-        let inertia = inertia_with_symbolic(&self.symbolic, a.as_ref(), &mut self.values)?;
+        let inertia = inertia_with_symbolic(&f.symbolic, a.as_ref(), &mut f.values)?;
         if inertia.is_some() {
             self.stale = false;
             self.ldlt = true;
@@ -726,12 +706,15 @@ impl SparseCholesky {
     /// Numeric `L L^T` factorization of `a` (full storage or its lower triangle, pattern within
     /// the original one) into this factor's storage, reusing the symbolic analysis.
     pub(crate) fn refactor(&mut self, a: &SparseMatrix) -> Result<(), FeError> {
-        if self.shifted.is_some() {
-            return Err(FeError::Invalid(
-                "refactor of a factor on an ordered pattern: use refactor_shifted".into(),
-            ));
-        }
-        refactor_llt(&self.symbolic, a.as_ref(), &mut self.values)?;
+        let f = match &mut self.factor {
+            Factor::One(f) if f.shifted.is_none() => f,
+            _ => {
+                return Err(FeError::Invalid(
+                    "refactor of a factor on an ordered pattern: use refactor_shifted".into(),
+                ))
+            }
+        };
+        refactor_llt(&f.symbolic, a.as_ref(), &mut f.values)?;
         self.stale = false;
         self.ldlt = false;
         Ok(())
@@ -739,7 +722,7 @@ impl SparseCholesky {
 }
 
 /// Numeric `L L^T` of `a` into `values` with the symbolic analysis `symbolic`.
-fn refactor_llt(
+pub(super) fn refactor_llt(
     symbolic: &SymbolicCholesky<usize>,
     a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     values: &mut [f64],
@@ -796,25 +779,15 @@ fn inertia_with_symbolic(
         })
         .fold(0.0f64, f64::max);
     let tiny = 1e-13 * scale;
-    let mut inertia = Inertia {
-        negative: 0,
-        near_zero: 0,
-        positive: 0,
-    };
+    let mut inertia = Inertia::default();
     for d in diag {
-        if d.abs() <= tiny || !d.is_finite() {
-            inertia.near_zero += 1;
-        } else if d < 0.0 {
-            inertia.negative += 1;
-        } else {
-            inertia.positive += 1;
-        }
+        inertia.count(d, tiny);
     }
     Ok(Some(inertia))
 }
 
 /// Extracts the pivots `D` of an `L D L^T` factor stored by faer.
-fn ldlt_diagonal(symbolic: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
+pub(super) fn ldlt_diagonal(symbolic: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
     match symbolic.raw() {
         SymbolicCholeskyRaw::Simplicial(s) => {
             // column j of the simplicial factor starts with its diagonal entry (which holds d_j)

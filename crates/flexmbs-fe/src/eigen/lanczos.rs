@@ -17,7 +17,7 @@
 //! modes converge with a bounded basis.
 
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatRef, Par, Side};
+use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
 
 use super::basis::{combine_in_place, concat_cols, concat_rows, empty_columns, SplitMix};
 use super::cholesky::SparseCholesky;
@@ -250,6 +250,17 @@ impl<'a> BlockLanczos<'a> {
                     .collect();
                 lock = self.verify(op, sigma, s.as_ref(), &cand, tol);
                 stalled = lock.len() < cand.len();
+                let verified = |q: &Pair| match *q {
+                    Pair::Locked(_) => true,
+                    Pair::Active(j) => lock.iter().any(|l| l.0 == j),
+                };
+                if !stalled && order[..want].iter().all(verified) {
+                    // every wanted pair has passed its explicit check: done, without the
+                    // restart that would lock them (the next block stays pending: a run resumed
+                    // after a Sturm check starts from this Krylov space and checks them again)
+                    let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, p);
+                    return Ok((pairs, Outcome::Converged));
+                }
             }
             if stalled || steps >= max_steps {
                 let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, p);
@@ -557,20 +568,10 @@ impl<'a> BlockLanczos<'a> {
     fn project_out(&self, w: &mut Mat<f64>, used: usize, passes: usize) -> Mat<f64> {
         let bl = w.ncols();
         let mut c = Mat::zeros(used, bl);
-        let mut ci = Mat::zeros(used, bl);
         let vb = self.v.subcols(0, used);
         let mvb = self.mv.subcols(0, used);
         for _ in 0..passes {
-            matmul(
-                ci.as_mut(),
-                Accum::Replace,
-                mvb.transpose(),
-                w.as_ref(),
-                1.0,
-                Par::Seq,
-            );
-            matmul(w.as_mut(), Accum::Add, vb, ci.as_ref(), -1.0, Par::Seq);
-            c += &ci;
+            c += project_out_once(vb, mvb, w.as_mut());
         }
         c
     }
@@ -829,4 +830,63 @@ impl<'a> BlockLanczos<'a> {
         self.used = locked_after + keep;
         Ok(())
     }
+}
+
+/// Bases from this many rows are orthogonalised on two threads.
+const PARALLEL_ROWS: usize = 20_000;
+
+/// One classical Gram-Schmidt pass `W <- W - V C`, `C = (M V)^T W`; returns `C`. From
+/// [`PARALLEL_ROWS`] on, the two halves of the rows run on two threads (fixed halves, partial
+/// products summed in a fixed order: the result does not depend on the machine).
+fn project_out_once(v: MatRef<'_, f64>, mv: MatRef<'_, f64>, mut w: MatMut<'_, f64>) -> Mat<f64> {
+    let (n, used, bl) = (w.nrows(), v.ncols(), w.ncols());
+    let mut c = Mat::zeros(used, bl);
+    if n < PARALLEL_ROWS {
+        matmul(
+            c.as_mut(),
+            Accum::Replace,
+            mv.transpose(),
+            w.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        matmul(w.as_mut(), Accum::Add, v, c.as_ref(), -1.0, Par::Seq);
+        return c;
+    }
+    let h = n / 2;
+    let mut c2 = Mat::zeros(used, bl);
+    std::thread::scope(|s| {
+        let (w1, w2) = (w.as_ref().subrows(0, h), w.as_ref().subrows(h, n - h));
+        let (mv1, mv2) = (mv.subrows(0, h), mv.subrows(h, n - h));
+        let c2 = &mut c2;
+        let t = s.spawn(move || {
+            matmul(
+                c2.as_mut(),
+                Accum::Replace,
+                mv2.transpose(),
+                w2,
+                1.0,
+                Par::Seq,
+            )
+        });
+        matmul(
+            c.as_mut(),
+            Accum::Replace,
+            mv1.transpose(),
+            w1,
+            1.0,
+            Par::Seq,
+        );
+        t.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+    });
+    c += &c2;
+    let (w1, w2) = w.split_at_row_mut(h);
+    let (v1, v2) = (v.subrows(0, h), v.subrows(h, n - h));
+    let cr = c.as_ref();
+    std::thread::scope(|s| {
+        let t = s.spawn(move || matmul(w2, Accum::Add, v2, cr, -1.0, Par::Seq));
+        matmul(w1, Accum::Add, v1, cr, -1.0, Par::Seq);
+        t.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+    });
+    c
 }

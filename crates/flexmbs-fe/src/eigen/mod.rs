@@ -19,7 +19,9 @@ mod dense;
 mod driver;
 mod lanczos;
 mod ops;
+mod ordering;
 mod shift;
+mod split;
 #[cfg(test)]
 mod tests;
 

@@ -2,6 +2,7 @@
 //! can change in one place) and the per-pair convergence measure: the explicit residual of the
 //! shift-inverted operator.
 
+use faer::reborrow::ReborrowMut;
 use faer::{Mat, MatMut, MatRef};
 
 use super::cholesky::SparseCholesky;
@@ -20,18 +21,24 @@ pub(super) fn apply_stiffness(k: &SparseMatrix, x: MatRef<'_, f64>, out: MatMut<
 /// Columns of `x` per pass of [`symmetric_block_product`] (one Lanczos block).
 const PASS_COLS: usize = 8;
 
+/// Rows from which the products run on two threads (each row is computed the same way on either
+/// thread: the result does not depend on it).
+const PARALLEL_ROWS: usize = 4096;
+
 /// `out = A x` for a symmetric `A` in full storage, read as `A^T x`: row `j` of the product is the
 /// dot product of column `j` of `A` with the rows of `x`, so each pass over the matrix serves
 /// [`PASS_COLS`] columns of `x` (stored row by row) and writes every output entry once. faer's
 /// compressed-column product scatters one column of `x` per pass over the matrix, eight passes for
 /// a Lanczos block: this is the same arithmetic with an eighth of the memory traffic. `A` is
 /// symmetric to the validation tolerance (1e-10 relative, [`super::lowest_modes`]); the factorization
-/// reads its lower triangle only, so neither product is more exact than the other. Sequential and
-/// in a fixed order: the result does not depend on the machine's threads.
-fn symmetric_block_product(a: &SparseMatrix, x: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
+/// reads its lower triangle only, so neither product is more exact than the other. The two halves
+/// of the rows run on two threads; every entry is one dot product in a fixed order, so the result
+/// does not depend on the machine's threads.
+fn symmetric_block_product(a: &SparseMatrix, x: MatRef<'_, f64>, out: MatMut<'_, f64>) {
     let (n, p) = (x.nrows(), x.ncols());
     assert!(a.nrows() == n && a.ncols() == n && out.nrows() == n && out.ncols() == p);
     let mut xt = vec![0.0f64; n * PASS_COLS];
+    let mut out = out;
     for c0 in (0..p).step_by(PASS_COLS) {
         let w = PASS_COLS.min(p - c0);
         for c in 0..w {
@@ -40,19 +47,38 @@ fn symmetric_block_product(a: &SparseMatrix, x: MatRef<'_, f64>, mut out: MatMut
                 xt[i * PASS_COLS + c] = xc[i];
             }
         }
-        for j in 0..n {
-            let mut acc = [0.0f64; PASS_COLS];
-            for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-                let xi: &[f64; PASS_COLS] = xt[i * PASS_COLS..(i + 1) * PASS_COLS]
-                    .try_into()
-                    .expect("row of PASS_COLS entries");
-                for c in 0..PASS_COLS {
-                    acc[c] += v * xi[c];
-                }
+        let block = out.rb_mut().subcols_mut(c0, w);
+        if n < PARALLEL_ROWS {
+            product_rows(a, &xt, 0, block);
+            continue;
+        }
+        let (top, bottom) = block.split_at_row_mut(n / 2);
+        let xt = &xt;
+        std::thread::scope(|s| {
+            let h = s.spawn(move || product_rows(a, xt, n / 2, bottom));
+            product_rows(a, xt, 0, top);
+            h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+        });
+    }
+}
+
+/// Rows `first..first + out.nrows()` of [`symmetric_block_product`] (`xt`: the pass's columns of
+/// `x`, row by row).
+fn product_rows(a: &SparseMatrix, xt: &[f64], first: usize, mut out: MatMut<'_, f64>) {
+    let w = out.ncols();
+    for r in 0..out.nrows() {
+        let j = first + r;
+        let mut acc = [0.0f64; PASS_COLS];
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            let xi: &[f64; PASS_COLS] = xt[i * PASS_COLS..(i + 1) * PASS_COLS]
+                .try_into()
+                .expect("row of PASS_COLS entries");
+            for c in 0..PASS_COLS {
+                acc[c] += v * xi[c];
             }
-            for c in 0..w {
-                out[(j, c0 + c)] = acc[c];
-            }
+        }
+        for c in 0..w {
+            out[(r, c)] = acc[c];
         }
     }
 }

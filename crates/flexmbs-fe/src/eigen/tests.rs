@@ -398,7 +398,7 @@ fn sparse_cholesky_solves_multi_rhs() {
 fn metis_ordering_is_valid_and_reduces_fill() {
     use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymmetricOrdering};
     let (k, _) = grid_model(12, false);
-    let p = super::cholesky::metis_nested_dissection(&k).expect("METIS must succeed");
+    let p = super::ordering::metis_nested_dissection(&k).expect("METIS must succeed");
     let (fwd, inv) = p.as_ref().arrays();
     assert_eq!(fwd.len(), k.nrows());
     assert!((0..fwd.len()).all(|i| inv[fwd[i]] == i));
@@ -627,12 +627,13 @@ fn ordered_pattern_factor_matches_faer_ordering() {
 }
 
 /// The block product with a symmetric matrix equals faer's sparse product (to round-off: the
-/// summation order differs), for block widths below, at and above one pass.
+/// summation order differs), for block widths below, at and above one pass, on one thread and
+/// (5184 rows) on two.
 #[test]
 fn symmetric_block_product_matches_faer() {
-    let (k, _) = grid_model(4, false);
-    let n = k.nrows();
-    for p in [1, 8, 11] {
+    for (nx, p) in [(4, 1), (4, 8), (4, 11), (12, 11)] {
+        let (k, _) = grid_model(nx, false);
+        let n = k.nrows();
         let x = Mat::<f64>::from_fn(n, p, |i, j| ((i * 5 + j * 13) as f64).cos());
         let mut y = Mat::zeros(n, p);
         apply_stiffness(&k, x.as_ref(), y.as_mut());
@@ -645,7 +646,10 @@ fn symmetric_block_product_matches_faer() {
             1.0,
             faer::Par::Seq,
         );
-        assert!((&y - &r).norm_max() <= 1e-13 * r.norm_max(), "p = {p}");
+        assert!(
+            (&y - &r).norm_max() <= 1e-13 * r.norm_max(),
+            "n = {n}, p = {p}"
+        );
     }
 }
 
@@ -690,10 +694,10 @@ fn supported_models_start_at_zero_shift() {
 fn metis_on_two_patterns_equals_metis_on_their_union() {
     let (k, m) = grid_model(8, false);
     let union = shifted(&k, &m, 1.0).unwrap();
-    let a = super::cholesky::metis_nested_dissection(&union).unwrap();
-    let b = super::cholesky::metis_on_patterns(&[&k, &m]).unwrap();
+    let a = super::ordering::metis_nested_dissection(&union).unwrap();
+    let b = super::ordering::metis_on_patterns(&[&k, &m]).unwrap();
     assert_eq!(a.arrays().0, b.arrays().0);
-    let m_alone = super::cholesky::metis_nested_dissection(&m).unwrap();
+    let m_alone = super::ordering::metis_nested_dissection(&m).unwrap();
     assert_ne!(
         a.arrays().0,
         m_alone.arrays().0,
@@ -741,4 +745,90 @@ fn asymmetry_finds_differing_and_missing_mirrors() {
         Triplet::new(2, 1, 0.125),
     ];
     assert_eq!(super::max_asymmetry(&sparse(3, &lone)), 0.5);
+}
+
+/// The two-domain factorization (METIS' top bisection, halves factored on two threads, dense
+/// Schur complement of the separator) solves like one factorization of the whole matrix and
+/// counts eigenvalues below a cut (Sturm) like one `L D L^T`: `L L^T` below the spectrum, `L D
+/// L^T` inside it (solves with the indefinite matrix), refactorization bit for bit; consistent
+/// and lumped `M`.
+#[test]
+fn two_domain_factor_matches_one_factor() {
+    for lumped in [false, true] {
+        let (k, m) = grid_model(9, lumped);
+        let n = k.nrows();
+        let (perm, d) = super::ordering::metis_two_domains(&[&k, &m]).expect("two domains");
+        assert!(
+            d.first > n / 4 && d.second > n / 4 && d.separator > 0,
+            "{d:?}"
+        );
+        assert_eq!(d.first + d.second + d.separator, n);
+        let (fwd, _) = perm.as_ref().arrays();
+        let mut split = super::split::SplitFactor::new(&k, &m, fwd, d, &mut |_, _| {}).unwrap();
+        assert_eq!(split.dim(), n);
+        let sigma = -1.0;
+        split.factor_llt(&k, &m, sigma).unwrap();
+        let full = shifted(&k, &m, sigma).unwrap();
+        let one = SparseCholesky::factor(&full).unwrap();
+        let b = Mat::<f64>::from_fn(n, 5, |i, j| ((i * 7 + j * 3) as f64).sin());
+        let mut x = b.clone();
+        split.solve_in_place(x.as_mut());
+        let mut xr = b.clone();
+        one.solve_in_place(xr.as_mut());
+        assert!(
+            (&x - &xr).norm_max() <= 1e-12 * xr.norm_max(),
+            "lumped {lumped}"
+        );
+        for cut in [0.5, 3.1, 8.7] {
+            let a = shifted(&k, &m, cut).unwrap();
+            let expected = ldlt_inertia(&a).unwrap().unwrap();
+            let counted = split.factor_ldlt(&k, &m, cut).unwrap().unwrap();
+            assert_eq!(counted, expected, "lumped {lumped}, cut {cut}");
+            assert!(counted.negative > 0 && counted.near_zero == 0);
+            let mut y = b.clone();
+            split.solve_in_place(y.as_mut());
+            let mut ay = Mat::zeros(n, 5);
+            faer::sparse::linalg::matmul::sparse_dense_matmul(
+                ay.as_mut(),
+                faer::Accum::Replace,
+                a.as_ref(),
+                y.as_ref(),
+                1.0,
+                faer::Par::Seq,
+            );
+            assert!((&ay - &b).norm_max() <= 1e-9 * b.norm_max(), "cut {cut}");
+        }
+        split.factor_llt(&k, &m, sigma).unwrap();
+        let mut x2 = b.clone();
+        split.solve_in_place(x2.as_mut());
+        assert_eq!(x2, x, "refactor restores the factor bit for bit");
+        // K - s M above the lowest eigenvalue is not positive definite
+        assert!(matches!(
+            split.factor_llt(&k, &m, 3.1),
+            Err(FeError::NotPositiveDefinite { .. })
+        ));
+    }
+}
+
+/// From `SPLIT_MIN_DIM` unknowns the Lanczos driver factors in two domains (a 24 000-DOF grid
+/// whose separator is a twentieth of it): the lowest eigenvalues match the closed form to 1e-9,
+/// the Sturm check passes, the vectors are M-orthonormal.
+#[test]
+fn large_models_use_two_domains_and_match_the_closed_form() {
+    let nx = 20;
+    let (k, m) = grid_model(nx, false);
+    assert!(k.nrows() >= super::split::SPLIT_MIN_DIM);
+    let chol = SparseCholesky::factor_shifted_observed(&k, &m, 0.0, &mut |_, _| {}).unwrap();
+    assert!(chol.is_split(), "the grid splits in two domains");
+    drop(chol);
+    let opts = EigenOptions {
+        supported: true,
+        ..lanczos_opts(12)
+    };
+    let sol = lowest_modes(&k, &m, &opts, &mut |_| {}).unwrap();
+    assert_eigenvalues_match(&sol, &grid_exact(nx, false, 12), 12, "two domains");
+    // the count is taken at the first gap after the 12th eigenvalue (a cluster ends at 15)
+    let (below, found) = sol.sturm.expect("Sturm check");
+    assert!(below >= 12 && found == below, "{below} {found}");
+    assert!(m_orthonormality(&m, &sol.vectors) < 1e-10);
 }
