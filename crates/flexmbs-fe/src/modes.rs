@@ -1,6 +1,7 @@
 //! Mode bookkeeping: rigid-body mode recognition, dominant direction and effective modal mass.
 
 use crate::reduction::ModeLabel;
+use crate::eigen::symmetric_product;
 use crate::system::{sparse_times, FeSystem};
 use faer::prelude::Solve;
 use faer::{Mat, MatRef};
@@ -17,9 +18,9 @@ pub const RIGID_MODE_TOLERANCE: f64 = 1e-6;
 pub fn label_modes(sys: &FeSystem, x: MatRef<'_, f64>, omega2: &[f64]) -> Vec<ModeLabel> {
     let (_, c) = sys.mass_and_center();
     let r = sys.rigid_body_vectors(c);
-    let mr = sparse_times(&sys.m, r.as_ref());
+    let mr = symmetric_product(&sys.m, r.as_ref());
     let rmr = mr.transpose() * &r;
-    let mx = sparse_times(&sys.m, x);
+    let mx = symmetric_product(&sys.m, x);
     let gamma = r.transpose() * &mx; // 6 x k
     let names = ["ux", "uy", "uz", "rx", "ry", "rz"];
     let rigid = rigid_mode_flags(rmr.as_ref(), gamma.as_ref(), x, mx.as_ref());

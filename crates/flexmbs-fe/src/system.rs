@@ -47,8 +47,13 @@ impl FeSystem {
                 "assembled matrices are not numbered like the mesh's DOFs".into(),
             ));
         }
-        let k = map.project(&a.k)?;
-        let m = map.project(&a.m)?;
+        // K and M projected on two threads
+        let (k, m) = std::thread::scope(|s| {
+            let h = s.spawn(|| map.project(&a.m));
+            let k = map.project(&a.k);
+            (k, h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+        });
+        let (k, m) = (k?, m?);
         let node_masses = lumped_node_masses(a, map.nodes.len());
         Ok(Self {
             map,

@@ -33,11 +33,22 @@ impl Filling {
         })
     }
 
-    fn add(&mut self, p: usize, v: f64) {
-        if v != 0.0 {
-            self.values[p] += v;
-            self.hit[p] = true;
-        }
+    /// The entries `0..at` and `at..` as two parts that can be filled on two threads.
+    fn split_at(&mut self, at: usize) -> (FillingPart<'_>, FillingPart<'_>) {
+        let (v1, v2) = self.values.split_at_mut(at);
+        let (h1, h2) = self.hit.split_at_mut(at);
+        (
+            FillingPart {
+                values: v1,
+                hit: h1,
+                offset: 0,
+            },
+            FillingPart {
+                values: v2,
+                hit: h2,
+                offset: at,
+            },
+        )
     }
 
     /// The matrix of the entries that received a nonzero contribution (pattern compacted).
@@ -65,6 +76,22 @@ impl Filling {
         values.shrink_to_fit();
         let symbolic = SymbolicSparseColMat::new_checked(n, n, ptr, None, rows);
         Ok(SparseColMat::new(symbolic, values))
+    }
+}
+
+/// The entries `offset..offset + values.len()` of a [`Filling`].
+struct FillingPart<'a> {
+    values: &'a mut [f64],
+    hit: &'a mut [bool],
+    offset: usize,
+}
+
+impl FillingPart<'_> {
+    fn add(&mut self, p: usize, v: f64) {
+        if v != 0.0 {
+            self.values[p - self.offset] += v;
+            self.hit[p - self.offset] = true;
+        }
     }
 }
 
@@ -144,6 +171,8 @@ pub(crate) fn assemble_direct(
     dofs: &DofMap,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(SparseMatrix, SparseMatrix), FeError> {
+    let t0 = std::time::Instant::now();
+    let tr = std::env::var_os("FLEXMBS_TRACE").is_some();
     let adjacency = node_elements(mesh);
     let col_ptr = pattern_col_ptr(mesh, dofs, &adjacency, |_, _| {});
     let nnz = col_ptr.last().copied().unwrap_or(0);
@@ -165,20 +194,47 @@ pub(crate) fn assemble_direct(
     });
     drop(adjacency);
     let pattern = Pattern { col_ptr, row_idx };
+    if tr { eprintln!("TEMP pattern {:.3}", t0.elapsed().as_secs_f64()); }
     let mut k = Filling::new(nnz)?;
     let mut m = Filling::new(nnz)?;
+    if tr { eprintln!("TEMP fillings {:.3}", t0.elapsed().as_secs_f64()); }
+    let mut tc = 0.0; let mut ts = 0.0;
     let ne = mesh.elements.len();
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get().min(MAX_WORKERS));
+    // the columns of the nodes from `split` on (about half the entries) are filled on a second
+    // thread; every entry still receives its contributions in element order
+    let split = (0..mesh.nodes.len())
+        .find(|&node| pattern.col_ptr[dofs.first[node]] >= nnz / 2)
+        .map_or(dofs.len, |node| dofs.first[node]);
+    let at = pattern.col_ptr[split];
     for c0 in (0..ne).step_by(CHUNK) {
         let c1 = (c0 + CHUNK).min(ne);
+        let t1 = std::time::Instant::now();
         let ems = element_matrices_parallel(mesh, c0..c1, mass, workers)?;
-        for (ei, em) in (c0..c1).zip(&ems) {
-            scatter_element(&pattern, dofs, &mesh.elements[ei], em, (&mut k, &mut m))?;
-        }
+        tc += t1.elapsed().as_secs_f64();
+        let t1 = std::time::Instant::now();
+        let ((k1, k2), (m1, m2)) = (k.split_at(at), m.split_at(at));
+        let elements = &mesh.elements[c0..c1];
+        let pattern = &pattern;
+        std::thread::scope(|s| {
+            let h = s.spawn(|| scatter_columns(pattern, dofs, elements, &ems, split.., (k2, m2)));
+            let r = scatter_columns(pattern, dofs, elements, &ems, ..split, (k1, m1));
+            h.join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+                .and(r)
+        })?;
+        ts += t1.elapsed().as_secs_f64();
         progress(c1, ne);
     }
-    let k = k.finish(&pattern)?;
-    let m = m.finish(&pattern)?;
+    if tr { eprintln!("TEMP chunks {:.3} compute {tc:.3} scatter {ts:.3}", t0.elapsed().as_secs_f64()); }
+    // K and M compacted on two threads
+    let (k, m) = std::thread::scope(|s| {
+        let h = s.spawn(|| m.finish(&pattern));
+        let k = k.finish(&pattern);
+        (k, h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+    });
+    let (k, m) = (k?, m?);
+    if tr { eprintln!("TEMP finish {:.3}", t0.elapsed().as_secs_f64()); }
     Ok((k, m))
 }
 
@@ -222,30 +278,37 @@ fn element_matrices_parallel(
     })
 }
 
-/// Adds one element's matrices into `K` and `M`. Every DOF column of a node has the node's
+/// Adds the element matrices `ems` of `elements` (in order) into the columns `cols` of `K` and
+/// `M` (parts holding those columns' entries). Every DOF column of a node has the node's
 /// neighbour rows (each neighbour's DOFs contiguous), so one search per node pair locates the
 /// whole `npn x npn` block.
-fn scatter_element(
+fn scatter_columns(
     pattern: &Pattern,
     dofs: &DofMap,
-    el: &crate::mesh::Element,
-    em: &ElementMatrices,
-    (k, m): (&mut Filling, &mut Filling),
+    elements: &[crate::mesh::Element],
+    ems: &[ElementMatrices],
+    cols: impl std::ops::RangeBounds<usize>,
+    (mut k, mut m): (FillingPart<'_>, FillingPart<'_>),
 ) -> Result<(), FeError> {
-    let npn = el.kind.dofs_per_node();
-    for (jb, &nb) in el.nodes.iter().enumerate() {
-        let cb = dofs.first[nb];
-        let start = pattern.col_ptr[cb];
-        let rows = &pattern.row_idx[start..pattern.col_ptr[cb + 1]];
-        for (ja, &na) in el.nodes.iter().enumerate() {
-            let ra = dofs.first[na];
-            let off = rows.binary_search(&ra).map_err(|_| pattern_error(ra, cb))?;
-            for db in 0..npn {
-                let base = pattern.col_ptr[cb + db] + off;
-                for da in 0..npn {
-                    let (a, b) = (ja * npn + da, jb * npn + db);
-                    k.add(base + da, em.k[(a, b)]);
-                    m.add(base + da, em.m[(a, b)]);
+    for (el, em) in elements.iter().zip(ems) {
+        let npn = el.kind.dofs_per_node();
+        for (jb, &nb) in el.nodes.iter().enumerate() {
+            let cb = dofs.first[nb];
+            if !cols.contains(&cb) {
+                continue;
+            }
+            let start = pattern.col_ptr[cb];
+            let rows = &pattern.row_idx[start..pattern.col_ptr[cb + 1]];
+            for (ja, &na) in el.nodes.iter().enumerate() {
+                let ra = dofs.first[na];
+                let off = rows.binary_search(&ra).map_err(|_| pattern_error(ra, cb))?;
+                for db in 0..npn {
+                    let base = pattern.col_ptr[cb + db] + off;
+                    for da in 0..npn {
+                        let (a, b) = (ja * npn + da, jb * npn + db);
+                        k.add(base + da, em.k[(a, b)]);
+                        m.add(base + da, em.m[(a, b)]);
+                    }
                 }
             }
         }

@@ -34,6 +34,16 @@ use crate::{FeError, SparseMatrix};
 use driver::lanczos_solution;
 use ops::{apply_mass, apply_stiffness};
 
+/// `A X` for a symmetric `A` in full storage (symmetric to round-off, as `K` and `M`): a pass
+/// over `A` serves eight columns of `X`, the rows split between two threads (the result does not
+/// depend on the machine). For many columns this is several times faster than a
+/// compressed-column product.
+pub fn symmetric_product(a: &SparseMatrix, x: faer::MatRef<'_, f64>) -> Mat<f64> {
+    let mut out = Mat::zeros(a.nrows(), x.ncols());
+    apply_stiffness(a, x, out.as_mut());
+    out
+}
+
 /// Which algorithm [`lowest_modes`] uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum EigenMethod {
@@ -260,29 +270,40 @@ fn validate(k: &SparseMatrix, m: &SparseMatrix) -> Result<(), FeError> {
             m.ncols()
         )));
     }
-    for (name, a) in [("K", k), ("M", m)] {
-        if !rows_sorted(a) {
-            return Err(FeError::Invalid(format!(
-                "{name} has unsorted or duplicate row indices"
-            )));
-        }
-        let amax = a.val().iter().fold(0.0f64, |s, v| s.max(v.abs()));
-        if !amax.is_finite() {
-            return Err(FeError::Invalid(format!("{name} has non-finite entries")));
-        }
-        let asym = max_asymmetry(a);
-        if asym > 1e-10 * amax {
-            return Err(FeError::Invalid(format!(
-                "{name} is not symmetric: max |a_ij - a_ji| = {asym:e} (max |a_ij| = {amax:e})"
-            )));
-        }
-    }
+    // K and M checked on two threads
+    let (rk, rm) = std::thread::scope(|s| {
+        let h = s.spawn(|| check_symmetric("M", m));
+        let rk = check_symmetric("K", k);
+        (rk, h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+    });
+    rk?;
+    rm?;
     let d = diagonal(m);
     if let Some((i, v)) = d.iter().enumerate().find(|(_, v)| **v <= 0.0) {
         return Err(FeError::NotPositiveDefinite {
             what: "mass matrix M".into(),
             hint: format!(": diagonal entry {i} is {v:e} (must be > 0)"),
         });
+    }
+    Ok(())
+}
+
+/// Sorted rows, finite values and symmetry (relative tolerance 1e-10) of the matrix `name`.
+fn check_symmetric(name: &str, a: &SparseMatrix) -> Result<(), FeError> {
+    if !rows_sorted(a) {
+        return Err(FeError::Invalid(format!(
+            "{name} has unsorted or duplicate row indices"
+        )));
+    }
+    let amax = a.val().iter().fold(0.0f64, |s, v| s.max(v.abs()));
+    if !amax.is_finite() {
+        return Err(FeError::Invalid(format!("{name} has non-finite entries")));
+    }
+    let asym = max_asymmetry(a);
+    if asym > 1e-10 * amax {
+        return Err(FeError::Invalid(format!(
+            "{name} is not symmetric: max |a_ij - a_ji| = {asym:e} (max |a_ij| = {amax:e})"
+        )));
     }
     Ok(())
 }
