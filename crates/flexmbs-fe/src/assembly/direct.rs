@@ -171,8 +171,6 @@ pub(crate) fn assemble_direct(
     dofs: &DofMap,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(SparseMatrix, SparseMatrix), FeError> {
-    let t0 = std::time::Instant::now();
-    let tr = std::env::var_os("FLEXMBS_TRACE").is_some();
     let adjacency = node_elements(mesh);
     let col_ptr = pattern_col_ptr(mesh, dofs, &adjacency, |_, _| {});
     let nnz = col_ptr.last().copied().unwrap_or(0);
@@ -194,11 +192,8 @@ pub(crate) fn assemble_direct(
     });
     drop(adjacency);
     let pattern = Pattern { col_ptr, row_idx };
-    if tr { eprintln!("TEMP pattern {:.3}", t0.elapsed().as_secs_f64()); }
     let mut k = Filling::new(nnz)?;
     let mut m = Filling::new(nnz)?;
-    if tr { eprintln!("TEMP fillings {:.3}", t0.elapsed().as_secs_f64()); }
-    let mut tc = 0.0; let mut ts = 0.0;
     let ne = mesh.elements.len();
     let workers = std::thread::available_parallelism().map_or(1, |n| n.get().min(MAX_WORKERS));
     // the columns of the nodes from `split` on (about half the entries) are filled on a second
@@ -209,10 +204,7 @@ pub(crate) fn assemble_direct(
     let at = pattern.col_ptr[split];
     for c0 in (0..ne).step_by(CHUNK) {
         let c1 = (c0 + CHUNK).min(ne);
-        let t1 = std::time::Instant::now();
         let ems = element_matrices_parallel(mesh, c0..c1, mass, workers)?;
-        tc += t1.elapsed().as_secs_f64();
-        let t1 = std::time::Instant::now();
         let ((k1, k2), (m1, m2)) = (k.split_at(at), m.split_at(at));
         let elements = &mesh.elements[c0..c1];
         let pattern = &pattern;
@@ -223,10 +215,8 @@ pub(crate) fn assemble_direct(
                 .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
                 .and(r)
         })?;
-        ts += t1.elapsed().as_secs_f64();
         progress(c1, ne);
     }
-    if tr { eprintln!("TEMP chunks {:.3} compute {tc:.3} scatter {ts:.3}", t0.elapsed().as_secs_f64()); }
     // K and M compacted on two threads
     let (k, m) = std::thread::scope(|s| {
         let h = s.spawn(|| m.finish(&pattern));
@@ -234,7 +224,6 @@ pub(crate) fn assemble_direct(
         (k, h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
     });
     let (k, m) = (k?, m?);
-    if tr { eprintln!("TEMP finish {:.3}", t0.elapsed().as_secs_f64()); }
     Ok((k, m))
 }
 
