@@ -1,7 +1,7 @@
 //! Mode bookkeeping: rigid-body mode recognition, dominant direction and effective modal mass.
 
-use crate::reduction::ModeLabel;
 use crate::eigen::symmetric_product;
+use crate::reduction::ModeLabel;
 use crate::system::{sparse_times, FeSystem};
 use faer::prelude::Solve;
 use faer::{Mat, MatRef};

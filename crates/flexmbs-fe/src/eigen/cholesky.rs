@@ -19,10 +19,9 @@ use faer::{Conj, MatMut, Par, Side, Spec};
 use crate::{FeError, SparseMatrix};
 
 use super::ordering::{
-    amd_ordering, metis_nested_dissection, metis_on_patterns, metis_two_domains, TwoDomains,
-    METIS_MIN_DIM,
+    metis_nested_dissection, shifted_ordering, FillOrdering, TwoDomains, METIS_MIN_DIM,
 };
-use super::split::{self, SplitFactor, SPLIT_MIN_DIM};
+use super::split::SplitFactor;
 
 /// Sparse `L L^T` factorization of a symmetric positive definite matrix
 /// (faer supernodal/simplicial Cholesky, METIS `NodeND` ordering, AMD fallback).
@@ -223,36 +222,30 @@ impl SparseCholesky {
         sigma: f64,
         on_estimate: &mut dyn FnMut(usize, u64),
     ) -> Result<Self, FeError> {
-        Self::factor_first_definite(k, m, &[sigma], on_estimate).map(|(chol, _)| chol)
+        Self::factor_first_definite(k, m, &[sigma], None, on_estimate).map(|(chol, _)| chol)
     }
 
     /// [`Self::factor_shifted_observed`] for the first shift of `shifts` at which `K - s M` is
     /// positive definite, and its index: one ordering and symbolic analysis serve every attempt
     /// (a failed attempt costs one numeric factorization). The error of the last attempt if none
     /// is.
+    /// The ordering is `ordering` if given (from [`shifted_ordering`]), computed otherwise.
     pub(crate) fn factor_first_definite(
         k: &SparseMatrix,
         m: &SparseMatrix,
         shifts: &[f64],
+        ordering: Option<FillOrdering>,
         on_estimate: &mut dyn FnMut(usize, u64),
     ) -> Result<(Self, usize), FeError> {
-        // the ordering reads the union of the patterns of K and M (the values do not matter)
-        let perm = if k.nrows() >= SPLIT_MIN_DIM {
-            match metis_two_domains(&[k, m]) {
-                Some((p, d)) if split::accept(&d) => {
-                    return Self::split_first_definite(k, m, p, d, shifts, on_estimate)
-                }
-                Some((p, _)) => Some(p),
-                None => metis_on_patterns(&[k, m]),
-            }
-        } else if k.nrows() >= METIS_MIN_DIM {
-            metis_on_patterns(&[k, m])
-        } else {
-            None
+        let ordering = match ordering {
+            Some(o) => o,
+            None => shifted_ordering(k, m)?,
         };
-        let perm = match perm {
-            Some(p) => p,
-            None => amd_ordering(&super::shifted(k, m, 1.0)?)?,
+        let perm = match ordering {
+            FillOrdering::TwoDomains(p, d) => {
+                return Self::split_first_definite(k, m, p, d, shifts, on_estimate)
+            }
+            FillOrdering::Whole(p) => p,
         };
         let (fwd, inv) = perm.into_arrays();
         let (fwd, inv) = (fwd.into_vec(), inv.into_vec());

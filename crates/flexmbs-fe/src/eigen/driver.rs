@@ -7,21 +7,24 @@ use faer::Mat;
 use super::cholesky::SparseCholesky;
 use super::lanczos::{BlockLanczos, Outcome, RitzPairs};
 use super::ops::apply_mass;
+use super::ordering::FillOrdering;
 use super::{automatic_shift, shift, sort_pairs};
 use super::{EigenEvent, EigenOptions, EigenSolution};
 use crate::{FeError, SparseMatrix};
 
 /// Block Lanczos on `K - sigma M` with the Sturm check (input already validated, `n_modes > 0`).
+/// `ordering`: the fill-reducing ordering of `K - s M` if already computed.
 pub(super) fn lanczos_solution(
     k: &SparseMatrix,
     m: &SparseMatrix,
     opts: &EigenOptions,
+    ordering: Option<FillOrdering>,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<EigenSolution, FeError> {
     let n = k.nrows();
     let nm = opts.n_modes;
     let b = opts.block_size.max(1);
-    let (mut chol, sigma, probe) = start(k, m, opts, b, progress)?;
+    let (mut chol, sigma, probe) = start(k, m, opts, b, ordering, progress)?;
     let sigma0 = sigma;
     let mut need = nm;
     let cap = basis_cap(opts).max(need + 3 * b);
@@ -160,10 +163,11 @@ fn start<'a>(
     m: &'a SparseMatrix,
     opts: &EigenOptions,
     block: usize,
+    ordering: Option<FillOrdering>,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<(SparseCholesky, f64, Option<BlockLanczos<'a>>), FeError> {
     if let Some(s) = opts.shift {
-        return Ok((first_factor(k, m, &[s], progress)?.0, s, None));
+        return Ok((first_factor(k, m, &[s], ordering, progress)?.0, s, None));
     }
     let safe = automatic_shift(k, m);
     let shifts: &[f64] = if opts.supported {
@@ -171,7 +175,7 @@ fn start<'a>(
     } else {
         &[safe]
     };
-    let (mut chol, used) = first_factor(k, m, shifts, progress)?;
+    let (mut chol, used) = first_factor(k, m, shifts, ordering, progress)?;
     if opts.supported && used == 0 {
         return Ok((chol, 0.0, None));
     }
@@ -209,6 +213,7 @@ fn first_factor(
     k: &SparseMatrix,
     m: &SparseMatrix,
     shifts: &[f64],
+    ordering: Option<FillOrdering>,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<(SparseCholesky, usize), FeError> {
     let sigma0 = shifts.last().copied().unwrap_or(0.0);
@@ -216,10 +221,12 @@ fn first_factor(
         n: k.nrows(),
         nnz: k.compute_nnz(),
     });
-    let chol = SparseCholesky::factor_first_definite(k, m, shifts, &mut |nnz_l, bytes| {
-        progress(EigenEvent::FactorEstimate { nnz_l, bytes })
-    })
-    .map_err(|e| match e {
+    let chol =
+        SparseCholesky::factor_first_definite(k, m, shifts, ordering, &mut |nnz_l, bytes| {
+            progress(EigenEvent::FactorEstimate { nnz_l, bytes })
+        })
+        .map_err(|e| {
+            match e {
         e @ FeError::MemoryRefused { .. } => e,
         _ => FeError::NotPositiveDefinite {
             what: format!("K - sigma M with sigma = {sigma0:e}"),
@@ -227,7 +234,8 @@ fn first_factor(
                 ": the shift must lie below the lowest eigenvalue and M must be positive definite"
                     .into(),
         },
-    })?;
+    }
+        })?;
     progress(EigenEvent::Factorized {
         nnz_l: chol.0.nnz_l(),
     });

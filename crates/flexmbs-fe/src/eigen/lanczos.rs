@@ -425,10 +425,12 @@ impl<'a> BlockLanczos<'a> {
         cand: &[usize],
         tol: f64,
     ) -> Vec<(usize, f64, f64)> {
-        // one block of candidates at a time: the check's vectors (three n x block arrays) stay
-        // small beside the basis whatever the number of candidates
+        // at most two blocks of candidates at a time, in equal parts: the check's vectors (three
+        // n x part arrays) stay small beside the basis whatever the number of candidates, and
+        // each solve serves as many columns as it can (a solve reads the whole factor)
+        let parts = cand.len().div_ceil(2 * self.block.max(1)).max(1);
         let mut out = Vec::new();
-        for part in cand.chunks(self.block.max(1)) {
+        for part in cand.chunks(cand.len().div_ceil(parts).max(1)) {
             let mut y = self.ritz_vectors(s, part);
             let (lam, res) = shift_invert_residuals(op, self.m, sigma, &mut y);
             out.extend(

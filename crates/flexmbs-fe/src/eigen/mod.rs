@@ -33,6 +33,7 @@ pub use dense::{dense_generalized, dense_shift_invert};
 use crate::{FeError, SparseMatrix};
 use driver::lanczos_solution;
 use ops::{apply_mass, apply_stiffness};
+use ordering::{shifted_ordering, FillOrdering};
 
 /// `A X` for a symmetric `A` in full storage (symmetric to round-off, as `K` and `M`): a pass
 /// over `A` serves eight columns of `X`, the rows split between two threads (the result does not
@@ -274,7 +275,10 @@ fn validate(k: &SparseMatrix, m: &SparseMatrix) -> Result<(), FeError> {
     let (rk, rm) = std::thread::scope(|s| {
         let h = s.spawn(|| check_symmetric("M", m));
         let rk = check_symmetric("K", k);
-        (rk, h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+        (
+            rk,
+            h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+        )
     });
     rk?;
     rm?;
@@ -412,9 +416,14 @@ pub fn lowest_modes(
     opts: &EigenOptions,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<EigenSolution, FeError> {
-    validate(k, m)?;
     let n = k.nrows();
     let nm = opts.n_modes;
+    let dense = match opts.method {
+        EigenMethod::Dense => true,
+        EigenMethod::Lanczos => false,
+        EigenMethod::Auto => n <= opts.dense_limit,
+    };
+    let ordering = checked_with_ordering(k, m, !dense && nm > 0)?;
     if nm > n {
         return Err(FeError::Invalid(format!(
             "{nm} modes requested but the model has only {n} unknowns"
@@ -435,11 +444,6 @@ pub fn lowest_modes(
             start_shift: 0.0,
         });
     }
-    let dense = match opts.method {
-        EigenMethod::Dense => true,
-        EigenMethod::Lanczos => false,
-        EigenMethod::Auto => n <= opts.dense_limit,
-    };
     if dense {
         crate::memory::check_dense_eigen(n)?;
         let sigma = opts.shift.unwrap_or_else(|| automatic_shift(k, m));
@@ -460,5 +464,29 @@ pub fn lowest_modes(
             start_shift: sigma,
         });
     }
-    lanczos_solution(k, m, opts, progress)
+    lanczos_solution(k, m, opts, ordering, progress)
+}
+
+/// [`validate`]; with `order`, the fill-reducing ordering of `K - s M` (patterns only) is
+/// computed on a second thread meanwhile (dimensions checked first). An invalid input is
+/// reported as by [`validate`] whatever happened to the ordering.
+fn checked_with_ordering(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    order: bool,
+) -> Result<Option<FillOrdering>, FeError> {
+    let square = k.nrows() == k.ncols() && m.nrows() == m.ncols() && k.nrows() == m.nrows();
+    if !(order && square) {
+        validate(k, m)?;
+        return Ok(None);
+    }
+    let (valid, ordering) = std::thread::scope(|s| {
+        let h = s.spawn(|| shifted_ordering(k, m));
+        (validate(k, m), h.join())
+    });
+    valid?;
+    match ordering {
+        Ok(o) => o.map(Some),
+        Err(panic) => std::panic::resume_unwind(panic),
+    }
 }

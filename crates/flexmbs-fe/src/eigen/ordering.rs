@@ -11,6 +11,40 @@ use faer::Side;
 
 use crate::{FeError, SparseMatrix};
 
+/// A fill-reducing ordering of `K - s M` ([`shifted_ordering`]).
+#[derive(Debug)]
+pub(crate) enum FillOrdering {
+    /// METIS' top bisection, accepted for the two-domain factorization ([`super::split`]).
+    TwoDomains(Perm<usize>, TwoDomains),
+    /// One ordering of the whole matrix (METIS; AMD for small or edgeless graphs).
+    Whole(Perm<usize>),
+}
+
+/// The ordering of `K - s M` for any shift, from the patterns of `K` and `M` (values not read):
+/// METIS' two domains from [`super::split::SPLIT_MIN_DIM`] unknowns if they pay
+/// ([`super::split::accept`]; otherwise METIS' ordering of the whole), METIS from
+/// [`METIS_MIN_DIM`], AMD below or if METIS fails.
+pub(crate) fn shifted_ordering(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+) -> Result<FillOrdering, FeError> {
+    let perm = if k.nrows() >= super::split::SPLIT_MIN_DIM {
+        match metis_two_domains(&[k, m]) {
+            Some((p, d)) if super::split::accept(&d) => return Ok(FillOrdering::TwoDomains(p, d)),
+            Some((p, _)) => Some(p),
+            None => metis_on_patterns(&[k, m]),
+        }
+    } else if k.nrows() >= METIS_MIN_DIM {
+        metis_on_patterns(&[k, m])
+    } else {
+        None
+    };
+    Ok(FillOrdering::Whole(match perm {
+        Some(p) => p,
+        None => amd_ordering(&super::shifted(k, m, 1.0)?)?,
+    }))
+}
+
 /// Serializes the calls into METIS (see [`metis_on_patterns`]).
 static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
@@ -124,6 +158,20 @@ impl CompressedGraph {
         if mats.iter().any(|a| a.nrows() != n || a.ncols() != n) {
             return None;
         }
+        // a pattern within another one adds nothing to the union (consistent M: equal to K's;
+        // lumped M: K's diagonal)
+        let mut kept: Vec<&SparseMatrix> = Vec::with_capacity(mats.len());
+        for (i, &a) in mats.iter().enumerate() {
+            let covered = |b: &SparseMatrix| pattern_within(a, b);
+            if !kept.iter().any(|&b| covered(b))
+                && !mats[i + 1..]
+                    .iter()
+                    .any(|&b| covered(b) && !pattern_within(b, a))
+            {
+                kept.push(a);
+            }
+        }
+        let mats = &kept[..];
         // 1. supervariables: runs of consecutive columns with identical row patterns.
         let mut group_of = vec![0usize; n];
         let mut group_start = vec![0usize];
@@ -246,6 +294,24 @@ impl CompressedGraph {
             n,
         ))
     }
+}
+
+/// Whether every stored entry of `a` is stored in `b` (same dimension, sorted rows).
+fn pattern_within(a: &SparseMatrix, b: &SparseMatrix) -> bool {
+    let (sa, sb) = (a.symbolic(), b.symbolic());
+    if sa.col_ptr() == sb.col_ptr() && sa.row_idx() == sb.row_idx() {
+        return true;
+    }
+    (0..a.ncols()).all(|j| {
+        let rb = b.row_idx_of_col_raw(j);
+        let mut p = 0;
+        a.row_idx_of_col_raw(j).iter().all(|&i| {
+            while p < rb.len() && rb[p] < i {
+                p += 1;
+            }
+            p < rb.len() && rb[p] == i
+        })
+    })
 }
 
 /// The sorted union of the row indices of column `j` of `mats` (sorted rows each) into `out`.
