@@ -29,7 +29,8 @@ use crate::{FeError, SparseMatrix};
 pub(crate) struct RitzPairs {
     /// Ritz values `lambda = sigma + 1 / theta` (infinity for `theta <= 0`), ascending.
     pub lambda: Vec<f64>,
-    /// Ritz vectors (M-orthonormal), `n x lambda.len()`.
+    /// Ritz vectors (M-orthonormal) of the leading pairs (the wanted ones), `n x` at most
+    /// `lambda.len()`.
     pub vectors: Mat<f64>,
     /// Relative residuals `||OP y - theta y||_M / theta`: explicit for locked pairs, the
     /// Krylov estimate for the others.
@@ -232,7 +233,7 @@ impl<'a> BlockLanczos<'a> {
             progress(self.used, lead);
             let p = report.max(want);
             if locked_lead >= want {
-                let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &[], p);
+                let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &[], (p, want));
                 return Ok((pairs, Outcome::Converged));
             }
             let pending = self.next.as_ref().map_or(0, |(q, _, _)| q.ncols());
@@ -258,12 +259,12 @@ impl<'a> BlockLanczos<'a> {
                     // every wanted pair has passed its explicit check: done, without the
                     // restart that would lock them (the next block stays pending: a run resumed
                     // after a Sturm check starts from this Krylov space and checks them again)
-                    let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, p);
+                    let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, (p, want));
                     return Ok((pairs, Outcome::Converged));
                 }
             }
             if stalled || steps >= max_steps {
-                let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, p);
+                let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, (p, want));
                 self.next = None;
                 self.thick_restart(&theta, s.as_ref(), &lock, want, true, 0)?;
                 self.fresh_start()?;
@@ -443,53 +444,64 @@ impl<'a> BlockLanczos<'a> {
         out
     }
 
-    /// The leading `p` pairs of the merged list.
-    /// The leading `p` pairs of the merged list; the active pairs in `lock` (index, explicit
-    /// `lambda`, residual) are reported as locked.
+    /// The leading `p` pairs of the merged list, with the vectors of the first `nv` (the others
+    /// only bound the next eigenvalues); the active pairs in `lock` (index, explicit `lambda`,
+    /// residual) are reported as locked.
     fn report(
         &self,
         order: &[Pair],
         (theta, s, est): (&[f64], MatRef<'_, f64>, &[f64]),
         sigma: f64,
         lock: &[(usize, f64, f64)],
-        p: usize,
+        (p, nv): (usize, usize),
     ) -> RitzPairs {
         let p = p.min(order.len());
-        let active: Vec<usize> = order[..p]
-            .iter()
-            .filter_map(|q| match *q {
-                Pair::Active(j) => Some(j),
-                Pair::Locked(_) => None,
-            })
-            .collect();
-        let y = self.ritz_vectors(s, &active);
-        let mut vectors = Mat::zeros(self.n, p);
+        let nv = nv.min(p);
+        // runs of consecutive active pairs are combined straight into their columns (no second
+        // n x p array beside the basis: the end of a run is the modal analysis' memory peak)
+        let mut vectors = Mat::zeros(self.n, nv);
+        let mut c = 0;
+        while c < nv {
+            let end = (c..nv)
+                .find(|&e| matches!(order[e], Pair::Locked(_)))
+                .unwrap_or(nv);
+            if end == c {
+                if let Pair::Locked(i) = order[c] {
+                    vectors.col_mut(c).copy_from(self.v.col(i));
+                }
+                c += 1;
+                continue;
+            }
+            let cols: Vec<usize> = order[c..end]
+                .iter()
+                .filter_map(|q| match *q {
+                    Pair::Active(j) => Some(j),
+                    Pair::Locked(_) => None,
+                })
+                .collect();
+            self.active_combination_into(&self.v, s, &cols, vectors.subcols_mut(c, end - c));
+            c = end;
+        }
         let (mut th, mut estimate, mut locked) = (Vec::new(), Vec::new(), Vec::new());
-        let mut next_active = 0;
-        for (c, q) in order[..p].iter().enumerate() {
+        for q in &order[..p] {
             match *q {
                 Pair::Locked(i) => {
-                    vectors.col_mut(c).copy_from(self.v.col(i));
                     th.push(self.locked_lambda[i]);
                     estimate.push(self.locked_res[i]);
                     locked.push(true);
                 }
-                Pair::Active(j) => {
-                    vectors.col_mut(c).copy_from(y.col(next_active));
-                    next_active += 1;
-                    match lock.iter().find(|l| l.0 == j) {
-                        Some(&(_, l, r)) => {
-                            th.push(l);
-                            estimate.push(r);
-                            locked.push(true);
-                        }
-                        None => {
-                            th.push(self.ritz_lambda(sigma, theta[j]));
-                            estimate.push(est[j]);
-                            locked.push(false);
-                        }
+                Pair::Active(j) => match lock.iter().find(|l| l.0 == j) {
+                    Some(&(_, l, r)) => {
+                        th.push(l);
+                        estimate.push(r);
+                        locked.push(true);
                     }
-                }
+                    None => {
+                        th.push(self.ritz_lambda(sigma, theta[j]));
+                        estimate.push(est[j]);
+                        locked.push(false);
+                    }
+                },
             }
         }
         RitzPairs {
@@ -730,17 +742,28 @@ impl<'a> BlockLanczos<'a> {
 
     /// `B_active S[:, cols]` for the basis `B` (`V` or `M V`).
     fn active_combination(&self, basis: &Mat<f64>, s: MatRef<'_, f64>, cols: &[usize]) -> Mat<f64> {
-        let sc = Mat::from_fn(s.nrows(), cols.len(), |i, j| s[(i, cols[j])]);
         let mut y = Mat::zeros(self.n, cols.len());
+        self.active_combination_into(basis, s, cols, y.as_mut());
+        y
+    }
+
+    /// [`Self::active_combination`] into `out` (`n x cols.len()`).
+    fn active_combination_into(
+        &self,
+        basis: &Mat<f64>,
+        s: MatRef<'_, f64>,
+        cols: &[usize],
+        out: MatMut<'_, f64>,
+    ) {
+        let sc = Mat::from_fn(s.nrows(), cols.len(), |i, j| s[(i, cols[j])]);
         matmul(
-            y.as_mut(),
+            out,
             Accum::Replace,
             basis.subcols(self.locked, self.used - self.locked),
             sc.as_ref(),
             1.0,
             Par::Seq,
         );
-        y
     }
 
     /// Appends the pending block `Q`. First, if pairs are to be locked (`lock`: active index,

@@ -37,7 +37,23 @@ const PARALLEL_ROWS: usize = 4096;
 fn symmetric_block_product(a: &SparseMatrix, x: MatRef<'_, f64>, out: MatMut<'_, f64>) {
     let (n, p) = (x.nrows(), x.ncols());
     assert!(a.nrows() == n && a.ncols() == n && out.nrows() == n && out.ncols() == p);
-    let mut xt = vec![0.0f64; n * PASS_COLS];
+    // the columns of a pass, row by row: kept per thread between products (a fresh n x 8
+    // block per product would cost its pages' faults every time)
+    XT.with_borrow_mut(|xt| {
+        xt.clear();
+        xt.resize(n * PASS_COLS, 0.0);
+        block_product_passes(a, x, out, xt);
+    });
+}
+
+thread_local! {
+    /// The work rows of [`symmetric_block_product`].
+    static XT: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The passes of [`symmetric_block_product`] with the work rows `xt` (`n * PASS_COLS`).
+fn block_product_passes(a: &SparseMatrix, x: MatRef<'_, f64>, out: MatMut<'_, f64>, xt: &mut [f64]) {
+    let (n, p) = (x.nrows(), x.ncols());
     let mut out = out;
     for c0 in (0..p).step_by(PASS_COLS) {
         let w = PASS_COLS.min(p - c0);
@@ -53,7 +69,7 @@ fn symmetric_block_product(a: &SparseMatrix, x: MatRef<'_, f64>, out: MatMut<'_,
             continue;
         }
         let (top, bottom) = block.split_at_row_mut(n / 2);
-        let xt = &xt;
+        let xt = &*xt;
         std::thread::scope(|s| {
             let h = s.spawn(move || product_rows(a, xt, n / 2, bottom));
             product_rows(a, xt, 0, top);

@@ -74,6 +74,8 @@ struct Half {
     pivots: Vec<f64>,
     /// Trailing block `L_Si` (dense lower, unit diagonal for `L D L^T`).
     l_sep: Mat<f64>,
+    /// The solves' work vector, kept between solves.
+    work: std::sync::Mutex<Vec<f64>>,
 }
 
 /// The dense factor of the separator's Schur complement `C`.
@@ -125,6 +127,7 @@ impl Half {
             inner: dofs.len(),
             pivots: Vec::new(),
             l_sep: Mat::new(),
+            work: std::sync::Mutex::new(Vec::new()),
         })
     }
 
@@ -186,9 +189,17 @@ impl Half {
 
     /// `[b_i; 0]` from the rows of `rhs`, forward substitution with `L_i`, `D_ii^-1` on the
     /// domain's part: returns the work vector and `L_Si z_i` (the separator's update).
-    fn forward(&self, rhs: MatRef<'_, f64>, ldlt: bool) -> (Mat<f64>, Mat<f64>) {
+    /// `work` holds the work vector (kept between solves: no fresh pages per solve).
+    fn forward<'w>(
+        &self,
+        rhs: MatRef<'_, f64>,
+        ldlt: bool,
+        work: &'w mut Vec<f64>,
+    ) -> (MatMut<'w, f64>, Mat<f64>) {
         let (nh, p) = (self.pattern.fwd.len(), rhs.ncols());
-        let mut x = Mat::zeros(nh, p);
+        work.clear();
+        work.resize(nh * p, 0.0);
+        let mut x = MatMut::from_column_major_slice_mut(&mut work[..], nh, p);
         for c in 0..p {
             for (h, &o) in self.pattern.fwd[..self.inner].iter().enumerate() {
                 x[(h, c)] = rhs[(o, c)];
@@ -200,17 +211,17 @@ impl Half {
                 x[(h, c)] /= d;
             }
         }
-        let t = &self.l_sep * x.subrows(self.inner, nh - self.inner);
+        let t = &self.l_sep * x.rb().subrows(self.inner, nh - self.inner);
         (x, t)
     }
 
     /// Backward substitution with `L_i^T` on `[D_ii^-1 y_i; L_Si^T x_S]` (`x` from
     /// [`Self::forward`]): the domain's part of `x` becomes the solution on the domain.
-    fn backward(&self, x: &mut Mat<f64>, x_sep: MatRef<'_, f64>, ldlt: bool) {
+    fn backward(&self, mut x: MatMut<'_, f64>, x_sep: MatRef<'_, f64>, ldlt: bool) {
         let nh = x.nrows();
         let w = self.l_sep.transpose() * x_sep;
-        x.subrows_mut(self.inner, nh - self.inner).copy_from(&w);
-        upper_solve(self.supernodal(), &self.values, ldlt, x.as_mut());
+        x.rb_mut().subrows_mut(self.inner, nh - self.inner).copy_from(&w);
+        upper_solve(self.supernodal(), &self.values, ldlt, x);
     }
 }
 
@@ -352,10 +363,13 @@ impl SplitFactor {
             .expect("solve with a failed two-domain factorization");
         let ldlt = matches!(schur, Schur::Lblt(_));
         let [h1, h2] = &self.halves;
+        let mut w1 = h1.work.lock().unwrap_or_else(|p| p.into_inner());
+        let mut w2 = h2.work.lock().unwrap_or_else(|p| p.into_inner());
+        let (w1, w2) = (&mut *w1, &mut *w2);
         let b = rhs.as_ref();
         let ((mut x1, t1), (mut x2, t2)) = std::thread::scope(|sc| {
-            let h = sc.spawn(|| h2.forward(b, ldlt));
-            let f1 = h1.forward(b, ldlt);
+            let h = sc.spawn(|| h2.forward(b, ldlt, w2));
+            let f1 = h1.forward(b, ldlt, w1);
             (
                 f1,
                 h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
@@ -373,11 +387,11 @@ impl SplitFactor {
             Schur::Lblt(f) => f.solve_in_place(xs.as_mut()),
         }
         std::thread::scope(|sc| {
-            let h = sc.spawn(|| h2.backward(&mut x2, xs.as_ref(), ldlt));
-            h1.backward(&mut x1, xs.as_ref(), ldlt);
+            let h = sc.spawn(|| h2.backward(x2.rb_mut(), xs.as_ref(), ldlt));
+            h1.backward(x1.rb_mut(), xs.as_ref(), ldlt);
             h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
         });
-        for (half, x) in [(h1, &x1), (h2, &x2)] {
+        for (half, x) in [(h1, x1.as_ref()), (h2, x2.as_ref())] {
             for c in 0..p {
                 for (h, &o) in half.pattern.fwd[..half.inner].iter().enumerate() {
                     rhs[(o, c)] = x[(h, c)];
