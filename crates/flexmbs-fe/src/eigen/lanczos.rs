@@ -259,12 +259,14 @@ impl<'a> BlockLanczos<'a> {
                     // every wanted pair has passed its explicit check: done, without the
                     // restart that would lock them (the next block stays pending: a run resumed
                     // after a Sturm check starts from this Krylov space and checks them again)
-                    let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, (p, want));
+                    let pairs =
+                        self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, (p, want));
                     return Ok((pairs, Outcome::Converged));
                 }
             }
             if stalled || steps >= max_steps {
-                let pairs = self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, (p, want));
+                let pairs =
+                    self.report(&order, (&theta, s.as_ref(), &est), sigma, &lock, (p, want));
                 self.next = None;
                 self.thick_restart(&theta, s.as_ref(), &lock, want, true, 0)?;
                 self.fresh_start()?;
@@ -627,15 +629,17 @@ impl<'a> BlockLanczos<'a> {
         let bl = w.ncols();
         let mut b_total = Mat::<f64>::identity(bl, bl);
         let mut ref_norm = None;
-        let mut mq = Mat::zeros(self.n, 0);
+        // `M W` of both passes in one array; `W` and `M W` are combined in place (no fresh
+        // n x block arrays per pass)
+        let mut mw = Mat::zeros(self.n, bl);
         for pass in 0..2 {
             if pass == 1 {
                 // Q's components along the basis are round-off: one pass removes them
                 let _ = self.project_out(&mut w, used, 1);
             }
-            let mut mw = Mat::zeros(self.n, w.ncols());
-            apply_mass(self.m, w.as_ref(), mw.as_mut());
-            let g = w.transpose() * &mw;
+            let cols = w.ncols();
+            apply_mass(self.m, w.as_ref(), mw.as_mut().subcols_mut(0, cols));
+            let g = w.transpose() * mw.subcols(0, cols);
             let g = Mat::from_fn(g.nrows(), g.ncols(), |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
             let gmax = (0..g.nrows()).map(|i| g[(i, i)]).fold(0.0f64, f64::max);
             let thr = rel * *ref_norm.get_or_insert(gmax);
@@ -658,11 +662,13 @@ impl<'a> BlockLanczos<'a> {
             let bk = Mat::from_fn(keep.len(), g.nrows(), |i, j| {
                 u[(j, keep[i])] * evd.S()[keep[i]].sqrt()
             });
-            w = &w * &uk;
-            mq = &mw * &uk;
+            combine_in_place(&mut w, 0, cols, uk.as_ref());
+            w.truncate(self.n, keep.len());
+            combine_in_place(&mut mw, 0, cols, uk.as_ref());
             b_total = &bk * &b_total;
         }
-        Ok((w, mq, b_total))
+        mw.truncate(self.n, w.ncols());
+        Ok((w, mw, b_total))
     }
 
     /// `count` random M-orthonormal vectors and their `M` products, orthogonal to the first

@@ -52,7 +52,12 @@ thread_local! {
 }
 
 /// The passes of [`symmetric_block_product`] with the work rows `xt` (`n * PASS_COLS`).
-fn block_product_passes(a: &SparseMatrix, x: MatRef<'_, f64>, out: MatMut<'_, f64>, xt: &mut [f64]) {
+fn block_product_passes(
+    a: &SparseMatrix,
+    x: MatRef<'_, f64>,
+    out: MatMut<'_, f64>,
+    xt: &mut [f64],
+) {
     let (n, p) = (x.nrows(), x.ncols());
     let mut out = out;
     for c0 in (0..p).step_by(PASS_COLS) {

@@ -220,7 +220,9 @@ impl Half {
     fn backward(&self, mut x: MatMut<'_, f64>, x_sep: MatRef<'_, f64>, ldlt: bool) {
         let nh = x.nrows();
         let w = self.l_sep.transpose() * x_sep;
-        x.rb_mut().subrows_mut(self.inner, nh - self.inner).copy_from(&w);
+        x.rb_mut()
+            .subrows_mut(self.inner, nh - self.inner)
+            .copy_from(&w);
         upper_solve(self.supernodal(), &self.values, ldlt, x);
     }
 }
