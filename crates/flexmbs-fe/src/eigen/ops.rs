@@ -70,7 +70,7 @@ fn block_product_passes(
         }
         let block = out.rb_mut().subcols_mut(c0, w);
         if n < PARALLEL_ROWS {
-            product_rows(a, &xt, 0, block);
+            product_rows(a, xt, 0, block);
             continue;
         }
         let (top, bottom) = block.split_at_row_mut(n / 2);
