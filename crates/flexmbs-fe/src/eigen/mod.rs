@@ -17,6 +17,7 @@ mod basis;
 mod cholesky;
 mod dense;
 mod driver;
+mod inertia;
 mod lanczos;
 mod ops;
 mod ordering;
@@ -27,8 +28,9 @@ mod tests;
 
 use faer::Mat;
 
-pub use cholesky::{ldlt_inertia, Inertia, SparseCholesky};
+pub use cholesky::SparseCholesky;
 pub use dense::{dense_generalized, dense_shift_invert};
+pub use inertia::{ldlt_inertia, Inertia};
 
 use crate::{FeError, SparseMatrix};
 use driver::lanczos_solution;

@@ -43,9 +43,8 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMatRef;
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side, Spec};
 
-use super::cholesky::{
-    factor_bytes, ldlt_diagonal, oom, refactor_llt, zeros_or_refused, Inertia, ShiftedPattern,
-};
+use super::cholesky::{factor_bytes, oom, refactor_llt, zeros_or_refused, ShiftedPattern};
+use super::inertia::{ldlt_diagonal, Inertia};
 use super::ordering::TwoDomains;
 use crate::{FeError, SparseMatrix};
 
