@@ -63,17 +63,6 @@ impl Progress {
 
     /// Shows one stage event.
     pub fn stage(&mut self, s: Stage) {
-        if std::env::var_os("FLEXMBS_TRACE").is_some() {
-            static T0: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
-            let t = T0
-                .get_or_init(std::time::Instant::now)
-                .elapsed()
-                .as_secs_f64();
-            let txt = format!("{s:?}");
-            if !txt.starts_with("Assembly") {
-                eprintln!("TRACE {t:8.3} {txt}");
-            }
-        }
         match s {
             Stage::Started(m) => self.spinner(m),
             Stage::Assembly { done, total } => {
