@@ -297,7 +297,7 @@ impl CompressedGraph {
 }
 
 /// Whether every stored entry of `a` is stored in `b` (same dimension, sorted rows).
-fn pattern_within(a: &SparseMatrix, b: &SparseMatrix) -> bool {
+pub(super) fn pattern_within(a: &SparseMatrix, b: &SparseMatrix) -> bool {
     let (sa, sb) = (a.symbolic(), b.symbolic());
     if sa.col_ptr() == sb.col_ptr() && sa.row_idx() == sb.row_idx() {
         return true;
