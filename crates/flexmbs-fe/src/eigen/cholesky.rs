@@ -65,17 +65,18 @@ struct OneFactor {
 /// refills the values ([`Self::values`]). At the Sturm check the modal analysis thus holds one
 /// lower triangle of values instead of two matrices (the shifted one and faer's permuted copy).
 /// A pattern may also cover a subset of the unknowns (the halves of [`super::split`]): `fwd`
-/// lists the subset, `inv` is `usize::MAX` outside it.
+/// lists the subset, `inv` is `usize::MAX` outside it. `I`: the index type of the pattern (and of
+/// the factorization reading it; the halves use `u32`, half the memory of `usize`).
 #[derive(Debug)]
-pub(super) struct ShiftedPattern {
+pub(super) struct ShiftedPattern<I: faer::Index = usize> {
     /// `fwd[new] = old`.
     pub(super) fwd: Vec<usize>,
     /// `inv[old] = new`.
     inv: Vec<usize>,
-    pub(super) symbolic: faer::sparse::SymbolicSparseColMat<usize>,
+    pub(super) symbolic: faer::sparse::SymbolicSparseColMat<I>,
 }
 
-impl ShiftedPattern {
+impl<I: faer::Index> ShiftedPattern<I> {
     /// Calls `f(row, col, k, m)` for every entry of the ordered lower triangle (new indices,
     /// `row >= col`) in a fixed order, rows increasing, so that each column receives its rows
     /// sorted. Entry `(new i, new r)` takes the stored entry `(r, i)` of column `i` of `K` and
@@ -114,26 +115,32 @@ impl ShiftedPattern {
         }
     }
 
+    /// The pattern of the subset `fwd` (`inv` its inverse, `usize::MAX` outside). `None` if the
+    /// entries or the dimension do not fit the index type `I`.
     pub(super) fn new(
         k: &SparseMatrix,
         m: &SparseMatrix,
         fwd: Vec<usize>,
         inv: Vec<usize>,
-    ) -> Self {
+    ) -> Option<Self> {
         let n = fwd.len();
-        let mut col_ptr = vec![0usize; n + 1];
-        Self::for_each(k, m, &fwd, &inv, |_, c, _, _| col_ptr[c + 1] += 1);
+        let mut count = vec![0usize; n + 1];
+        Self::for_each(k, m, &fwd, &inv, |_, c, _, _| count[c + 1] += 1);
         for j in 0..n {
-            col_ptr[j + 1] += col_ptr[j];
+            count[j + 1] += count[j];
         }
-        let mut cursor = col_ptr[..n].to_vec();
-        let mut rows = vec![0usize; col_ptr[n]];
+        if count[n] > I::MAX.zx() || n > I::MAX.zx() {
+            return None;
+        }
+        let mut cursor = count[..n].to_vec();
+        let mut rows = vec![I::truncate(0); count[n]];
         Self::for_each(k, m, &fwd, &inv, |r, c, _, _| {
-            rows[cursor[c]] = r;
+            rows[cursor[c]] = I::truncate(r);
             cursor[c] += 1;
         });
+        let col_ptr = count.into_iter().map(I::truncate).collect();
         let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, rows);
-        Self { fwd, inv, symbolic }
+        Some(Self { fwd, inv, symbolic })
     }
 
     /// The values of the ordered lower triangle of `K - s M`, in the order of the pattern.
@@ -144,7 +151,10 @@ impl ShiftedPattern {
         s: f64,
     ) -> Result<Vec<f64>, FeError> {
         let mut values = zeros_or_refused(self.nnz())?;
-        let mut cursor = self.symbolic.col_ptr()[..self.fwd.len()].to_vec();
+        let mut cursor: Vec<usize> = self.symbolic.col_ptr()[..self.fwd.len()]
+            .iter()
+            .map(|p| p.zx())
+            .collect();
         Self::for_each(k, m, &self.fwd, &self.inv, |_, c, x, y| {
             values[cursor[c]] = x - s * y;
             cursor[c] += 1;
@@ -157,24 +167,25 @@ impl ShiftedPattern {
     }
 
     /// The transposed (upper triangle) pattern, rows sorted.
-    pub(super) fn upper(&self) -> faer::sparse::SymbolicSparseColMat<usize> {
+    pub(super) fn upper(&self) -> faer::sparse::SymbolicSparseColMat<I> {
         let n = self.fwd.len();
         let (col_ptr, rows) = (self.symbolic.col_ptr(), self.symbolic.row_idx());
         let mut up_ptr = vec![0usize; n + 1];
-        for &r in rows {
-            up_ptr[r + 1] += 1;
+        for r in rows {
+            up_ptr[r.zx() + 1] += 1;
         }
         for j in 0..n {
             up_ptr[j + 1] += up_ptr[j];
         }
         let mut cursor = up_ptr[..n].to_vec();
-        let mut up_rows = vec![0usize; rows.len()];
+        let mut up_rows = vec![I::truncate(0); rows.len()];
         for c in 0..n {
-            for &r in &rows[col_ptr[c]..col_ptr[c + 1]] {
-                up_rows[cursor[r]] = c;
-                cursor[r] += 1;
+            for r in &rows[col_ptr[c].zx()..col_ptr[c + 1].zx()] {
+                up_rows[cursor[r.zx()]] = I::truncate(c);
+                cursor[r.zx()] += 1;
             }
         }
+        let up_ptr = up_ptr.into_iter().map(I::truncate).collect();
         faer::sparse::SymbolicSparseColMat::new_checked(n, n, up_ptr, None, up_rows)
     }
 }
@@ -249,7 +260,8 @@ impl SparseCholesky {
         };
         let (fwd, inv) = perm.into_arrays();
         let (fwd, inv) = (fwd.into_vec(), inv.into_vec());
-        let pattern = ShiftedPattern::new(k, m, fwd, inv);
+        let pattern = ShiftedPattern::<usize>::new(k, m, fwd, inv)
+            .ok_or_else(|| FeError::Invalid("matrix too large for its indices".into()))?;
         // with the identity ordering faer's symbolic analysis reads the upper triangle whatever
         // the side: the transposed pattern, only for the analysis
         let symbolic = factorize_symbolic_cholesky(
@@ -672,9 +684,9 @@ impl SparseCholesky {
 }
 
 /// Numeric `L L^T` of `a` into `values` with the symbolic analysis `symbolic`.
-pub(super) fn refactor_llt(
-    symbolic: &SymbolicCholesky<usize>,
-    a: faer::sparse::SparseColMatRef<'_, usize, f64>,
+pub(super) fn refactor_llt<I: faer::Index>(
+    symbolic: &SymbolicCholesky<I>,
+    a: faer::sparse::SparseColMatRef<'_, I, f64>,
     values: &mut [f64],
 ) -> Result<(), FeError> {
     let par = Par::Seq;

@@ -92,7 +92,10 @@ pub(super) fn inertia_with_symbolic(
 }
 
 /// Extracts the pivots `D` of an `L D L^T` factor stored by faer.
-pub(super) fn ldlt_diagonal(symbolic: &SymbolicCholesky<usize>, values: &[f64]) -> Vec<f64> {
+pub(super) fn ldlt_diagonal<I: faer::Index>(
+    symbolic: &SymbolicCholesky<I>,
+    values: &[f64],
+) -> Vec<f64> {
     match symbolic.raw() {
         SymbolicCholeskyRaw::Simplicial(s) => {
             // column j of the simplicial factor starts with its diagonal entry (which holds d_j)
@@ -100,8 +103,8 @@ pub(super) fn ldlt_diagonal(symbolic: &SymbolicCholesky<usize>, values: &[f64]) 
             let row_idx = s.row_idx();
             (0..s.nrows())
                 .map(|j| {
-                    (col_ptr[j]..col_ptr[j + 1])
-                        .find(|&p| row_idx[p] == j)
+                    (col_ptr[j].zx()..col_ptr[j + 1].zx())
+                        .find(|&p| row_idx[p].zx() == j)
                         .map_or(0.0, |p| values[p])
                 })
                 .collect()

@@ -63,9 +63,10 @@ pub(super) fn accept(d: &TwoDomains) -> bool {
 /// and factor.
 #[derive(Debug)]
 struct Half {
-    /// Rows of `H_i`: the domain's DOFs (original indices), then the separator's.
-    pattern: ShiftedPattern,
-    symbolic: SymbolicCholesky<usize>,
+    /// Rows of `H_i`: the domain's DOFs (original indices), then the separator's (32-bit
+    /// indices).
+    pattern: ShiftedPattern<u32>,
+    symbolic: SymbolicCholesky<u32>,
     values: Vec<f64>,
     /// DOFs of the domain (the leading block).
     inner: usize,
@@ -107,7 +108,8 @@ impl Half {
         for (h, &o) in fwd.iter().enumerate() {
             inv[o] = h;
         }
-        let pattern = ShiftedPattern::new(k, m, fwd, inv);
+        let pattern = ShiftedPattern::<u32>::new(k, m, fwd, inv)
+            .ok_or_else(|| FeError::Invalid("a domain is too large for 32-bit indices".into()))?;
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
@@ -130,7 +132,7 @@ impl Half {
         })
     }
 
-    fn supernodal(&self) -> &SymbolicSupernodalCholesky<usize> {
+    fn supernodal(&self) -> &SymbolicSupernodalCholesky<u32> {
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Supernodal(s) => s,
             SymbolicCholeskyRaw::Simplicial(_) => unreachable!("halves are forced supernodal"),
@@ -409,8 +411,8 @@ impl SplitFactor {
 
 /// `L D L^T` (no pivoting) of `a` into `values`; `false` if a pivot vanished.
 fn factor_ldlt(
-    symbolic: &SymbolicCholesky<usize>,
-    a: SparseColMatRef<'_, usize, f64>,
+    symbolic: &SymbolicCholesky<u32>,
+    a: SparseColMatRef<'_, u32, f64>,
     values: &mut [f64],
 ) -> Result<bool, FeError> {
     let req = symbolic
@@ -431,12 +433,13 @@ fn factor_ldlt(
 
 /// The trailing block `A_SS` (rows and columns from `inner` on, dense symmetric) of the lower
 /// triangle `a`, and the largest `|a_jj|` of `a`.
-fn separator_block(a: SparseColMatRef<'_, usize, f64>, inner: usize) -> (Mat<f64>, f64) {
+fn separator_block(a: SparseColMatRef<'_, u32, f64>, inner: usize) -> (Mat<f64>, f64) {
     let ns = a.ncols() - inner;
     let mut a_ss = Mat::zeros(ns, ns);
     let mut scale = 0.0f64;
     for j in 0..a.ncols() {
         for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            let i = i as usize;
             if i == j {
                 scale = scale.max(v.abs());
             }
@@ -452,7 +455,7 @@ fn separator_block(a: SparseColMatRef<'_, usize, f64>, inner: usize) -> (Mat<f64
 /// The trailing block (rows and columns from `inner` on) of a supernodal factor: `L_S` (dense
 /// lower; unit diagonal for `L D L^T`) and its pivots (`D_S`; ones for `L L^T`).
 fn trailing_block(
-    sn: &SymbolicSupernodalCholesky<usize>,
+    sn: &SymbolicSupernodalCholesky<u32>,
     values: &[f64],
     inner: usize,
     ldlt: bool,
@@ -477,7 +480,7 @@ fn trailing_block(
                 l[(start + rl - inner, c - inner)] = v[(rl, cl)];
             }
             for (idx, &r) in node.pattern().iter().enumerate() {
-                l[(r - inner, c - inner)] = v[(size + idx, cl)];
+                l[(r as usize - inner, c - inner)] = v[(size + idx, cl)];
             }
             if ldlt {
                 d[c - inner] = v[(cl, cl)];
@@ -489,7 +492,7 @@ fn trailing_block(
 }
 
 /// Longest off-diagonal pattern of a supernode (rows of the solves' update buffer).
-fn max_pattern(sn: &SymbolicSupernodalCholesky<usize>, values: &[f64]) -> usize {
+fn max_pattern(sn: &SymbolicSupernodalCholesky<u32>, values: &[f64]) -> usize {
     let factor = LltRef::new(sn, values);
     (0..sn.n_supernodes())
         .map(|s| factor.supernode(s).pattern().len())
@@ -500,7 +503,7 @@ fn max_pattern(sn: &SymbolicSupernodalCholesky<usize>, values: &[f64]) -> usize 
 /// `L x = b` in place over the supernodes (unit diagonal if `unit`: faer's `L D L^T` storage
 /// holds `D` there).
 fn lower_solve(
-    sn: &SymbolicSupernodalCholesky<usize>,
+    sn: &SymbolicSupernodalCholesky<u32>,
     values: &[f64],
     unit: bool,
     mut x: MatMut<'_, f64>,
@@ -523,7 +526,7 @@ fn lower_solve(
         matmul(t.rb_mut(), Accum::Replace, bot, xt.rb(), 1.0, Par::Seq);
         for c in 0..p {
             for (idx, &i) in pattern.iter().enumerate() {
-                x[(i, c)] -= t[(idx, c)];
+                x[(i as usize, c)] -= t[(idx, c)];
             }
         }
     }
@@ -531,7 +534,7 @@ fn lower_solve(
 
 /// `L^T x = b` in place over the supernodes, in reverse (unit diagonal if `unit`).
 fn upper_solve(
-    sn: &SymbolicSupernodalCholesky<usize>,
+    sn: &SymbolicSupernodalCholesky<u32>,
     values: &[f64],
     unit: bool,
     mut x: MatMut<'_, f64>,
@@ -547,7 +550,7 @@ fn upper_solve(
         let mut t = tmp.subrows_mut(0, pattern.len());
         for c in 0..p {
             for (idx, &i) in pattern.iter().enumerate() {
-                t[(idx, c)] = x[(i, c)];
+                t[(idx, c)] = x[(i as usize, c)];
             }
         }
         let mut xt = x.rb_mut().subrows_mut(start, size);
