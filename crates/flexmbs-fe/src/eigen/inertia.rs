@@ -57,20 +57,7 @@ pub(super) fn inertia_with_symbolic(
     a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     values: &mut [f64],
 ) -> Result<Option<Inertia>, FeError> {
-    let par = Par::Seq;
-    let req =
-        symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::<LdltParams, f64>::default());
-    let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
-    let res = symbolic.factorize_numeric_ldlt(
-        values,
-        a,
-        Side::Lower,
-        LdltRegularization::default(),
-        par,
-        MemStack::new(&mut mem),
-        Spec::<LdltParams, f64>::default(),
-    );
-    if res.is_err() {
+    if !ldlt_numeric(symbolic, a, values)? {
         return Ok(None);
     }
     let diag = ldlt_diagonal(symbolic, values);
@@ -89,6 +76,30 @@ pub(super) fn inertia_with_symbolic(
         inertia.count(d, tiny);
     }
     Ok(Some(inertia))
+}
+
+/// Numeric `L D L^T` (no pivoting) of `a` into `values` with the symbolic analysis `symbolic`;
+/// `false` if a pivot vanished.
+pub(super) fn ldlt_numeric<I: faer::Index>(
+    symbolic: &SymbolicCholesky<I>,
+    a: faer::sparse::SparseColMatRef<'_, I, f64>,
+    values: &mut [f64],
+) -> Result<bool, FeError> {
+    let par = Par::Seq;
+    let req =
+        symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Spec::<LdltParams, f64>::default());
+    let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
+    Ok(symbolic
+        .factorize_numeric_ldlt(
+            values,
+            a,
+            Side::Lower,
+            LdltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Spec::<LdltParams, f64>::default(),
+        )
+        .is_ok())
 }
 
 /// Extracts the pivots `D` of an `L D L^T` factor stored by faer.

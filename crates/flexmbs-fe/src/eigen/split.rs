@@ -24,8 +24,7 @@
 //! The halves run on two fixed threads whatever the machine, so results do not depend on it.
 //! Each thread reads only its half of the factor in a solve (the solves are memory-bound).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::ldlt::factor::{LdltParams, LdltRegularization};
+use faer::linalg::cholesky::ldlt::factor::LdltParams;
 use faer::linalg::solvers::{Lblt, Llt, Solve};
 
 use faer::linalg::matmul::matmul;
@@ -43,8 +42,8 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMatRef;
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side, Spec};
 
-use super::cholesky::{factor_bytes, oom, refactor_llt, zeros_or_refused, ShiftedPattern};
-use super::inertia::{ldlt_diagonal, Inertia};
+use super::cholesky::{factor_bytes, refactor_llt, zeros_or_refused, ShiftedPattern};
+use super::inertia::{ldlt_diagonal, ldlt_numeric, Inertia};
 use super::ordering::TwoDomains;
 use crate::{FeError, SparseMatrix};
 
@@ -148,24 +147,24 @@ impl Half {
     }
 
     /// Factors `H_i` of `K - s M` (`L L^T`, or `L D L^T` without pivoting if `ldlt`) and keeps
-    /// `L_Si` (and `D_ii`). Returns `R_i = L_Si D_Si L_Si^T`, `A_SS` (dense) and the largest
-    /// `|a_jj|` of the half; `Ok(None)`: a pivot vanished (`L D L^T`) or was not positive
-    /// (`L L^T`).
+    /// `L_Si` (and `D_ii`). Returns `R_i = L_Si D_Si L_Si^T`, `A_SS` (dense; if `with_a_ss`: both
+    /// halves hold it, one copy serves) and the largest `|a_jj|` of the half; `Ok(None)`: a pivot
+    /// vanished (`L D L^T`) or was not positive (`L L^T`).
     fn factor(
         &mut self,
         k: &SparseMatrix,
         m: &SparseMatrix,
         s: f64,
-        ldlt: bool,
+        (ldlt, with_a_ss): (bool, bool),
     ) -> Result<Option<HalfSchur>, FeError> {
         if self.values.len() != self.symbolic.len_val() {
             self.values = zeros_or_refused(self.symbolic.len_val())?;
         }
         let lower = self.pattern.values(k, m, s)?;
         let a = SparseColMatRef::new(self.pattern.symbolic.as_ref(), &lower);
-        let (a_ss, scale) = separator_block(a, self.inner);
+        let (a_ss, scale) = separator_block(a, self.inner, with_a_ss);
         let ok = if ldlt {
-            factor_ldlt(&self.symbolic, a, &mut self.values)?
+            ldlt_numeric(&self.symbolic, a, &mut self.values)?
         } else {
             refactor_llt(&self.symbolic, a, &mut self.values).is_ok()
         };
@@ -232,8 +231,8 @@ impl Half {
 struct HalfSchur {
     /// `R_i = L_Si D_Si L_Si^T = A_SS - A_Si A_ii^-1 A_iS`.
     r: Mat<f64>,
-    /// `A_SS`, dense.
-    a_ss: Mat<f64>,
+    /// `A_SS`, dense (from one half only).
+    a_ss: Option<Mat<f64>>,
     /// Largest `|a_jj|` of the half.
     scale: f64,
 }
@@ -341,8 +340,8 @@ impl SplitFactor {
     ) -> Result<Option<(Mat<f64>, f64)>, FeError> {
         let [h1, h2] = &mut self.halves;
         let (r1, r2) = std::thread::scope(|sc| {
-            let h = sc.spawn(|| h2.factor(k, m, s, ldlt));
-            let r1 = h1.factor(k, m, s, ldlt);
+            let h = sc.spawn(|| h2.factor(k, m, s, (ldlt, false)));
+            let r1 = h1.factor(k, m, s, (ldlt, true));
             (
                 r1,
                 h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
@@ -351,7 +350,8 @@ impl SplitFactor {
         let (Some(r1), Some(r2)) = (r1?, r2?) else {
             return Ok(None);
         };
-        let c = &r1.r + &r2.r - &r1.a_ss;
+        let a_ss = r1.a_ss.expect("the first half extracts A_SS");
+        let c = &r1.r + &r2.r - &a_ss;
         Ok(Some((c, r1.scale.max(r2.scale))))
     }
 
@@ -409,33 +409,15 @@ impl SplitFactor {
     }
 }
 
-/// `L D L^T` (no pivoting) of `a` into `values`; `false` if a pivot vanished.
-fn factor_ldlt(
-    symbolic: &SymbolicCholesky<u32>,
-    a: SparseColMatRef<'_, u32, f64>,
-    values: &mut [f64],
-) -> Result<bool, FeError> {
-    let req = symbolic
-        .factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Spec::<LdltParams, f64>::default());
-    let mut mem = MemBuffer::try_new(req).map_err(|_| oom())?;
-    Ok(symbolic
-        .factorize_numeric_ldlt(
-            values,
-            a,
-            Side::Lower,
-            LdltRegularization::default(),
-            Par::Seq,
-            MemStack::new(&mut mem),
-            Spec::<LdltParams, f64>::default(),
-        )
-        .is_ok())
-}
-
 /// The trailing block `A_SS` (rows and columns from `inner` on, dense symmetric) of the lower
-/// triangle `a`, and the largest `|a_jj|` of `a`.
-fn separator_block(a: SparseColMatRef<'_, u32, f64>, inner: usize) -> (Mat<f64>, f64) {
+/// triangle `a` if `keep`, and the largest `|a_jj|` of `a`.
+fn separator_block(
+    a: SparseColMatRef<'_, u32, f64>,
+    inner: usize,
+    keep: bool,
+) -> (Option<Mat<f64>>, f64) {
     let ns = a.ncols() - inner;
-    let mut a_ss = Mat::zeros(ns, ns);
+    let mut a_ss = keep.then(|| Mat::zeros(ns, ns));
     let mut scale = 0.0f64;
     for j in 0..a.ncols() {
         for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
@@ -443,7 +425,7 @@ fn separator_block(a: SparseColMatRef<'_, u32, f64>, inner: usize) -> (Mat<f64>,
             if i == j {
                 scale = scale.max(v.abs());
             }
-            if j >= inner {
+            if let (true, Some(a_ss)) = (j >= inner, a_ss.as_mut()) {
                 a_ss[(i - inner, j - inner)] = v;
                 a_ss[(j - inner, i - inner)] = v;
             }
