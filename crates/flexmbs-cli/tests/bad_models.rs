@@ -20,10 +20,7 @@ fn corpus_dir() -> PathBuf {
 
 /// A fresh scratch folder for this test process.
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs_bad_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    flexmbs_io::test_tools::scratch_dir(&format!("bad_{name}"))
 }
 
 /// Exit code and stderr of `flexmbs -q <command> <model> [-o <out>]` (`-o` for run and reduce).

@@ -60,9 +60,7 @@ fn sigterm_and_sighup_interrupt_run_with_results_kept() {
 
 #[cfg(unix)]
 fn interrupt_with(signal: &str) {
-    let dir = std::env::temp_dir().join(format!("flexmbs-ctrlc-{signal}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir(&format!("ctrlc-{signal}"));
     let model = dir.join("long.toml");
     std::fs::write(&model, LONG_MODEL).unwrap();
     let out = dir.join("out");
@@ -128,8 +126,7 @@ fn check_accepts_fe_and_multibody_files() {
         assert!(text.contains(expect), "{file}: {text}");
     }
     // a bad multibody file: exit code 1, key path and line in the message
-    let dir = std::env::temp_dir().join(format!("flexmbs-check-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("check");
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, LONG_MODEL.replace("mass = 1", "mass = \"1 m\"")).unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_flexmbs"))

@@ -60,8 +60,7 @@ fn stderr_of(command: &str, model: &Path, out: &Path) -> (bool, String) {
 
 #[test]
 fn check_and_run_refuse_a_joint_at_a_free_floating_frame_alike() {
-    let d = std::env::temp_dir().join(format!("flexmbs_floating_{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
+    let d = flexmbs_io::test_tools::scratch_dir("floating");
     let model = d.join("model.toml");
     std::fs::write(&model, MODEL).unwrap();
     std::fs::write(d.join("bar.toml"), BAR).unwrap();

@@ -120,7 +120,7 @@ with h5py.File(sys.argv[1], 'r') as f:
 fn kill_9_at_random_times_loses_at_most_one_flush_interval() {
     let margin = Duration::from_millis(1500);
     for (k, delay) in random_delays(4, 0.1, 5.0).into_iter().enumerate() {
-        let dir = std::env::temp_dir().join(format!("flexmbs-kill9-{}-{k}", std::process::id()));
+        let dir = flexmbs_io::test_tools::scratch_dir(&format!("kill9-{k}"));
         let (mut child, results, appeared) = start_run(&dir);
         std::thread::sleep(Duration::from_secs_f64(delay));
         child.kill().unwrap(); // SIGKILL
@@ -154,7 +154,7 @@ fn kill_9_at_random_times_loses_at_most_one_flush_interval() {
 #[test]
 fn sigterm_at_random_times_keeps_every_row() {
     for (k, delay) in random_delays(3, 0.1, 3.0).into_iter().enumerate() {
-        let dir = std::env::temp_dir().join(format!("flexmbs-term-{}-{k}", std::process::id()));
+        let dir = flexmbs_io::test_tools::scratch_dir(&format!("term-{k}"));
         let (child, results, _) = start_run(&dir);
         std::thread::sleep(Duration::from_secs_f64(delay));
         let kill = Command::new("kill")

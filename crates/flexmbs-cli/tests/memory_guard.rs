@@ -21,8 +21,7 @@ fn model_with_divisions(dir: &Path, divisions: &str) -> std::path::PathBuf {
 
 #[test]
 fn huge_box_is_refused_within_seconds_at_check() {
-    let dir = std::env::temp_dir().join(format!("flexmbs-memguard-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("memguard");
     let model = model_with_divisions(&dir, "[1000, 70, 70]");
     let start = Instant::now();
     let o = Command::new(env!("CARGO_BIN_EXE_flexmbs"))

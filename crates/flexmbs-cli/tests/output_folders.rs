@@ -21,10 +21,7 @@ modes = 2
 "#;
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs_out_folders_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    flexmbs_io::test_tools::scratch_dir(&format!("out_folders_{name}"))
 }
 
 /// Runs `flexmbs -q args`; returns (success, stderr).

@@ -29,8 +29,7 @@ fn reduce(model: &Path, out: &Path, extra: &[&str]) -> String {
 
 #[test]
 fn reduce_stores_geometric_stiffness_of_supported_bodies() {
-    let dir = std::env::temp_dir().join(format!("flexmbs_reduce_kg_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("reduce_kg");
 
     // clamped tube: six centrifugal K_G over its 4 modes, identical to the model compiler's
     let tube = dir.join("tube.fmb.h5");
@@ -74,8 +73,7 @@ fn reduce_stores_geometric_stiffness_of_supported_bodies() {
 /// to 1e-12) and says so; a solid mesh gets none.
 #[test]
 fn reduce_stores_rotary_inertias_of_beam_meshes() {
-    let dir = std::env::temp_dir().join(format!("flexmbs_reduce_rot_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("reduce_rot");
     let tube = dir.join("tube.fmb.h5");
     let msg = reduce(&part("rotor_tube"), &tube, &["--no-geometric"]);
     assert!(msg.contains("beam node rotary inertias"), "{msg}");

@@ -10,8 +10,7 @@ use std::process::Command;
 
 #[test]
 fn reduce_stores_modal_stress_fields() {
-    let dir = std::env::temp_dir().join(format!("flexmbs_reduce_stress_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("reduce_stress");
     for name in ["cantilever_beam", "solid_link"] {
         let part = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join(format!("../../examples/mbs/parts/{name}.toml"));

@@ -81,8 +81,7 @@ fn stderr_of(command: &str, model: &Path, out: &Path) -> (bool, String) {
 
 #[test]
 fn check_and_run_refuse_a_hinge_at_a_solid_node_alike() {
-    let d = std::env::temp_dir().join(format!("flexmbs_solid_node_{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
+    let d = flexmbs_io::test_tools::scratch_dir("solid_node");
     let model = d.join("model.toml");
     std::fs::write(d.join("strip.toml"), STRIP).unwrap();
     std::fs::write(&model, MODEL.replace("NODE", "nearest = [0.2, 0, 0]")).unwrap();

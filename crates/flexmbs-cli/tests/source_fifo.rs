@@ -43,9 +43,7 @@ fn mkfifo(path: &Path) -> bool {
 
 #[test]
 fn fifo_model_and_body_source_are_refused() {
-    let dir = std::env::temp_dir().join(format!("flexmbs-fifo-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("fifo");
     let model = dir.join("model.toml");
     if !mkfifo(&model) {
         return;

@@ -18,9 +18,7 @@ material = { e = 210e9, nu = 0.3, rho = 7850.0 }
 
 /// A fresh scratch folder for one test.
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs_wrong_kind_{}_{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    flexmbs_io::test_tools::scratch_dir(&format!("wrong_kind_{name}"))
 }
 
 /// Runs `flexmbs args`; returns (success, stderr).

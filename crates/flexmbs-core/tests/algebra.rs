@@ -1,8 +1,8 @@
 //! The two algebra backends against each other and the block-Cholesky mass solver against a
 //! dense LU: same matrices, same solutions; same generalized-alpha trajectories and static
 //! equilibria.
-mod chain;
-mod common;
+use crate::chain;
+use crate::common;
 use chain::{chain, Link};
 use flexmbs_core::algebra::{BlockMass, LinearSolver, SaddleKind, SystemMatrix};
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, Statics, StaticsSettings};

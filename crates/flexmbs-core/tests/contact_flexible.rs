@@ -10,10 +10,8 @@
 //! - bad input: a contour on a rigid body or with the wrong mode count is refused at compile time;
 //! - Moreau steps with a flexible contour allocate nothing (fixed and step-size controlled).
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
-#[path = "support/plate.rs"]
-mod plate;
+use crate::counting_alloc;
+use crate::plate;
 
 use flexmbs_core::contact::{
     Contact, ContactLaw, ContactWork, FlexibleBand, NeutralCurve, NeutralSurface, SphereContour,

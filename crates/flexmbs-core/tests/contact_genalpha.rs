@@ -11,10 +11,8 @@
 //!   the penalty energy `1/2 k g_N^2` is reported with the springs' energy;
 //! - set-valued laws are refused; steps allocate nothing (dense and sparse backends).
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
-#[path = "support/plate.rs"]
-mod plate;
+use crate::counting_alloc;
+use crate::plate;
 
 use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::contact::{

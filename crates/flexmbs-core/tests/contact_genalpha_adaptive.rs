@@ -10,8 +10,7 @@
 //!   (an approach step carried past its target by the acceleration is retaken);
 //! - adaptive steps with penalty contact and friction allocate nothing.
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 
 use flexmbs_core::contact::{
     Contact, ContactLaw, Contour, PlaneContour, SphereContour, TangentDirections,

@@ -9,10 +9,8 @@
 //!   the energy of the smooth motion, and allocates nothing per step;
 //! - bad input: a curve on a rigid body, a slider on the curve's own body, a zero normal.
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
-#[path = "support/plate.rs"]
-mod plate;
+use crate::counting_alloc;
+use crate::plate;
 
 use flexmbs_core::contact::{CurveGuide, NeutralCurve};
 use flexmbs_core::ffr::contour::{ContourSettings, FfrCurveContour};

@@ -1,5 +1,5 @@
 //! Failures produce typed errors, not panics.
-mod common;
+use crate::common;
 use flexmbs_core::integrator::{Dopri5, GenAlpha, GenAlphaSettings, Statics};
 use flexmbs_core::*;
 use nalgebra::{Matrix3, Vector3};

@@ -4,8 +4,7 @@
 //! position along `q ⊕ dv`), the contact frame is orthonormal, a point above the contour is found
 //! by the search as its normal projection, and bad node lists are refused with the reason.
 
-#[path = "support/plate.rs"]
-mod plate;
+use crate::plate;
 
 use faer::Mat;
 use flexmbs_core::ffr::contour::{

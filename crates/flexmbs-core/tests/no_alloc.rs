@@ -1,10 +1,7 @@
-//! No heap allocation inside a time step (counting global allocator; own test binary).
-mod chain;
-mod common;
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
-#[path = "support/spring_element.rs"]
-mod spring_element;
+//! No heap allocation inside a time step (the test binary's counting global allocator).
+use crate::chain;
+use crate::counting_alloc;
+use crate::spring_element;
 use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{Dopri5, GenAlpha, GenAlphaSettings};
 use flexmbs_core::*;

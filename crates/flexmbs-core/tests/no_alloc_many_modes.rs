@@ -1,10 +1,9 @@
 //! No heap allocation in Moreau steps of a point mass on the neutral surface of a clamped FFR body
 //! with many modes (60): the sizes at which the Schur mass factorization and the contour's
 //! matrix-vector product use faer's blocked kernels (the plate of `contact_flexible.rs` has 3
-//! modes). Own test binary (counting global allocator).
+//! modes). Counted by the test binary's counting global allocator.
 
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 
 use faer::Mat;
 use flexmbs_core::contact::{Contact, ContactLaw, NeutralSurface, PointContour};

@@ -1,5 +1,5 @@
 //! Physical pendulum on a revolute joint: period vs the analytic values.
-mod common;
+use crate::common;
 use common::*;
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::*;

@@ -4,8 +4,7 @@
 //! chain whose nodes were added in a shuffled order equals the ordered chain; a frame on a
 //! scattered element has the Jacobian and constraint rows of finite differences.
 
-#[path = "support/spring_element.rs"]
-mod spring_element;
+use crate::spring_element;
 
 use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{

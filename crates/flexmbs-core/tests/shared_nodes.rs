@@ -10,8 +10,7 @@ use flexmbs_core::system::{evaluate, integrate_positions};
 use flexmbs_core::{Joint, Load, ModelSpec, NodeKind, State, Workspace};
 use nalgebra::{Matrix3, Vector3};
 
-#[path = "support/spring_element.rs"]
-mod spring_element;
+use crate::spring_element;
 use spring_element::Spring;
 
 fn tight() -> GenAlphaSettings {

@@ -3,7 +3,7 @@
 //! trajectories; the block mass solver groups bodies that share nodes (DOPRI5 of a free body
 //! split over two elements on one node matches free fall exactly).
 
-mod common;
+use crate::common;
 use flexmbs_core::algebra::{BlockMass, LinearSolver, SystemMatrix};
 use flexmbs_core::integrator::{Dopri5, Dopri5Settings};
 use flexmbs_core::linsolve::DenseLu;

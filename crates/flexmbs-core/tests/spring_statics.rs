@@ -1,5 +1,5 @@
 //! Spring-mass oscillator frequency and static equilibria.
-mod common;
+use crate::common;
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings, Statics, StaticsSettings};
 use flexmbs_core::*;
 use nalgebra::{Matrix3, Rotation3, Vector3};

@@ -1,6 +1,6 @@
 //! The one stepper contract: generalized-alpha (fixed and adaptive), DOPRI5 and statics run
 //! through `drive` as trait objects, with consistent statistics and a callback that stops.
-mod common;
+use crate::common;
 
 use common::Pendulum;
 use flexmbs_core::integrator::{

@@ -13,9 +13,8 @@
 //! - Moreau steps (fixed and step-size controlled) with the sphere contact or the guide on the
 //!   superelement allocate nothing.
 
+use crate::counting_alloc;
 use flexmbs_core::contact::SphereContour;
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
 
 use flexmbs_core::contact::{Contact, ContactLaw, ContactWork, CurveGuide, NeutralCurve};
 use flexmbs_core::ffr::contour::{ContourSettings, FfrCurveContour};

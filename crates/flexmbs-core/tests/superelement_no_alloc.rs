@@ -2,8 +2,7 @@
 //! binary): a clamped chain of three superelements with internal modes under gravity and a tip
 //! load, dense and sparse backends, fictitious forces neglected (analytic tangent) and from
 //! `M_CB` (finite-difference tangent).
-#[path = "support/counting_alloc.rs"]
-mod counting_alloc;
+use crate::counting_alloc;
 use flexmbs_core::algebra::LinearSolver;
 use flexmbs_core::integrator::{GenAlpha, GenAlphaSettings};
 use flexmbs_core::superelement::{

@@ -1,11 +1,14 @@
 //! External tools that some tests need: CalculiX (`ccx`) and Python with `h5py`, `numpy` or
-//! `vtk`. A test whose tool is missing skips: it prints one line `SKIPPED <test>: <reason>` to
+//! `vtk`, and a scratch folder per test that goes away with the test process ([`scratch_dir`]).
+//! A test whose tool is missing skips: it prints one line `SKIPPED <test>: <reason>` to
 //! stderr and returns, so it counts as passed (`cargo test -- --nocapture` or `--show-output`
 //! shows the line). With the environment variable [`REQUIRE_TOOLS_ENV`] set to `1` (as `.ci/run`
 //! does) a missing tool fails the test instead, so CI cannot pass without running these tests.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
 
 /// Environment variable that turns a missing tool into a test failure when set to `1`.
 pub const REQUIRE_TOOLS_ENV: &str = "FLEXMBS_REQUIRE_TOOLS";
@@ -71,6 +74,63 @@ pub fn python_or_skip(test: &str, modules: &[&str]) -> bool {
     false
 }
 
+/// Environment variable that keeps the test processes' scratch folders when set to `1`.
+pub const KEEP_TEST_FILES_ENV: &str = "FLEXMBS_KEEP_TEST_FILES";
+
+/// A new empty folder `<temp>/flexmbs-tests-<pid>/<tag>-<n>` for one test's files (`n` counts the
+/// folders handed out, so equal tags from tests running at the same time never share a folder).
+/// The per-process folder is removed when the test process exits normally, passed or failed
+/// (unless [`KEEP_TEST_FILES_ENV`] is `1`): a test run leaves nothing in the temporary directory.
+///
+/// # Panics
+/// When the folder cannot be created (a test helper: the test fails there).
+pub fn scratch_dir(tag: &str) -> PathBuf {
+    static NEXT: AtomicUsize = AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    let dir = scratch_root().join(format!("{tag}-{n}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir)
+        .unwrap_or_else(|e| panic!("cannot create the scratch folder {}: {e}", dir.display()));
+    dir
+}
+
+/// The process's scratch root, created (and its removal at exit registered) on first use.
+fn scratch_root() -> &'static Path {
+    static ROOT: OnceLock<PathBuf> = OnceLock::new();
+    ROOT.get_or_init(|| {
+        let root = std::env::temp_dir().join(format!("flexmbs-tests-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        let keep = std::env::var_os(KEEP_TEST_FILES_ENV).is_some_and(|v| v == "1");
+        if !keep {
+            remove_at_exit();
+        }
+        root
+    })
+}
+
+/// Registers [`remove_scratch_root`] with the C library's `atexit`: the test harness ends the
+/// process through `exit`, which runs it after the last test.
+#[cfg(unix)]
+fn remove_at_exit() {
+    extern "C" {
+        fn atexit(f: extern "C" fn()) -> std::os::raw::c_int;
+    }
+    // SAFETY: `atexit` is the C library's; the handler is an `extern "C"` function that only
+    // calls `remove_dir_all` (errors are returned, not raised) and never calls `exit`.
+    unsafe {
+        atexit(remove_scratch_root);
+    }
+}
+
+#[cfg(not(unix))]
+fn remove_at_exit() {}
+
+#[cfg(unix)]
+extern "C" fn remove_scratch_root() {
+    let root = std::env::temp_dir().join(format!("flexmbs-tests-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(root);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,6 +149,18 @@ mod tests {
             );
         } else {
             assert!(!python_or_skip("probe", &[missing]));
+        }
+    }
+
+    #[test]
+    fn scratch_folders_are_new_empty_and_distinct() {
+        let a = scratch_dir("same-tag");
+        let b = scratch_dir("same-tag");
+        assert_ne!(a, b);
+        for d in [&a, &b] {
+            assert!(d.is_dir());
+            assert_eq!(std::fs::read_dir(d).unwrap().count(), 0);
+            assert!(d.starts_with(scratch_root()));
         }
     }
 }

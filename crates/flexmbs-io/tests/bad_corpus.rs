@@ -5,7 +5,7 @@
 //! FE body model files (`fe__*.toml`) go through parsing and body preparation (meshing, node
 //! selections), as `flexmbs check` does, and must also name the key path.
 
-mod common;
+use crate::common;
 
 use common::{data, model_error_as_io, parse_kind, KINDS};
 use flexmbs_io::model::ModelError;

@@ -2,7 +2,7 @@
 //! definiteness of the reduced matrices, rigid null space, stored frequencies, node masses), and
 //! their text fields are covered by a checksum (format version 2; version 1 still read).
 
-mod body_file_support;
+use crate::body_file_support;
 
 use body_file_support::{sample_body, temp_dir};
 use faer::Mat;

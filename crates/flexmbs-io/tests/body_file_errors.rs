@@ -1,7 +1,7 @@
 //! Reduced-body file: bad, foreign, damaged and inconsistent files give located errors, never a
 //! panic.
 
-mod body_file_support;
+use crate::body_file_support;
 
 use body_file_support::{sample_body, sample_geometric, sample_rotary, temp_dir};
 use flexmbs_io::body_file::{

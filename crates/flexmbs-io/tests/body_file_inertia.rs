@@ -1,7 +1,7 @@
 //! The optional dataset `inertia/gram` of the reduced-body file: a bit-identical round trip,
 //! files without it read as `None`, malformed matrices refused with the dataset named.
 
-mod body_file_support;
+use crate::body_file_support;
 
 use body_file_support::{sample_body, temp_dir, Rng};
 use flexmbs_fe::reduction::ReducedBody;

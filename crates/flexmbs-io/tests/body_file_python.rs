@@ -3,7 +3,7 @@
 //! h5py or numpy are missing (CI: `pip install h5py numpy`). `h5dump` (Debian `hdf5-tools`) is
 //! checked when installed.
 
-mod body_file_support;
+use crate::body_file_support;
 
 use body_file_support::{python_has, run_python, sample_body, sample_geometric, temp_dir};
 use flexmbs_fe::geometric::InertialLoad;

@@ -1,6 +1,6 @@
 //! Reduced-body file: write -> read round trips are bit-identical; timing for a large body.
 
-mod body_file_support;
+use crate::body_file_support;
 
 use body_file_support::{sample_body, sample_geometric, temp_dir};
 use faer::Mat;

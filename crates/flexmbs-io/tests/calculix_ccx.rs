@@ -2,7 +2,7 @@
 //! reference beam (1 m x 20 mm x 20 mm steel, 40 x 2 x 2 C3D20R). Each test prints a reason and
 //! returns early (skips) when ccx is not installed.
 
-mod common;
+use crate::common;
 
 use common::data;
 use faer::Mat;
@@ -17,7 +17,7 @@ use std::collections::{HashMap, HashSet};
 use std::path::PathBuf;
 
 fn workdir(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("flexmbs_ccx_{}_{name}", std::process::id()))
+    flexmbs_io::test_tools::scratch_dir(&format!("ccx_{name}"))
 }
 
 /// True (after printing why) if ccx is missing; fails instead under `FLEXMBS_REQUIRE_TOOLS=1`.

@@ -2,7 +2,7 @@
 //! continuation lines, GENERATE, includes and mixed case, and small real `.sti`/`.dof`/`.dat`/
 //! `.frd` outputs of ccx 2.20 (cut from the beam runs).
 
-mod common;
+use crate::common;
 
 use common::data;
 use flexmbs_fe::{ElementKind, UnitSystem};
@@ -139,8 +139,7 @@ ENDS, 1, 2
 
 #[test]
 fn include_errors_are_located_in_the_included_file() {
-    let dir = std::env::temp_dir().join(format!("flexmbs_inc_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("inc");
     std::fs::write(dir.join("mesh.inp"), "*NODE\n1, 0, 0, 0\n1, 1, 0, 0\n").unwrap();
     let e = parse_inp(
         "** main\n*INCLUDE, INPUT=mesh.inp\n",

@@ -3,7 +3,7 @@
 //! deletion, digit/sign swaps) of the corpus files go through every parser; any panic fails the
 //! test. Results are not checked (most mutants are invalid), only that parsers return.
 
-mod common;
+use crate::common;
 
 use common::{data, parse_kind, XorShift, KINDS};
 use std::path::{Path, PathBuf};

@@ -58,8 +58,7 @@ fn stress_stiffened_frequencies_match_calculix_perturbation_step() {
         x[2] -= 0.01;
     }
     // CalculiX
-    let dir = std::env::temp_dir().join(format!("flexmbs_geo_ccx_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("geo_ccx");
     let deck = dir.join("spin.inp");
     let text = format!(
         "{}*BOUNDARY\nXMIN, 1, 3\n*STEP\n*FREQUENCY\n2\n*END STEP\n*STEP\n*STATIC\n*DLOAD\nE0, CENTRIF, {:.6e}, 0., 0., 0., 0., 0., 1.\n*END STEP\n*STEP, PERTURBATION\n*FREQUENCY\n2\n*END STEP\n",

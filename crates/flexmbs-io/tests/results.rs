@@ -1,7 +1,7 @@
 //! Results file, CSV, plots and animation: round trips, error paths, crash behaviour.
 
-mod body_file_support;
-mod results_support;
+use crate::body_file_support;
+use crate::results_support;
 
 use body_file_support::temp_dir;
 use flexmbs_fe::mesh::ElementKind;

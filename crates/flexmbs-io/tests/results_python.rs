@@ -2,8 +2,8 @@
 //! XML reader. Skipped with a printed reason when python3, h5py, numpy or vtk are missing (CI:
 //! `.ci/run` installs them with pip).
 
-mod body_file_support;
-mod results_support;
+use crate::body_file_support;
+use crate::results_support;
 
 use body_file_support::{python_has, run_python, temp_dir};
 use flexmbs_fe::mesh::ElementKind;

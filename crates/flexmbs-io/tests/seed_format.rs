@@ -1,7 +1,7 @@
 //! The seed 4-file format (Listings 4.1-4.5): reading a folder laid out exactly like the
 //! listings, reduced stiffness, bit-identical write/read round trip, symmetry policy.
 
-mod common;
+use crate::common;
 
 use common::{data, XorShift};
 use faer::sparse::Triplet;
@@ -95,7 +95,7 @@ fn random_body(rng: &mut XorShift, nn: usize, nf: usize) -> SeedBody {
 #[test]
 fn write_read_round_trip_is_bit_identical() {
     let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
-    let tmp = std::env::temp_dir().join(format!("flexmbs_seed_rt_{}", std::process::id()));
+    let tmp = flexmbs_io::test_tools::scratch_dir("seed_rt");
     for case in 0..5 {
         let b = random_body(&mut rng, 3 + case * 2, 1 + case);
         write_seed_dir(&tmp, &b).unwrap();
@@ -136,7 +136,7 @@ fn writer_uses_listing_layout() {
         first,
         "1.0500000000000000e+02\t1.0000000000000000e+01\t5.1300001100000001e+00\t% node: 1"
     );
-    let tmp = std::env::temp_dir().join(format!("flexmbs_seed_layout_{}", std::process::id()));
+    let tmp = flexmbs_io::test_tools::scratch_dir("seed_layout");
     write_seed_dir(&tmp, &b).unwrap();
     let modes = std::fs::read_to_string(tmp.join(SEED_FILES[1])).unwrap();
     assert_eq!(

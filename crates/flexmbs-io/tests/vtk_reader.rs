@@ -1,7 +1,7 @@
 //! VTU/PVD output checked with VTK's own reader (`vtkXMLUnstructuredGridReader`, PyPI `vtk`).
 //! Skipped with a printed reason when python3 or the vtk module is missing (CI: `pip install vtk`).
 
-mod body_file_support;
+use crate::body_file_support;
 
 use body_file_support::{python_has, run_python, sample_body, temp_dir};
 use flexmbs_fe::mesh::ElementKind;

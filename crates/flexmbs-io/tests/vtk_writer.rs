@@ -1,6 +1,6 @@
 //! VTU/PVD writer without external readers: input checks and the exact text of small files.
 
-mod body_file_support;
+use crate::body_file_support;
 
 use body_file_support::{sample_body, temp_dir};
 use flexmbs_fe::mesh::ElementKind;

@@ -1,5 +1,5 @@
 //! Basis functions, rational curves and surfaces against The NURBS Book and analytic geometry.
-mod common;
+use crate::common;
 use common::Rng;
 use flexmbs_nurbs::*;
 use nalgebra::Vector3;

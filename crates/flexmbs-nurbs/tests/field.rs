@@ -1,5 +1,5 @@
 //! Interpolated fields (positions, mode shapes, scalars) evaluated with the interpolator's basis.
-mod common;
+use crate::common;
 use common::Rng;
 use flexmbs_nurbs::*;
 use nalgebra::Vector3;

@@ -1,6 +1,6 @@
 //! Property test: construction from random (often invalid) input never panics; it returns a
 //! typed error or an object whose evaluation and search also never panic.
-mod common;
+use crate::common;
 use common::Rng;
 use flexmbs_nurbs::*;
 use nalgebra::Vector3;

@@ -1,5 +1,5 @@
 //! Global interpolation of curves and surfaces, open and closed (seed 000 (3.18)-(3.23)).
-mod common;
+use crate::common;
 use common::Rng;
 use flexmbs_nurbs::params::curve_parameters;
 use flexmbs_nurbs::*;

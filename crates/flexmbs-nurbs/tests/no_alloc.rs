@@ -1,48 +1,9 @@
 //! Evaluation, re-interpolation and (warm and full) contact search allocate nothing once the
-//! scratch exists (counting global allocator; own test binary, one test so nothing runs
-//! concurrently on other threads while counting).
+//! scratch exists (the counting global allocator of the test binary counts on the measuring
+//! thread only).
+use crate::counting_alloc::allocations_in as counted;
 use flexmbs_nurbs::*;
 use nalgebra::Vector3;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-thread_local! {
-    static ON: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-fn count() {
-    if ON.with(|c| c.get()) {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn counted(f: impl FnOnce()) -> usize {
-    ALLOCS.store(0, Ordering::SeqCst);
-    ON.with(|c| c.set(true));
-    f();
-    ON.with(|c| c.set(false));
-    ALLOCS.load(Ordering::SeqCst)
-}
 
 fn grid(ne: usize, nx: usize, amp: f64) -> Vec<Vector3<f64>> {
     let mut g = Vec::new();

@@ -1,6 +1,6 @@
 //! Contact search (seed 000 §3.3) on analytic contours with known closest points, and on NURBS
 //! contours against brute-force dense sampling.
-mod common;
+use crate::common;
 use common::Rng;
 use flexmbs_nurbs::*;
 use nalgebra::Vector3;

@@ -3,7 +3,7 @@
 //! from the FE model file, also with a subset of its modes; files without the dataset read as
 //! before.
 
-mod common;
+use crate::common;
 
 use flexmbs_core::ffr::{
     consistent_mass_to_si, gram_to_si, reduced_body_to_si, restrict_gram, FfrInvariants,

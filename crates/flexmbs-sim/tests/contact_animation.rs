@@ -7,7 +7,7 @@
 //! and what the result signals say; VTK's own reader loads the parts (quads, vertices and
 //! fields; skipped without python3 and its vtk module).
 
-mod common;
+use crate::common;
 
 use flexmbs_core::LocalFrame;
 use flexmbs_io::results::{read_results, RunStatus};

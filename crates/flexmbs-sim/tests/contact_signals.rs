@@ -4,7 +4,7 @@
 //! reports contour coordinates inside the face's parameter range and a contact point on the face
 //! below the mass.
 
-mod common;
+use crate::common;
 
 use flexmbs_core::contact::NeutralSurface;
 use flexmbs_io::results::{read_results, Results};

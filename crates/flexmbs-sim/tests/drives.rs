@@ -2,7 +2,7 @@
 //! follow their closed forms end to end (parsing, units, the joint's drive row); non-smooth
 //! position drives after t = 0 are warned about (kinks) or refused (jumps) with the jump named.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::run::{run_model, RunOptions};

@@ -137,7 +137,7 @@ signals = ["bead.position"]
 /// rows up to the start of that step, the last one below the arm's reach.
 #[test]
 fn failed_internal_solve_ends_the_run_naming_body_time_and_cause() {
-    let file = std::env::temp_dir().join("flexmbs-bead-fall.toml");
+    let file = flexmbs_io::test_tools::scratch_dir("model").join("bead-fall.toml");
     let mut cm = flexmbs_sim::compile_model(FALL, &file).unwrap();
     let b = cm.model.body_id("bead").unwrap();
     let body = &mut cm.model.bodies[b.index()];
@@ -146,7 +146,7 @@ fn failed_internal_solve_ends_the_run_naming_body_time_and_cause() {
         Box::new(flexmbs_core::point_mass::PointMass::new(1.0)),
     );
     body.element = Box::new(ArmSolve(inner));
-    let out = std::env::temp_dir().join(format!("flexmbs-sim-test-{}-bead", std::process::id()));
+    let out = flexmbs_io::test_tools::scratch_dir("sim-test-bead");
     let _ = std::fs::remove_dir_all(&out);
     let err = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap_err();
     let msg = err.to_string();

@@ -2,7 +2,7 @@
 //! accumulated (`external_work`) and `energy_drift` measures `|E - W - E0|`, checked on a model
 //! whose work is known analytically and on the rotating-beam example.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::RunStatus;
 use flexmbs_sim::run::{run_model, RunOptions};

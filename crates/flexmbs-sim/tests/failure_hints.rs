@@ -4,7 +4,7 @@
 //! too): the hint must name `rho_inf < 1`, not a smaller `h`. A failure of another cause keeps the
 //! general hint.
 
-mod common;
+use crate::common;
 
 use flexmbs_sim::run::{run_model, RunError, RunOptions};
 use std::path::Path;

@@ -8,7 +8,7 @@
 //!
 //! and the beam link against its built-in solid and CalculiX variants.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::run::{run_model, RunOptions};

@@ -64,8 +64,7 @@ restitution = 1.0
 "#;
 
 fn files() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("flexmbs-flexible-contact-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("flexible-contact");
     std::fs::write(dir.join("beam.toml"), BEAM).unwrap();
     dir.join("model.toml")
 }

@@ -20,7 +20,7 @@ fn example(name: &str) -> PathBuf {
 #[test]
 fn servo_arm_example_settles_at_the_reference_with_the_static_torque() {
     let cm = flexmbs_sim::load_model(&example("servo_arm.toml")).unwrap();
-    let out = std::env::temp_dir().join(format!("flexmbs-force-{}", std::process::id()));
+    let out = flexmbs_io::test_tools::scratch_dir("force");
     let _ = std::fs::remove_dir_all(&out);
     let summary = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap();
     assert_eq!(summary.status, RunStatus::Completed);

@@ -66,8 +66,7 @@ rotations = true
 "#;
 
 fn files() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("flexmbs-guide-file-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("guide-file");
     std::fs::write(dir.join("beam.toml"), BEAM).unwrap();
     dir.join("model.toml")
 }

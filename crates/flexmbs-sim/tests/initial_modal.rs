@@ -4,7 +4,7 @@
 //! value `2 / sqrt(m)` (any uniform clamped-free beam: `φ(L) = 2` for `∫φ² = L`), and
 //! `f_1 = 1.8751² / (2π) sqrt(E I / (ρ A L⁴))` (Euler-Bernoulli).
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::run::{run_model, RunOptions};

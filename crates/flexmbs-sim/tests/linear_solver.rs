@@ -14,10 +14,7 @@ fn example_text(name: &str) -> (String, PathBuf) {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "flexmbs-sim-linsolve-{}-{name}",
-        std::process::id()
-    ));
+    let d = flexmbs_io::test_tools::scratch_dir(&format!("sim-linsolve-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     d
 }

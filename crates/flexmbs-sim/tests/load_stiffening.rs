@@ -40,8 +40,7 @@ fn run(stiffen: bool, name: &str) -> (f64, f64, f64) {
         assert!(ls.inertia_relief && ls.acceleration.is_none());
         assert!(b.geometric_stiffening().is_some());
     }
-    let out =
-        std::env::temp_dir().join(format!("flexmbs-load-stiff-{}-{name}", std::process::id()));
+    let out = flexmbs_io::test_tools::scratch_dir(&format!("load-stiff-{name}"));
     let _ = std::fs::remove_dir_all(&out);
     let summary = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap();
     assert_eq!(summary.status, RunStatus::Completed);
@@ -136,10 +135,7 @@ fn beam_column_amplification(p_over_pcr: f64) -> f64 {
 #[test]
 fn statics_with_load_stiffening_is_a_beam_column() {
     let (file, text) = example();
-    let dir =
-        std::env::temp_dir().join(format!("flexmbs-load-stiff-statics-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("load-stiff-statics");
     let rod = std::fs::read_to_string(file.parent().unwrap().join("parts/rod.toml")).unwrap();
     let rod_file = dir.join("rod8.toml");
     std::fs::write(&rod_file, rod.replace("modes = 4", "modes = 8")).unwrap();

@@ -2,7 +2,7 @@
 //! of beam meshes: clamped bodies (reference frame fixed to ground) hit by a short pulse vibrate
 //! freely afterwards at the FE modal frequency of the selected mode.
 
-mod common;
+use crate::common;
 
 use flexmbs_core::ffr::{reduced_body_to_si, FfrBody, RotaryInertia, RotationParam};
 use flexmbs_io::results::{read_results, RunStatus};

@@ -428,7 +428,7 @@ fn every_error_names_key_path_and_line() {
 #[test]
 fn fe_source_errors_are_located_in_both_files() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/mbs");
-    let dir = std::env::temp_dir().join(format!("flexmbs-fe-source-{}", std::process::id()));
+    let dir = flexmbs_io::test_tools::scratch_dir("fe-source");
     std::fs::create_dir_all(dir.join("parts")).unwrap();
     let rod = std::fs::read_to_string(root.join("parts/rod.toml")).unwrap()
         + "\n[body.boundary]\nfixed = [\"xmin_typo\"]\n";

@@ -3,7 +3,7 @@
 //! equation of motion, energy and small-angle solution), a crank driven at constant rate over
 //! several turns.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::{read_results, Results};
 use flexmbs_sim::compile_model;

@@ -3,7 +3,7 @@
 //! fixed steps (slider-crank with a rod clamped at the crank pin). The references are full Newton
 //! (a fresh iteration matrix every iteration) and the exact geometry of the slider-crank.
 
-mod common;
+use crate::common;
 
 use flexmbs_core::integrator::{GenAlpha, MODIFIED_NEWTON_MAX_REUSE};
 use flexmbs_core::Workspace;

@@ -2,7 +2,7 @@
 //! 10 % of its size) and a drive whose velocity jumps (velocity-constraint drift) are reported in
 //! the run summary; the shipped static cantilever (2.4 mm on 1 m) is not.
 
-mod common;
+use crate::common;
 
 use flexmbs_sim::compile_model;
 use flexmbs_sim::run::{run_model, RunOptions, RunSummary};

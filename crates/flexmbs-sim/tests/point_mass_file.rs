@@ -3,7 +3,7 @@
 //! joint (its rotation is decoupled: an independent code path; measured equal to the last bit), and refusals of rotational
 //! couplings with their key paths.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::run::{run_model, RunOptions};

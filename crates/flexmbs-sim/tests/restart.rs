@@ -3,7 +3,7 @@
 //! the restarted run computes, so half a run plus its restart reproduce the whole run to the
 //! Newton tolerance (measured: 1.6e-19 m on a 3.2e-4 m tip deflection).
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::run::{run_model, RunOptions};

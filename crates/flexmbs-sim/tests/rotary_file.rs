@@ -3,7 +3,7 @@
 //! its FE model file, with the default `rotary_inertia` (on), in SI and SI(mm); the key's
 //! opt-out and its errors work on `.fmb.h5` sources as on FE sources.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::body_file::{write_body, BodyFile};
 use flexmbs_io::model_check::FeModelSource;

@@ -14,7 +14,7 @@ fn example(name: &str) -> PathBuf {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs-sim-test-{}-{name}", std::process::id()));
+    let d = flexmbs_io::test_tools::scratch_dir(&format!("sim-test-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     d
 }
@@ -164,7 +164,7 @@ signals = ["arm.position"]
 /// results file has status `failed` and everything up to the failure.
 #[test]
 fn diverging_run_fails_with_readable_results() {
-    let file = std::env::temp_dir().join("flexmbs-diverging.toml");
+    let file = flexmbs_io::test_tools::scratch_dir("model").join("diverging.toml");
     let cm = flexmbs_sim::compile_model(DIVERGING, &file).unwrap();
     let out = out_dir("diverging");
     let err = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap_err();
@@ -246,7 +246,7 @@ signals = ["block.orientation"]
 /// file has status `failed` and the rows up to t = 0.099 s.
 #[test]
 fn cardan_singularity_fails_naming_body_time_and_cause() {
-    let file = std::env::temp_dir().join("flexmbs-cardan-spin.toml");
+    let file = flexmbs_io::test_tools::scratch_dir("model").join("cardan-spin.toml");
     let cm = flexmbs_sim::compile_model(CARDAN_SPIN, &file).unwrap();
     let out = out_dir("cardan-spin");
     let err = run_model(&cm, &RunOptions::new(&out), &mut |_| {}).unwrap_err();
@@ -707,7 +707,7 @@ fn static_start_refuses_initial_velocities() {
 #[test]
 fn output_folder_lock_and_symlinked_results_are_refused() {
     use flexmbs_io::output_safety::LOCK_FILE;
-    let file = std::env::temp_dir().join("flexmbs-lock-model.toml");
+    let file = flexmbs_io::test_tools::scratch_dir("model").join("lock-model.toml");
     let cm = flexmbs_sim::compile_model(CARDAN_SPIN, &file).unwrap();
     let out = out_dir("locked");
     std::fs::create_dir_all(&out).unwrap();

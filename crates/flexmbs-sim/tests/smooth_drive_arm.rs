@@ -3,7 +3,7 @@
 //! frequency of a clamped Euler-Bernoulli beam with a tip mass (an independent closed form: the
 //! interface frame makes the weld transmit the link's slope and the payload's inertia).
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::run::{run_model, RunOptions};

@@ -3,7 +3,7 @@
 //! a frame on that interface (`interface = "tip"`) carries the body's slope, checked against
 //! Euler-Bernoulli beam theory for a tip moment (exact for hex20r with nu = 0: measured 3e-8).
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::run::{run_model, RunOptions};

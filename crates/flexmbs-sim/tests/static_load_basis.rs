@@ -7,7 +7,7 @@
 //! modal damping is refused with the reason, the body file keeps the basis and passes its
 //! consistency checks on write and read.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::read_results;
 use flexmbs_sim::compile_model;

@@ -18,7 +18,7 @@ fn examples() -> PathBuf {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs-sim-stiff-{}-{name}", std::process::id()));
+    let d = flexmbs_io::test_tools::scratch_dir(&format!("sim-stiff-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     d
 }

@@ -20,10 +20,7 @@ fn examples() -> PathBuf {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs-sim-kgfile-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    flexmbs_io::test_tools::scratch_dir(&format!("sim-kgfile-{name}"))
 }
 
 /// The steps of `flexmbs reduce model.toml -o out.fmb.h5`: prepare, reduce, for a body with

@@ -4,7 +4,7 @@
 //! `.fmb.h5` file; the errors of a reduced-body file without stress fields and of a frame that
 //! is not on a mesh node.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::body_file::BodyFile;
 use flexmbs_io::model_check::FeModelSource;

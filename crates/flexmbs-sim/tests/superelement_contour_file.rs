@@ -42,8 +42,7 @@ normal = "bilateral"
 "#;
 
 fn path() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("flexmbs-se-contour-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("se-contour");
     dir.join("model.toml")
 }
 

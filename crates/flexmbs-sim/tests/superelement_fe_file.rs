@@ -3,7 +3,7 @@
 //! path); a superelement of a solid bar clamped at one interface vibrates like the FFR body of
 //! the same FE model and Craig-Bampton modes; bad input is refused at the keys.
 
-mod common;
+use crate::common;
 
 use flexmbs_io::results::{read_results, RunStatus};
 use flexmbs_sim::compile_model;

@@ -4,7 +4,7 @@
 //! same numbers; the static cantilever meets the elastica; rigid bodies joint to interface
 //! points; bad input is refused with key paths.
 
-mod common;
+use crate::common;
 
 use flexmbs_core::integrator::{self, GenAlpha, GenAlphaStepper, Statics, StaticsStepper, Stepper};
 use flexmbs_core::superelement::{

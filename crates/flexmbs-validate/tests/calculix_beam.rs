@@ -20,8 +20,7 @@ fn examples() -> PathBuf {
 
 fn ccx_frequencies() -> Option<Vec<f64>> {
     flexmbs_io::test_tools::ccx_or_skip("ccx_frequencies")?;
-    let dir = std::env::temp_dir().join(format!("flexmbs-test-ccx-freq-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = flexmbs_io::test_tools::scratch_dir("test-ccx-freq");
     let run = run_ccx(&examples().join("calculix/beam_freq.inp"), &dir).expect("ccx frequency run");
     let f: Vec<f64> = read_dat_frequencies(&run.file("dat"))
         .unwrap()

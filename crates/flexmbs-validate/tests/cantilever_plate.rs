@@ -38,7 +38,7 @@ fn stored_coarse_reference_is_reproduced_by_calculix() {
     {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("flexmbs-plate-ccx-{}", std::process::id()));
+    let dir = flexmbs_io::test_tools::scratch_dir("plate-ccx");
     let run = flexmbs_io::calculix::run_ccx(&case_dir().join("ccx_c3d20r_40x4x2.inp"), &dir)
         .expect("ccx run");
     let dat = std::fs::read_to_string(run.job.with_extension("dat")).unwrap();

@@ -11,7 +11,7 @@ use flexmbs_validate::sliding_balls_arc::{
 /// are caught by these checks (so they can fail).
 #[test]
 fn cubic_contour_has_no_acceleration_jumps_and_the_checks_see_kinks() {
-    let dir = std::env::temp_dir().join(format!("flexmbs_arc_{}", std::process::id()));
+    let dir = flexmbs_io::test_tools::scratch_dir("arc");
     let ring = reduce_ring(&dir).unwrap();
     let runs: Vec<_> = [1, 2, 3]
         .iter()

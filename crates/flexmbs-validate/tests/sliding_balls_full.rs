@@ -2,7 +2,7 @@
 //! nonlinear reference. Not in CI: the 100-mode run takes 12.5 times the steps of the 0.5 s run
 //! (153 240 steps, 124 s on CPU in the dev build, 2026-11-25; 375 s wall on this loaded 2-core
 //! machine); the reference (40 elements, h = 0.125 ms) about 20 s on CPU. Run with
-//! `cargo test -p flexmbs-validate --test sliding_balls_full -- --ignored --nocapture`
+//! `cargo test -p flexmbs-validate --test integration sliding_balls_full:: -- --ignored --nocapture`
 //! (`SLIDING_BALLS_SERIES_DIR=dir` also writes the series for `compare_series.py`).
 
 use flexmbs_validate::sliding_balls::{

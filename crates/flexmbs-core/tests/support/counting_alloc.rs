@@ -1,22 +1,25 @@
 //! A global allocator that counts allocations on the thread that switched counting on
-//! ([`allocations_in`]); include with `#[path = "support/counting_alloc.rs"] mod counting_alloc;`
-//! in a test crate that checks a code path allocates nothing.
+//! ([`allocations_in`]): the count is per thread, so tests measuring at the same time on the test
+//! harness's threads do not see each other's allocations. Declared once in `tests/main.rs`.
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
 
 thread_local! {
     /// Counting is on only on the thread running the measured code: the test harness's own
     /// threads allocate concurrently.
-    static ON: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    static ON: Cell<bool> = const { Cell::new(false) };
+    /// Allocations counted on this thread.
+    static ALLOCS: Cell<usize> = const { Cell::new(0) };
 }
 
 fn count() {
-    if ON.with(|c| c.get()) {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
+    // `try_with`: the thread's locals may be gone while it exits (allocations then go uncounted,
+    // and counting is off there anyway)
+    if ON.try_with(|c| c.get()).unwrap_or(false) {
+        let _ = ALLOCS.try_with(|n| n.set(n.get() + 1));
     }
 }
 
@@ -39,9 +42,9 @@ static GLOBAL: Counting = Counting;
 
 /// The allocations `f` makes on this thread.
 pub fn allocations_in(f: impl FnOnce()) -> usize {
-    let before = ALLOCS.load(Ordering::SeqCst);
+    let before = ALLOCS.with(|n| n.get());
     ON.with(|c| c.set(true));
     f();
     ON.with(|c| c.set(false));
-    ALLOCS.load(Ordering::SeqCst) - before
+    ALLOCS.with(|n| n.get()) - before
 }

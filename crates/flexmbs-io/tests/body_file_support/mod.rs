@@ -153,12 +153,9 @@ pub fn sample_geometric(nf: usize, seed: u64) -> GeometricStiffness {
     }
 }
 
-/// A fresh temporary directory for one test.
+/// A fresh temporary directory for one test ([`flexmbs_io::test_tools::scratch_dir`]).
 pub fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs-bodyfile-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    flexmbs_io::test_tools::scratch_dir(&format!("bodyfile-{tag}"))
 }
 
 /// Whether `python3` can import all `modules`; when not, the test skips with the reason printed,

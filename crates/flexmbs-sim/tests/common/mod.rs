@@ -3,12 +3,9 @@
 
 use std::path::PathBuf;
 
-/// An empty scratch folder `flexmbs-sim-<group>-<pid>-<name>` in the temporary directory.
+/// An empty scratch folder for one test ([`flexmbs_io::test_tools::scratch_dir`]).
 pub fn work_dir(group: &str, name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("flexmbs-sim-{group}-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    flexmbs_io::test_tools::scratch_dir(&format!("sim-{group}-{name}"))
 }
 
 /// FE model file of a steel shaft 1 m x 20 mm x 20 mm, 10 Euler-Bernoulli beam elements (lumped
