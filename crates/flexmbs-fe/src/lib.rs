@@ -34,7 +34,7 @@ pub mod units;
 
 pub use error::FeError;
 pub use material::Material;
-pub use mesh::{ElementKind, Mesh, NodeIdx};
+pub use mesh::{BoxFace, ElementKind, Mesh, NodeIdx};
 pub use units::UnitSystem;
 
 /// Sparse matrix type used for assembled FE matrices (compressed sparse column, full storage).

@@ -303,11 +303,10 @@ pub(crate) fn check_values(m: &FeModelFile, file: &Path) -> Result<(), ModelErro
     }
     for (i, l) in r.static_loads.iter().enumerate() {
         if let Some(face) = &l.face {
-            const FACES: [&str; 6] = ["xmin", "xmax", "ymin", "ymax", "zmin", "zmax"];
-            if !FACES.contains(&face.as_str()) {
+            if flexmbs_fe::BoxFace::from_name(face).is_none() {
                 return Err(err(
                     &format!("body.reduction.static_loads[{i}].face"),
-                    format!("unknown face `{face}` (xmin, xmax, ymin, ymax, zmin, zmax)"),
+                    format!("unknown face `{face}` ({})", flexmbs_fe::BoxFace::NAMES),
                 ));
             }
             if l.point.is_none() {

@@ -3,8 +3,8 @@
 //! (3.23), (3.24)) passes a contact force to the nodes. A static load response to this pattern
 //! enriches a modal basis exactly where a contact on the contour acts.
 
-use flexmbs_core::ffr::contour::{face_grid, ContourSettings};
-use flexmbs_fe::{Mesh, NodeIdx};
+use flexmbs_core::ffr::contour::{box_face_grid, ContourSettings};
+use flexmbs_fe::{BoxFace, Mesh, NodeIdx};
 use flexmbs_nurbs::{SearchGrid, SearchSettings, SurfaceInterpolator, SurfaceSearch};
 use nalgebra::Vector3;
 
@@ -12,40 +12,20 @@ use nalgebra::Vector3;
 /// mesh's bounding box (a point off the face is a mistake, not a projection to make).
 const MAX_DISTANCE: f64 = 1e-3;
 
-/// `(axis, max)` of a bounding-box face name.
-fn face_axis(face: &str) -> Result<(usize, bool), String> {
-    Ok(match face {
-        "xmin" => (0, false),
-        "xmax" => (0, true),
-        "ymin" => (1, false),
-        "ymax" => (1, true),
-        "zmin" => (2, false),
-        "zmax" => (2, true),
-        other => return Err(format!("unknown face `{other}` (xmin ... zmax)")),
-    })
-}
-
 /// The nodes of `face` and their weights in the surface point nearest to `point` (mesh units),
 /// built as a `surface` contour with default settings on that face builds its surface (the same
-/// node grid, [`face_grid`] with the same tolerance, and the same interpolation). Errors as text.
+/// node grid, [`box_face_grid`], and the same interpolation). Errors as text.
 pub fn face_point_weights(
     mesh: &Mesh,
     face: &str,
     point: [f64; 3],
 ) -> Result<Vec<(NodeIdx, f64)>, String> {
-    let (axis, max) = face_axis(face)?;
+    let box_face = BoxFace::from_name(face)
+        .ok_or_else(|| format!("unknown face `{face}` ({})", BoxFace::NAMES))?;
     let pts: Vec<Vector3<f64>> = mesh.nodes.iter().map(|p| Vector3::from(*p)).collect();
-    let (mut lo, mut hi) = (
-        Vector3::repeat(f64::INFINITY),
-        Vector3::repeat(f64::NEG_INFINITY),
-    );
-    for p in &pts {
-        lo = lo.inf(p);
-        hi = hi.sup(p);
-    }
-    let diag = (hi - lo).norm();
-    let value = if max { hi[axis] } else { lo[axis] };
-    let (grid, ne, nx) = face_grid(&pts, axis, value, 1e-6 * diag).ok_or_else(|| {
+    let (lo, hi) = mesh.bounding_box();
+    let diag = (Vector3::from(hi) - Vector3::from(lo)).norm();
+    let (grid, ne, nx) = box_face_grid(&pts, box_face).ok_or_else(|| {
         "the nodes on this face do not form a grid of at least 2 x 2 (a structured mesh face)"
             .to_string()
     })?;

@@ -7,7 +7,10 @@ use crate::contacts::{ContourName, ContourSpec, NodesSpec, OwnerFn};
 use crate::error::SimError;
 use crate::units::Dimension;
 use flexmbs_core::contact::{Contour, FlexibleBand, NeutralCurve, NeutralSurface};
-use flexmbs_core::ffr::contour::{face_grid, ContourSettings, FfrCurveContour, FfrSurfaceContour};
+use flexmbs_core::ffr::contour::{
+    box_face_grid, ContourSettings, FfrCurveContour, FfrSurfaceContour,
+};
+use flexmbs_fe::BoxFace;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -127,29 +130,11 @@ fn surface_grid(
 ) -> Result<(Vec<usize>, usize, usize, &'static str), SimError> {
     match (&c.face, &c.nodes) {
         (Some(face), None) => {
-            let (axis, max) = match face.as_str() {
-                "xmin" => (0, false),
-                "xmax" => (0, true),
-                "ymin" => (1, false),
-                "ymax" => (1, true),
-                "zmin" => (2, false),
-                "zmax" => (2, true),
-                other => {
-                    return Err(ctx.err(
-                        &format!("{p}.face"),
-                        format!("unknown face `{other}` (xmin, xmax, ymin, ymax, zmin, zmax)"),
-                    ))
-                }
-            };
-            let coord = u0.iter().map(|u| u[axis]);
-            let value = if max {
-                coord.fold(f64::NEG_INFINITY, f64::max)
-            } else {
-                coord.fold(f64::INFINITY, f64::min)
-            };
-            let (lo, hi) = bounding_box(u0);
-            let tol = 1e-6 * (hi - lo).norm();
-            let (grid, ne, nx) = face_grid(u0, axis, value, tol).ok_or_else(|| {
+            let box_face = BoxFace::from_name(face).ok_or_else(|| {
+                let msg = format!("unknown face `{face}` ({})", BoxFace::NAMES);
+                ctx.err(&format!("{p}.face"), msg)
+            })?;
+            let (grid, ne, nx) = box_face_grid(u0, box_face).ok_or_else(|| {
                 ctx.err(
                     &format!("{p}.face"),
                     "the nodes on this face do not form a grid of at least 2 x 2 (a structured \

@@ -27,6 +27,7 @@
 
 use crate::contour_source::{ContourNodes, NeutralContourSource};
 use faer::MatMut;
+use flexmbs_fe::BoxFace;
 use flexmbs_nurbs::{
     CurveInterpolator, CurveProjection, CurveScratch, CurveSearch, NurbsCurve, NurbsError,
     NurbsSurface, ParamMethod, SearchGrid, SearchSettings, SurfaceInterpolator, SurfaceProjection,
@@ -565,6 +566,18 @@ fn material_point(
         t_param: [te, tx],
         local: u,
     }
+}
+
+/// The node index matrix `O` (3.24) of the bounding-box face `face` of the nodes `points`
+/// ([`face_grid`] on the face's plane, within 1e-6 of the bounding box's diagonal): what a
+/// surface contour or a face load given by `face = "xmin"` ... `"zmax"` is built on.
+pub fn box_face_grid(points: &[Vector3<f64>], face: BoxFace) -> Option<(Vec<usize>, usize, usize)> {
+    let first = *points.first()?;
+    let (lo, hi) = points
+        .iter()
+        .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
+    let plane = face.plane(lo.into(), hi.into());
+    face_grid(points, face.axis(), plane, 1e-6 * (hi - lo).norm())
 }
 
 /// The node index matrix `O` (3.24) of a face of a structured mesh: the nodes with coordinate

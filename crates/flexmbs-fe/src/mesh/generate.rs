@@ -339,11 +339,9 @@ pub(crate) fn add_bounding_face_sets(mesh: &mut Mesh) {
     };
     let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
     let tol = GEOMETRIC_TOLERANCE * diag.max(f64::MIN_POSITIVE);
-    for (a, name) in ["x", "y", "z"].iter().enumerate() {
-        let nmin = mesh.nodes_on_plane(a, lo[a], tol);
-        let nmax = mesh.nodes_on_plane(a, hi[a], tol);
-        mesh.node_sets.insert(format!("{name}min"), nmin);
-        mesh.node_sets.insert(format!("{name}max"), nmax);
+    for face in super::BoxFace::ALL {
+        let nodes = mesh.nodes_on_plane(face.axis(), face.plane(lo, hi), tol);
+        mesh.node_sets.insert(face.name().into(), nodes);
     }
     mesh.node_sets
         .insert("all".into(), (0..mesh.num_nodes()).collect());

@@ -4,10 +4,13 @@
 //! Internally nodes are addressed by a dense 0-based [`NodeIdx`]; the labels a user or an
 //! FE code gave them are kept in [`Mesh::node_ids`].
 
+mod box_face;
 pub mod generate;
 pub mod profile;
 pub mod select;
 pub mod tube;
+
+pub use box_face::BoxFace;
 
 use crate::{FeError, Material, UnitSystem};
 use serde::{Deserialize, Serialize};
