@@ -399,6 +399,8 @@ pub fn craig_bampton(
     )?;
     let mut psi = k_ib.to_dense();
     chol.solve_in_place(psi.as_mut());
+    // freed before the eigen solver factors K_II again: one factor alive at a time
+    drop(chol);
     let k_internal = n_internal.min(ni);
     let (phi_i, w2_i) = if k_internal > 0 {
         let sol = lowest_modes(
