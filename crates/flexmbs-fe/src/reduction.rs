@@ -148,7 +148,10 @@ impl ReducedBody {
 }
 
 use crate::assembly::{entries, sparse_from_triplets};
-use crate::eigen::{dense_generalized, lowest_modes, EigenEvent, EigenOptions, SparseCholesky};
+use crate::eigen::{
+    dense_generalized, lowest_modes, lowest_modes_from_k_factor, EigenEvent, EigenOptions,
+    SparseCholesky,
+};
 use crate::mechanism::{count_zero_energy, spectrum_scale, ZERO_ENERGY_TOLERANCE};
 use crate::modes::{count_rigid, frequencies_hz, label_modes, project_dense};
 use crate::system::FeSystem;
@@ -377,21 +380,20 @@ pub fn craig_bampton(
         n: ni,
         nnz: k_ii.compute_nnz(),
     });
-    let chol = SparseCholesky::factor_observed(&k_ii, &mut |nnz_l, bytes| {
+    // K_II - 0 M_II with the eigen solver's ordering: the same factor starts its Lanczos run
+    let chol = SparseCholesky::factor_shifted_observed(&k_ii, &m_ii, 0.0, &mut |nnz_l, bytes| {
         progress(EigenEvent::FactorEstimate { nnz_l, bytes })
     })
-    .map_err(|e| {
-        match e {
+    .map_err(|e| match e {
         e @ FeError::MemoryRefused { .. } => e,
         _ => FeError::NotPositiveDefinite {
-        what: "K_II (stiffness with the interface fixed)".into(),
-        hint:
-            ": with the interface held the body still moves without strain energy: the interface \
-               does not stop every rigid-body motion, or the mesh is a mechanism (hourglass modes \
-               of hex20r with one element across a section: use 2 or more divisions across or \
-               hex20; parts not connected to each other)"
+            what: "K_II (stiffness with the interface fixed)".into(),
+            hint: ": with the interface held the body still moves without strain energy: the \
+                   interface does not stop every rigid-body motion, or the mesh is a mechanism \
+                   (hourglass modes of hex20r with one element across a section: use 2 or more \
+                   divisions across or hex20; parts not connected to each other)"
                 .into(),
-    }}
+        },
     })?;
     crate::memory::check_allocation(
         &format!("the static modes ({ni} x {nb} dense)"),
@@ -399,21 +401,15 @@ pub fn craig_bampton(
     )?;
     let mut psi = k_ib.to_dense();
     chol.solve_in_place(psi.as_mut());
-    // freed before the eigen solver factors K_II again: one factor alive at a time
-    drop(chol);
     let k_internal = n_internal.min(ni);
     let (phi_i, w2_i) = if k_internal > 0 {
-        let sol = lowest_modes(
-            &k_ii,
-            &m_ii,
-            &EigenOptions {
-                n_modes: k_internal,
-                // K_ii factored above for the static modes: positive definite
-                supported: true,
-                ..opts.clone()
-            },
-            progress,
-        )?;
+        let opts = EigenOptions {
+            n_modes: k_internal,
+            // K_ii factored above for the static modes: positive definite
+            supported: true,
+            ..opts.clone()
+        };
+        let sol = lowest_modes_from_k_factor(&k_ii, &m_ii, &opts, chol, progress)?;
         (sol.vectors, sol.omega2)
     } else {
         (Mat::<f64>::zeros(ni, 0), Vec::new())

@@ -62,6 +62,41 @@ print(bits(t[3*7+1, 2]), bits(f['nodes/position'][4, 1]), bits(f['reduced/stiffn
     assert_eq!(out.split_once('[').unwrap().1.trim(), "2] [0, 3, 29]");
 }
 
+/// A body of 70 000 nodes (index vectors longer than 65 535 entries, which once gave chunk
+/// dimensions libhdf5 refused to open): h5py reads every dataset, the node ids to the last.
+#[test]
+fn h5py_reads_every_dataset_of_a_large_body() {
+    if !python_has(
+        &["h5py", "numpy"],
+        "h5py_reads_every_dataset_of_a_large_body",
+    ) {
+        return;
+    }
+    let dir = temp_dir("py-large");
+    let mut body = sample_body(70_000, 1, 5);
+    for (i, id) in body.node_ids.iter_mut().enumerate() {
+        *id = 10 * i as u64 + 1;
+    }
+    let path = dir.join("large.fmb.h5");
+    write_body(&path, &body).unwrap();
+    let code = r#"
+import sys, h5py
+f = h5py.File(sys.argv[1], 'r')
+names = []
+f.visit(names.append)
+for n in names:
+    o = f[n]
+    if isinstance(o, h5py.Dataset):
+        o[()]
+print(len(names), int(f['nodes/id'][-1]), f['nodes/id'].shape[0])
+"#;
+    let out = run_python(code, &[path.to_str().unwrap()]);
+    let v: Vec<&str> = out.split_whitespace().collect();
+    assert!(v[0].parse::<usize>().unwrap() > 10, "{out}");
+    assert_eq!(v[1], "699991", "{out}");
+    assert_eq!(v[2], "70000", "{out}");
+}
+
 /// libhdf5 rewrites every object of our file (h5py `copy`, which goes through H5Ocopy and writes
 /// its own object headers and heaps); our reader gets back exactly the same body.
 #[test]

@@ -13,18 +13,23 @@ use super::{EigenEvent, EigenOptions, EigenSolution};
 use crate::{FeError, SparseMatrix};
 
 /// Block Lanczos on `K - sigma M` with the Sturm check (input already validated, `n_modes > 0`).
-/// `ordering`: the fill-reducing ordering of `K - s M` if already computed.
+/// `ordering`: the fill-reducing ordering of `K - s M` if already computed; `k_factor`: the
+/// factorization of `K` (shift 0) to start from, if the caller has it.
 pub(super) fn lanczos_solution(
     k: &SparseMatrix,
     m: &SparseMatrix,
     opts: &EigenOptions,
     ordering: Option<FillOrdering>,
+    k_factor: Option<SparseCholesky>,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<EigenSolution, FeError> {
     let n = k.nrows();
     let nm = opts.n_modes;
     let b = opts.block_size.max(1);
-    let (mut chol, sigma, probe) = start(k, m, opts, b, ordering, progress)?;
+    let (mut chol, sigma, probe) = match k_factor {
+        Some(chol) => (chol, 0.0, None),
+        None => start(k, m, opts, b, ordering, progress)?,
+    };
     let sigma0 = sigma;
     let mut need = nm;
     let cap = basis_cap(opts).max(need + 3 * b);

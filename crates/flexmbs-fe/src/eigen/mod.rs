@@ -418,6 +418,43 @@ pub fn lowest_modes(
     opts: &EigenOptions,
     progress: &mut dyn FnMut(EigenEvent),
 ) -> Result<EigenSolution, FeError> {
+    lowest_modes_started(k, m, opts, None, progress)
+}
+
+/// [`lowest_modes`] of a model whose `K` is positive definite, started from `k_factor`, the
+/// factorization of `K` itself (shift 0, by [`SparseCholesky::factor_shifted_observed`] of
+/// `K` and `M`): a caller that has solved with `K` already (the static constraint modes of
+/// Craig-Bampton, seed 001 ch. 3) saves the eigen solver's first factorization. The sparse
+/// solver starts at shift 0 with it and later refactors it in place; the dense path and a
+/// user shift (`opts.shift`) do not use it.
+///
+/// Errors: as [`lowest_modes`]; [`FeError::Invalid`] if `k_factor` has another dimension than
+/// `K`.
+pub fn lowest_modes_from_k_factor(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    opts: &EigenOptions,
+    k_factor: SparseCholesky,
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<EigenSolution, FeError> {
+    if k_factor.dim() != k.nrows() {
+        return Err(FeError::Invalid(format!(
+            "the factorization of K has dimension {}, K {}",
+            k_factor.dim(),
+            k.nrows()
+        )));
+    }
+    lowest_modes_started(k, m, opts, Some(k_factor), progress)
+}
+
+/// [`lowest_modes`], with the factorization of `K` to start the sparse solver from if given.
+fn lowest_modes_started(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    opts: &EigenOptions,
+    k_factor: Option<SparseCholesky>,
+    progress: &mut dyn FnMut(EigenEvent),
+) -> Result<EigenSolution, FeError> {
     let n = k.nrows();
     let nm = opts.n_modes;
     let dense = match opts.method {
@@ -425,7 +462,9 @@ pub fn lowest_modes(
         EigenMethod::Lanczos => false,
         EigenMethod::Auto => n <= opts.dense_limit,
     };
-    let ordering = checked_with_ordering(k, m, !dense && nm > 0)?;
+    // the factor serves the sparse solver's default start only
+    let k_factor = k_factor.filter(|_| !dense && nm > 0 && opts.shift.is_none());
+    let ordering = checked_with_ordering(k, m, !dense && nm > 0 && k_factor.is_none())?;
     if nm > n {
         return Err(FeError::Invalid(format!(
             "{nm} modes requested but the model has only {n} unknowns"
@@ -466,7 +505,7 @@ pub fn lowest_modes(
             start_shift: sigma,
         });
     }
-    lanczos_solution(k, m, opts, ordering, progress)
+    lanczos_solution(k, m, opts, ordering, k_factor, progress)
 }
 
 /// [`validate`]; with `order`, the fill-reducing ordering of `K - s M` (patterns only) is

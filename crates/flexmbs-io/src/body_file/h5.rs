@@ -194,11 +194,16 @@ pub(super) fn checksummed(b: &mut hdf5_pure::DatasetBuilder, data: &[f64], shape
     }
 }
 
+/// Entries per chunk of a checksummed index vector (256 KiB). Chunk dimensions stay below
+/// 65 536: for larger ones the writer encodes the dimension in more bytes than libhdf5
+/// computes, and h5py then refuses to open the dataset.
+const INDEX_CHUNK: u64 = 32_768;
+
 /// Stores an index vector chunked with a Fletcher-32 checksum (as [`checksummed`]).
 fn checksummed_u64(b: &mut hdf5_pure::DatasetBuilder, data: &[u64]) {
     b.with_u64_data(data);
     if !data.is_empty() {
-        b.with_chunks(&[(data.len() as u64).min(CHUNK_ROWS * 64)])
+        b.with_chunks(&[(data.len() as u64).min(INDEX_CHUNK)])
             .with_fletcher32();
     }
 }

@@ -505,6 +505,37 @@ fn supported_models_start_at_zero_shift() {
     assert!(sol.omega2[..6].iter().all(|w| w.abs() < 1e-8 * l7));
 }
 
+/// Started from a factorization of `K` made beforehand (as Craig-Bampton does for its static
+/// modes), the solver gives the same pairs as [`lowest_modes`] with the supported hint, bit for
+/// bit (the same factor, the same start), still matching the dense eigenvalues to 1e-9 with the
+/// Sturm check; a factor of another dimension is refused.
+#[test]
+fn a_given_factor_of_k_starts_the_solver() {
+    let (k, m) = grid_model(6, false);
+    let (ld, _) = dense_generalized(k.to_dense().as_ref(), m.to_dense().as_ref()).unwrap();
+    let opts = EigenOptions {
+        supported: true,
+        ..lanczos_opts(20)
+    };
+    let reference = lowest_modes(&k, &m, &opts, &mut |_| {}).unwrap();
+    let chol = SparseCholesky::factor_shifted_observed(&k, &m, 0.0, &mut |_, _| {}).unwrap();
+    let mut factorizations = 0;
+    let sol = lowest_modes_from_k_factor(&k, &m, &opts, chol, &mut |e| {
+        factorizations += matches!(e, EigenEvent::Factorizing { .. }) as usize
+    })
+    .unwrap();
+    assert_eq!(factorizations, 0, "the given factor is the start");
+    assert_eq!(sol.start_shift, 0.0);
+    assert_eq!(sol.omega2, reference.omega2);
+    assert_eq!(sol.vectors, reference.vectors);
+    assert_eigenvalues_match(&sol, &ld, 20, "given factor");
+    assert!(sol.sturm.is_some_and(|(a, b)| a == b));
+    let (k4, m4) = grid_model(4, false);
+    let small = SparseCholesky::factor_shifted_observed(&k4, &m4, 0.0, &mut |_, _| {}).unwrap();
+    let e = lowest_modes_from_k_factor(&k, &m, &opts, small, &mut |_| {}).unwrap_err();
+    assert!(matches!(e, FeError::Invalid(_)), "{e}");
+}
+
 /// From `SPLIT_MIN_DIM` unknowns the Lanczos driver factors in two domains (a 24 000-DOF grid
 /// whose separator is a twentieth of it): the lowest eigenvalues match the closed form to 1e-9,
 /// the Sturm check passes, the vectors are M-orthonormal.
