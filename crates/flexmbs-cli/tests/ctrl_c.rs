@@ -1,47 +1,11 @@
 //! Ctrl-C ends a run cleanly: SIGINT to the `flexmbs run` process gives exit code 130 and a
 //! readable results file with status `interrupted`. Also: `flexmbs check` on both file kinds.
 
+use crate::common::long_pendulum;
 use flexmbs_io::results::{read_results, RunStatus};
 use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
-
-const LONG_MODEL: &str = r#"
-[model]
-name = "long_pendulum"
-gravity = [0, -9.81, 0]
-
-[solver]
-type = "generalized-alpha"
-h = "1 ms"
-t_end = "1000 s"
-
-[[body]]
-name = "arm"
-type = "rigid"
-mass = 1
-inertia = [1e-4, 0.0834, 0.0834]
-position = [0.5, 0, 0]
-
-[[frame]]
-name = "hinge"
-body = "ground"
-
-[[frame]]
-name = "top"
-body = "arm"
-position = [-0.5, 0, 0]
-
-[[joint]]
-name = "pin"
-type = "revolute"
-a = "hinge"
-b = "top"
-
-[output]
-every = 10
-animation = false
-"#;
 
 #[cfg(unix)]
 #[test]
@@ -62,7 +26,7 @@ fn sigterm_and_sighup_interrupt_run_with_results_kept() {
 fn interrupt_with(signal: &str) {
     let dir = flexmbs_io::test_tools::scratch_dir(&format!("ctrlc-{signal}"));
     let model = dir.join("long.toml");
-    std::fs::write(&model, LONG_MODEL).unwrap();
+    std::fs::write(&model, long_pendulum("1000 s", 10)).unwrap();
     let out = dir.join("out");
     let mut child = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
         .args(["--quiet", "run"])
@@ -128,7 +92,8 @@ fn check_accepts_fe_and_multibody_files() {
     // a bad multibody file: exit code 1, key path and line in the message
     let dir = flexmbs_io::test_tools::scratch_dir("check");
     let bad = dir.join("bad.toml");
-    std::fs::write(&bad, LONG_MODEL.replace("mass = 1", "mass = \"1 m\"")).unwrap();
+    let text = long_pendulum("1000 s", 10).replace("mass = 1", "mass = \"1 m\"");
+    std::fs::write(&bad, text).unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
         .arg("check")
         .arg(&bad)

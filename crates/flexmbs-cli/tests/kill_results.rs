@@ -3,47 +3,11 @@
 //! (the file was last written at most one interval, plus a margin for a loaded machine, before
 //! the kill), SIGTERM leaves status `interrupted` with the final state as last row.
 
+use crate::common::long_pendulum;
 use flexmbs_io::results::{read_results, RunStatus, DEFAULT_FLUSH_INTERVAL};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command};
 use std::time::{Duration, Instant, SystemTime};
-
-const LONG_MODEL: &str = r#"
-[model]
-name = "long_pendulum"
-gravity = [0, -9.81, 0]
-
-[solver]
-type = "generalized-alpha"
-h = "1 ms"
-t_end = "100000 s"
-
-[[body]]
-name = "arm"
-type = "rigid"
-mass = 1
-inertia = [1e-4, 0.0834, 0.0834]
-position = [0.5, 0, 0]
-
-[[frame]]
-name = "hinge"
-body = "ground"
-
-[[frame]]
-name = "top"
-body = "arm"
-position = [-0.5, 0, 0]
-
-[[joint]]
-name = "pin"
-type = "revolute"
-a = "hinge"
-b = "top"
-
-[output]
-every = 2
-animation = false
-"#;
 
 /// Random delays in `[lo, hi)` seconds from a small linear congruential generator seeded by the
 /// clock (the seed is printed, so a failure can be repeated).
@@ -70,7 +34,7 @@ fn start_run(dir: &Path) -> (Child, PathBuf, Instant) {
     let _ = std::fs::remove_dir_all(dir);
     std::fs::create_dir_all(dir).unwrap();
     let model = dir.join("long.toml");
-    std::fs::write(&model, LONG_MODEL).unwrap();
+    std::fs::write(&model, long_pendulum("100000 s", 2)).unwrap();
     let out = dir.join("out");
     let child = Command::new(env!("CARGO_BIN_EXE_flexmbs"))
         .args(["--quiet", "run"])

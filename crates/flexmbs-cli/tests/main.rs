@@ -1,6 +1,8 @@
 //! The crate's integration tests in one test binary (one link, one binary on disk instead of
 //! one per file); each file is a module: `cargo test -p flexmbs-cli --test integration <file>::`.
 
+mod common;
+
 mod bad_models;
 mod ctrl_c;
 mod floating_frame_joint;

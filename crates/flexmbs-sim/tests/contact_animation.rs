@@ -9,31 +9,13 @@
 
 use crate::common;
 
+use crate::common::CONTACT_BEAM as BEAM;
 use flexmbs_core::LocalFrame;
 use flexmbs_io::results::{read_results, RunStatus};
 use flexmbs_sim::compile_model;
 use flexmbs_sim::run::{run_model, RunOptions};
 use nalgebra::Vector3;
 use std::path::Path;
-
-/// A clamped hex20 beam 0.2 x 0.04 x 0.04 m (10 x 2 x 2 elements, 6 modes).
-const BEAM: &str = r#"
-[body]
-name = "beam"
-units = "SI"
-[body.mesh]
-type = "box"
-size = [0.2, 0.04, 0.04]
-divisions = [10, 2, 2]
-element = "hex20"
-material = { e = 50e6, nu = 0.3, rho = 920.0 }
-[body.boundary]
-fixed = ["xmin"]
-[body.reduction]
-method = "modal"
-modes = 6
-mass = "consistent"
-"#;
 
 const MODEL: &str = r#"
 [model]

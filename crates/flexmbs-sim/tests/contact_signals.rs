@@ -6,6 +6,7 @@
 
 use crate::common;
 
+use crate::common::CONTACT_BEAM as BEAM;
 use flexmbs_core::contact::NeutralSurface;
 use flexmbs_io::results::{read_results, Results};
 use flexmbs_sim::compile_model;
@@ -212,25 +213,6 @@ animation = false
     assert!(friction > 0, "no friction force");
     let _ = std::fs::remove_dir_all(&dir);
 }
-
-/// A clamped hex20 beam 0.2 x 0.04 x 0.04 m (10 x 2 x 2 elements, 6 modes).
-const BEAM: &str = r#"
-[body]
-name = "beam"
-units = "SI"
-[body.mesh]
-type = "box"
-size = [0.2, 0.04, 0.04]
-divisions = [10, 2, 2]
-element = "hex20"
-material = { e = 50e6, nu = 0.3, rho = 920.0 }
-[body.boundary]
-fixed = ["xmin"]
-[body.reduction]
-method = "modal"
-modes = 6
-mass = "consistent"
-"#;
 
 /// A point mass dropped on the top face (a NURBS surface contour) of the flexible beam with a
 /// regularized law (generalized-alpha: the contact geometry is the row's state). While the mass

@@ -3,30 +3,12 @@
 //! gaining energy, the face's node grid is found from `face = "ymax"` and equals the explicit node
 //! index matrix, and bad flexible contours are refused at compile time with located errors.
 
+use crate::common::CONTACT_BEAM as BEAM;
 use flexmbs_core::integrator::{drive, MoreauStepper, Stepper};
 use flexmbs_core::Workspace;
 use flexmbs_sim::{compile_model, SimError};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-
-/// A clamped hex20 beam 0.2 x 0.04 x 0.04 m (10 x 2 x 2 elements, 6 modes).
-const BEAM: &str = r#"
-[body]
-name = "beam"
-units = "SI"
-[body.mesh]
-type = "box"
-size = [0.2, 0.04, 0.04]
-divisions = [10, 2, 2]
-element = "hex20"
-material = { e = 50e6, nu = 0.3, rho = 920.0 }
-[body.boundary]
-fixed = ["xmin"]
-[body.reduction]
-method = "modal"
-modes = 6
-mass = "consistent"
-"#;
 
 const MODEL: &str = r#"
 [model]

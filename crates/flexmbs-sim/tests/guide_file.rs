@@ -3,31 +3,12 @@
 //! on the beam's axis found by `through`, its multipliers are named, and bad combinations are
 //! refused at compile time with located errors.
 
+use crate::common::CONTACT_BEAM as BEAM;
 use flexmbs_core::integrator::{drive, MoreauSscSettings, MoreauSscStepper, Stepper};
 use flexmbs_core::Workspace;
 use flexmbs_sim::{compile_model, SimError};
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-
-/// A clamped hex20 beam 0.2 x 0.04 x 0.04 m (10 x 2 x 2 elements, 6 modes); its axis
-/// y = z = 0.02 is a line of element edges (21 nodes).
-const BEAM: &str = r#"
-[body]
-name = "beam"
-units = "SI"
-[body.mesh]
-type = "box"
-size = [0.2, 0.04, 0.04]
-divisions = [10, 2, 2]
-element = "hex20"
-material = { e = 50e6, nu = 0.3, rho = 920.0 }
-[body.boundary]
-fixed = ["xmin"]
-[body.reduction]
-method = "modal"
-modes = 6
-mass = "consistent"
-"#;
 
 const MODEL: &str = r#"
 [model]

@@ -26,3 +26,24 @@ fixed = [{ nearest = [0.0, 0.0, 0.0] }]
 method = "modal"
 modes = 12
 "#;
+
+/// A clamped hex20 beam 0.2 x 0.04 x 0.04 m (10 x 2 x 2 elements, 6 modes, consistent mass),
+/// written as `beam.toml` by the contact and guide model tests; its axis y = z = 0.02 is a line
+/// of element edges (21 nodes).
+pub const CONTACT_BEAM: &str = r#"
+[body]
+name = "beam"
+units = "SI"
+[body.mesh]
+type = "box"
+size = [0.2, 0.04, 0.04]
+divisions = [10, 2, 2]
+element = "hex20"
+material = { e = 50e6, nu = 0.3, rho = 920.0 }
+[body.boundary]
+fixed = ["xmin"]
+[body.reduction]
+method = "modal"
+modes = 6
+mass = "consistent"
+"#;
