@@ -25,7 +25,6 @@ use flexmbs_core::ffr::contour::{ContourSettings, FfrCurveContour};
 use flexmbs_core::ffr::{FfrBody, FfrElement, RotationParam};
 use flexmbs_core::integrator::{drive, MoreauSscSettings, MoreauSscStepper, Stepper};
 use flexmbs_core::{BodyId, Joint, Model, ModelSpec, RigidBody, State, Workspace};
-use flexmbs_fe::reduction::ReducedBody;
 use flexmbs_io::plot::{LinePlot, Series, Style};
 use nalgebra::{Matrix3, Vector3};
 use std::ops::ControlFlow;
@@ -54,13 +53,9 @@ modes = 100
 mass = "consistent"
 "#;
 
-/// The reduced beam (100 modes) and its consistent mass matrix.
-pub struct Beam {
-    /// The reduced body (100 clamped modes).
-    pub reduced: ReducedBody,
-    /// The consistent mass matrix of the FE beam.
-    pub mass: flexmbs_fe::SparseMatrix,
-}
+/// The reduced beam (100 clamped modes) and its consistent mass matrix: the same pair as the
+/// point-mass case's beam.
+pub use crate::point_mass_on_beam::Beam;
 
 /// Meshes and reduces the beam.
 pub fn reduce_beam() -> Result<Beam> {
