@@ -75,6 +75,8 @@ struct Half {
     l_sep: Mat<f64>,
     /// The solves' work vector, kept between solves.
     work: std::sync::Mutex<Vec<f64>>,
+    /// Longest off-diagonal pattern of a supernode (rows of the solves' update buffer).
+    update_rows: usize,
 }
 
 /// The dense factor of the separator's Schur complement `C`.
@@ -120,6 +122,13 @@ impl Half {
             params,
         )
         .map_err(|e| FeError::Invalid(format!("symbolic Cholesky analysis failed: {e:?}")))?;
+        let update_rows = match symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => (0..sn.n_supernodes())
+                .map(|s| sn.supernode(s).pattern().len())
+                .max()
+                .unwrap_or(0),
+            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("halves are forced supernodal"),
+        };
         Ok(Self {
             pattern,
             symbolic,
@@ -128,6 +137,7 @@ impl Half {
             pivots: Vec::new(),
             l_sep: Mat::new(),
             work: std::sync::Mutex::new(Vec::new()),
+            update_rows,
         })
     }
 
@@ -205,7 +215,13 @@ impl Half {
                 x[(h, c)] = rhs[(o, c)];
             }
         }
-        lower_solve(self.supernodal(), &self.values, ldlt, x.as_mut());
+        lower_solve(
+            self.supernodal(),
+            &self.values,
+            self.update_rows,
+            ldlt,
+            x.as_mut(),
+        );
         for (h, d) in self.pivots.iter().enumerate() {
             for c in 0..p {
                 x[(h, c)] /= d;
@@ -223,7 +239,7 @@ impl Half {
         x.rb_mut()
             .subrows_mut(self.inner, nh - self.inner)
             .copy_from(&w);
-        upper_solve(self.supernodal(), &self.values, ldlt, x);
+        upper_solve(self.supernodal(), &self.values, self.update_rows, ldlt, x);
     }
 }
 
@@ -473,25 +489,17 @@ fn trailing_block(
     (l, d)
 }
 
-/// Longest off-diagonal pattern of a supernode (rows of the solves' update buffer).
-fn max_pattern(sn: &SymbolicSupernodalCholesky<u32>, values: &[f64]) -> usize {
-    let factor = LltRef::new(sn, values);
-    (0..sn.n_supernodes())
-        .map(|s| factor.supernode(s).pattern().len())
-        .max()
-        .unwrap_or(0)
-}
-
 /// `L x = b` in place over the supernodes (unit diagonal if `unit`: faer's `L D L^T` storage
-/// holds `D` there).
+/// holds `D` there); `update_rows`: the longest off-diagonal pattern of a supernode.
 fn lower_solve(
     sn: &SymbolicSupernodalCholesky<u32>,
     values: &[f64],
+    update_rows: usize,
     unit: bool,
     mut x: MatMut<'_, f64>,
 ) {
     let p = x.ncols();
-    let mut tmp = Mat::<f64>::zeros(max_pattern(sn, values), p);
+    let mut tmp = Mat::<f64>::zeros(update_rows, p);
     let factor = LltRef::new(sn, values);
     for s in 0..sn.n_supernodes() {
         let node = factor.supernode(s);
@@ -514,15 +522,17 @@ fn lower_solve(
     }
 }
 
-/// `L^T x = b` in place over the supernodes, in reverse (unit diagonal if `unit`).
+/// `L^T x = b` in place over the supernodes, in reverse (unit diagonal if `unit`; `update_rows`
+/// as for [`lower_solve`]).
 fn upper_solve(
     sn: &SymbolicSupernodalCholesky<u32>,
     values: &[f64],
+    update_rows: usize,
     unit: bool,
     mut x: MatMut<'_, f64>,
 ) {
     let p = x.ncols();
-    let mut tmp = Mat::<f64>::zeros(max_pattern(sn, values), p);
+    let mut tmp = Mat::<f64>::zeros(update_rows, p);
     let factor = LltRef::new(sn, values);
     for s in (0..sn.n_supernodes()).rev() {
         let node = factor.supernode(s);
